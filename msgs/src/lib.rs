@@ -1,0 +1,3 @@
+//! ROS 2 interface types for horus-ros.
+
+pub mod rmw_dds_common;
