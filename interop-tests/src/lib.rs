@@ -1,1 +1,101 @@
-//! Interop test helpers.
+//! Helpers for tests against independent DDS implementations.
+//!
+//! The peers are small Python programs on the Eclipse Cyclone DDS Python binding (`peers/`), run
+//! with the interpreter named by `HORUS_ROS_INTEROP_PYTHON` (set by `scripts/test` to a private
+//! virtual environment that `scripts/setup` creates), else `python3`.
+
+use std::io::Read;
+use std::path::PathBuf;
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+/// The Python interpreter that has the `cyclonedds` package.
+pub fn python() -> PathBuf {
+    std::env::var_os("HORUS_ROS_INTEROP_PYTHON")
+        .map_or_else(|| PathBuf::from("python3"), PathBuf::from)
+}
+
+/// The path of a peer script in `interop-tests/peers/`.
+pub fn peer_script(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("peers")
+        .join(name)
+}
+
+/// What a finished peer printed.
+#[derive(Debug)]
+pub struct PeerOutput {
+    /// Exit status code (`None` if killed at the deadline).
+    pub code: Option<i32>,
+    /// Everything it printed on stdout.
+    pub stdout: String,
+    /// Everything it printed on stderr.
+    pub stderr: String,
+}
+
+/// A running peer process; killed when dropped.
+#[derive(Debug)]
+pub struct Peer {
+    child: Child,
+}
+
+impl Peer {
+    /// Starts `script` (in `peers/`) with `args`, capturing its output.
+    pub fn start(script: &str, args: &[String]) -> std::io::Result<Self> {
+        let child = Command::new(python())
+            .arg(peer_script(script))
+            .args(args)
+            .env("CYCLONEDDS_URI", cyclone_config())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()?;
+        Ok(Self { child })
+    }
+
+    /// Waits for the peer to exit, at most `limit`; kills it past that.
+    pub fn wait(mut self, limit: Duration) -> std::io::Result<PeerOutput> {
+        let deadline = Instant::now() + limit;
+        let code = loop {
+            if let Some(status) = self.child.try_wait()? {
+                break status.code();
+            }
+            if Instant::now() >= deadline {
+                self.child.kill()?;
+                self.child.wait()?;
+                break None;
+            }
+            std::thread::sleep(Duration::from_millis(20));
+        };
+        let mut stdout = String::new();
+        let mut stderr = String::new();
+        if let Some(mut s) = self.child.stdout.take() {
+            s.read_to_string(&mut stdout)?;
+        }
+        if let Some(mut s) = self.child.stderr.take() {
+            s.read_to_string(&mut stderr)?;
+        }
+        Ok(PeerOutput {
+            code,
+            stdout,
+            stderr,
+        })
+    }
+}
+
+impl Drop for Peer {
+    fn drop(&mut self) {
+        if matches!(self.child.try_wait(), Ok(None)) {
+            let _ = self.child.kill();
+            let _ = self.child.wait();
+        }
+    }
+}
+
+/// Cyclone DDS configuration for the peers: loopback only, with multicast (the test namespace
+/// routes multicast to `lo`), so they never use another interface.
+pub fn cyclone_config() -> String {
+    "<CycloneDDS><Domain Id=\"any\"><General><Interfaces>\
+     <NetworkInterface name=\"lo\" multicast=\"true\"/></Interfaces>\
+     <AllowMulticast>true</AllowMulticast></General></Domain></CycloneDDS>"
+        .to_owned()
+}

@@ -76,3 +76,38 @@ pub struct ParticipantEntitiesInfo {
     /// Every node of the participant.
     pub node_entities_info_seq: Vec<NodeEntitiesInfo>,
 }
+
+impl crate::Message for Gid {
+    const TYPE_NAME: &'static str = "rmw_dds_common/msg/Gid";
+
+    /// `char[16] data`: rosidl maps `.msg` `char` to `uint8`, so `UINT8_ARRAY` of 16.
+    fn type_description() -> crate::TypeDescription {
+        crate::DescriptionBuilder::new(Self::TYPE_NAME)
+            .field::<[u8; GID_LENGTH]>("data")
+            .build()
+    }
+}
+
+impl crate::Message for NodeEntitiesInfo {
+    const TYPE_NAME: &'static str = "rmw_dds_common/msg/NodeEntitiesInfo";
+
+    fn type_description() -> crate::TypeDescription {
+        crate::DescriptionBuilder::new(Self::TYPE_NAME)
+            .field_with::<String>("node_namespace", |t| t.bounded_string(256))
+            .field_with::<String>("node_name", |t| t.bounded_string(256))
+            .field::<Vec<Gid>>("reader_gid_seq")
+            .field::<Vec<Gid>>("writer_gid_seq")
+            .build()
+    }
+}
+
+impl crate::Message for ParticipantEntitiesInfo {
+    const TYPE_NAME: &'static str = "rmw_dds_common/msg/ParticipantEntitiesInfo";
+
+    fn type_description() -> crate::TypeDescription {
+        crate::DescriptionBuilder::new(Self::TYPE_NAME)
+            .field::<Gid>("gid")
+            .field::<Vec<NodeEntitiesInfo>>("node_entities_info_seq")
+            .build()
+    }
+}

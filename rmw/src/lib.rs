@@ -1,1 +1,26 @@
-//! RMW core.
+//! horus-ros RMW core: the one layer that talks to DDS.
+//!
+//! - [`Context`]: a participant in one domain, configured from `ROS_DOMAIN_ID`,
+//!   `ROS_AUTOMATIC_DISCOVERY_RANGE`, `ROS_STATIC_PEERS` (and the deprecated `ROS_LOCALHOST_ONLY`).
+//! - [`Node`]: a named node; nodes and their endpoints are announced on `ros_discovery_info`
+//!   exactly as rmw_dds_common does.
+//! - [`names`]: ROS name validation, expansion and DDS mangling.
+//! - [`qos`]: QoS profiles and their DDS mapping.
+//! - [`Gid`]: 16-byte global ids.
+
+pub mod context;
+mod dds;
+mod entities;
+pub mod gid;
+pub mod names;
+pub mod node;
+pub mod pubsub;
+pub mod qos;
+
+pub use context::{
+    env::{DiscoveryOptions, DiscoveryRange, DomainId},
+    Context, ContextBuilder, ContextError,
+};
+pub use gid::Gid;
+pub use node::{Node, NodeError};
+pub use pubsub::{EndpointError, PublishError, Publisher, Subscription, TakeError};

@@ -1,0 +1,145 @@
+"""An independent DDS peer (Eclipse Cyclone DDS, Python binding) that watches the ROS 2 graph.
+
+It reads `ros_discovery_info` the way rmw_dds_common does (RELIABLE, TRANSIENT_LOCAL, KEEP_ALL) and
+Cyclone's own DDS discovery (DCPSParticipant / DCPSPublication / DCPSSubscription built-in topics),
+then prints one JSON document on stdout:
+
+  {"discovery_info": [{"gid": "01.0f...", "nodes": [{"namespace", "name", "readers", "writers"}]}],
+   "publications": [{"guid", "participant", "topic", "type"}], "subscriptions": [...]}
+
+It stops as soon as a participant announces node NAMESPACE/NAME with at least READERS readers and
+WRITERS writers that are all visible through DDS discovery, or when TIMEOUT seconds have passed
+(then it prints what it saw and exits with status 3).
+
+usage: cyclone_discovery_info.py DOMAIN NAMESPACE NAME READERS WRITERS TIMEOUT
+"""
+
+import json
+import sys
+import time
+from dataclasses import dataclass
+from typing import List
+
+from cyclonedds.builtin import (
+    BuiltinDataReader,
+    BuiltinTopicDcpsPublication,
+    BuiltinTopicDcpsSubscription,
+)
+from cyclonedds.core import Policy, Qos
+from cyclonedds.domain import DomainParticipant
+from cyclonedds.idl import IdlStruct
+from cyclonedds.idl.types import array, bounded_str, sequence, uint8
+from cyclonedds.sub import DataReader
+from cyclonedds.topic import Topic
+
+
+# rmw_dds_common (jazzy) msg/Gid.msg: char[16] data
+@dataclass
+class Gid(IdlStruct, typename="rmw_dds_common::msg::dds_::Gid_"):
+    data: array[uint8, 16]
+
+
+# rmw_dds_common (jazzy) msg/NodeEntitiesInfo.msg
+@dataclass
+class NodeEntitiesInfo(IdlStruct, typename="rmw_dds_common::msg::dds_::NodeEntitiesInfo_"):
+    node_namespace: bounded_str[256]
+    node_name: bounded_str[256]
+    reader_gid_seq: sequence[Gid]
+    writer_gid_seq: sequence[Gid]
+
+
+# rmw_dds_common (jazzy) msg/ParticipantEntitiesInfo.msg
+@dataclass
+class ParticipantEntitiesInfo(
+    IdlStruct, typename="rmw_dds_common::msg::dds_::ParticipantEntitiesInfo_"
+):
+    gid: Gid
+    node_entities_info_seq: sequence[NodeEntitiesInfo]
+
+
+def dotted(raw: bytes) -> str:
+    return ".".join(f"{b:02x}" for b in raw)
+
+
+def main() -> int:
+    domain, namespace, name = int(sys.argv[1]), sys.argv[2], sys.argv[3]
+    want_readers, want_writers = int(sys.argv[4]), int(sys.argv[5])
+    deadline = time.monotonic() + float(sys.argv[6])
+
+    dp = DomainParticipant(domain)
+    qos = Qos(
+        Policy.Reliability.Reliable(max_blocking_time=0),
+        Policy.Durability.TransientLocal,
+        Policy.History.KeepAll,
+    )
+    topic = Topic(dp, "ros_discovery_info", ParticipantEntitiesInfo)
+    reader = DataReader(dp, topic, qos=qos)
+    pubs_reader = BuiltinDataReader(dp, BuiltinTopicDcpsPublication)
+    subs_reader = BuiltinDataReader(dp, BuiltinTopicDcpsSubscription)
+
+    infos = {}
+    pubs, subs = {}, {}
+    own_prefix = dp.guid.bytes[:12]
+    ok = False
+    while time.monotonic() < deadline:
+        for s in reader.take(N=100):
+            infos[dotted(bytes(s.gid.data))] = s
+        for s in pubs_reader.take(N=1000):
+            if s.key.bytes[:12] != own_prefix:
+                pubs[dotted(s.key.bytes)] = s
+        for s in subs_reader.take(N=1000):
+            if s.key.bytes[:12] != own_prefix:
+                subs[dotted(s.key.bytes)] = s
+        for info in infos.values():
+            for node in info.node_entities_info_seq:
+                if node.node_namespace != namespace or node.node_name != name:
+                    continue
+                readers = [dotted(bytes(g.data)) for g in node.reader_gid_seq]
+                writers = [dotted(bytes(g.data)) for g in node.writer_gid_seq]
+                if (
+                    len(readers) >= want_readers
+                    and len(writers) >= want_writers
+                    and all(r in subs for r in readers)
+                    and all(w in pubs for w in writers)
+                ):
+                    ok = True
+        if ok:
+            break
+        time.sleep(0.05)
+
+    def endpoints(table):
+        return [
+            {
+                "guid": guid,
+                "participant": dotted(s.participant_key.bytes),
+                "topic": s.topic_name,
+                "type": s.type_name,
+            }
+            for guid, s in sorted(table.items())
+        ]
+
+    doc = {
+        "discovery_info": [
+            {
+                "gid": gid,
+                "nodes": [
+                    {
+                        "namespace": n.node_namespace,
+                        "name": n.node_name,
+                        "readers": [dotted(bytes(g.data)) for g in n.reader_gid_seq],
+                        "writers": [dotted(bytes(g.data)) for g in n.writer_gid_seq],
+                    }
+                    for n in info.node_entities_info_seq
+                ],
+            }
+            for gid, info in sorted(infos.items())
+        ],
+        "publications": endpoints(pubs),
+        "subscriptions": endpoints(subs),
+    }
+    print(json.dumps(doc), flush=True)
+    return 0 if ok else 3
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,119 @@
+//! The [`Message`] and [`Service`] traits: ROS type name, DDS type name, type description and
+//! RIHS01 type hash of an interface type.
+
+use std::collections::HashMap;
+use std::sync::{Mutex, OnceLock};
+
+use crate::description::{service_description, service_event_description, EVENT_SUFFIX};
+use crate::rihs::rihs01;
+use crate::type_description_interfaces::msg::TypeDescription;
+use crate::type_hash::TypeHash;
+
+/// A ROS 2 message type (a `.msg`, or the request/response part of a `.srv`).
+pub trait Message:
+    serde::Serialize + serde::de::DeserializeOwned + Clone + std::fmt::Debug + Send + Sync + 'static
+{
+    /// ROS type name: `pkg/msg/Name`, or `pkg/srv/Name_Request` / `pkg/srv/Name_Response`.
+    const TYPE_NAME: &'static str;
+
+    /// The DDS type name: `pkg::msg::dds_::Name_` (`pkg::srv::dds_::Name_Request_` for a request).
+    fn dds_type_name() -> String {
+        dds_type_name(Self::TYPE_NAME)
+    }
+
+    /// The full type description: this type plus every type it references, sorted by name.
+    fn type_description() -> TypeDescription;
+
+    /// The RIHS01 hash of [`type_description`](Self::type_description), computed once per type.
+    fn type_hash() -> TypeHash {
+        cached_hash(Self::TYPE_NAME, || rihs01(&Self::type_description()))
+    }
+}
+
+/// A ROS 2 service type (`pkg/srv/Name`).
+///
+/// Implementing it needs only `Request`, `Response` and `TYPE_NAME`: the service description,
+/// including the generic `Name_Event` message, is derived from them.
+pub trait Service: Send + Sync + 'static {
+    /// The request message (`pkg/srv/Name_Request`).
+    type Request: Message;
+    /// The response message (`pkg/srv/Name_Response`).
+    type Response: Message;
+    /// ROS type name: `pkg/srv/Name`.
+    const TYPE_NAME: &'static str;
+
+    /// The service type description (fields `request_message`, `response_message`,
+    /// `event_message`), as rosidl_generator_type_description builds it.
+    fn type_description() -> TypeDescription {
+        service_description(
+            Self::TYPE_NAME,
+            &Self::Request::type_description(),
+            &Self::Response::type_description(),
+        )
+    }
+
+    /// The description of the `pkg/srv/Name_Event` message.
+    fn event_type_description() -> TypeDescription {
+        service_event_description(
+            Self::TYPE_NAME,
+            &Self::Request::type_description(),
+            &Self::Response::type_description(),
+        )
+    }
+
+    /// The service's RIHS01 hash (shown as "service type hash"), computed once per type.
+    fn type_hash() -> TypeHash {
+        cached_hash(Self::TYPE_NAME, || rihs01(&Self::type_description()))
+    }
+
+    /// RIHS01 hash of the `pkg/srv/Name_Event` message.
+    fn event_type_hash() -> TypeHash {
+        let name = format!("{}{EVENT_SUFFIX}", Self::TYPE_NAME);
+        cached_hash(&name, || rihs01(&Self::event_type_description()))
+    }
+
+    /// DDS type name of the request topic: `pkg::srv::dds_::Name_Request_`.
+    fn request_dds_type_name() -> String {
+        Self::Request::dds_type_name()
+    }
+
+    /// DDS type name of the reply topic: `pkg::srv::dds_::Name_Response_`.
+    fn response_dds_type_name() -> String {
+        Self::Response::dds_type_name()
+    }
+}
+
+/// Maps a ROS type name to its DDS name: `pkg/msg/Name` → `pkg::msg::dds_::Name_`
+/// (rmw_fastrtps_shared_cpp / rmw_cyclonedds_cpp type-name mangling; `demangle.cpp` reverses it).
+pub fn dds_type_name(ros_type_name: &str) -> String {
+    match ros_type_name.rsplit_once('/') {
+        Some((ns, name)) => format!("{}::dds_::{name}_", ns.replace('/', "::")),
+        None => format!("dds_::{ros_type_name}_"),
+    }
+}
+
+/// Maps a DDS type name back to the ROS one: `pkg::msg::dds_::Name_` → `pkg/msg/Name`.
+/// Returns `None` for names not of that form.
+pub fn ros_type_name_from_dds(dds_type_name: &str) -> Option<String> {
+    let (ns, name) = dds_type_name.split_once("::dds_::")?;
+    let name = name.strip_suffix('_')?;
+    if ns.is_empty() || name.is_empty() || name.contains("::") {
+        return None;
+    }
+    Some(format!("{}/{name}", ns.replace("::", "/")))
+}
+
+/// One hash per type name for the whole process (statics in generic fns are shared between
+/// instantiations, hence the map).
+fn cached_hash(key: &str, compute: impl FnOnce() -> TypeHash) -> TypeHash {
+    static CACHE: OnceLock<Mutex<HashMap<String, TypeHash>>> = OnceLock::new();
+    let cache = CACHE.get_or_init(|| Mutex::new(HashMap::new()));
+    if let Some(h) = cache.lock().ok().and_then(|m| m.get(key).copied()) {
+        return h;
+    }
+    let h = compute();
+    if let Ok(mut m) = cache.lock() {
+        m.insert(key.to_owned(), h);
+    }
+    h
+}

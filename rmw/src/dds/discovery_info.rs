@@ -1,0 +1,63 @@
+//! The `ros_discovery_info` topic: where each participant tells which nodes own which endpoints.
+//!
+//! Topic and QoS as rmw_cyclonedds_cpp `rmw_node.cpp` (`rmw_context_impl_s::init`, jazzy) and
+//! rmw_fastrtps_shared_cpp `participant.cpp` create them: no `rt/` prefix
+//! (avoid_ros_namespace_conventions), type `rmw_dds_common::msg::dds_::ParticipantEntitiesInfo_`,
+//! RELIABLE, TRANSIENT_LOCAL, KEEP_LAST 1 for the writer (readers, in the graph layer, are KEEP_ALL
+//! and ignore their own participant).
+
+use rustdds::{
+    no_key::DataWriter, policy, CDRSerializerAdapter, DomainParticipant, Publisher, QosPolicies,
+    QosPolicyBuilder, Topic, TopicKind,
+};
+
+use horus_ros_msgs::rmw_dds_common::ParticipantEntitiesInfo;
+
+/// The DDS topic name.
+pub(crate) const TOPIC_NAME: &str = "ros_discovery_info";
+/// The DDS type name.
+pub(crate) const TYPE_NAME: &str = "rmw_dds_common::msg::dds_::ParticipantEntitiesInfo_";
+
+/// The writer's QoS: RELIABLE, TRANSIENT_LOCAL, KEEP_LAST 1.
+pub(crate) fn writer_qos() -> QosPolicies {
+    QosPolicyBuilder::new()
+        .reliability(policy::Reliability::Reliable {
+            max_blocking_time: rustdds::Duration::INFINITE,
+        })
+        .durability(policy::Durability::TransientLocal)
+        .history(policy::History::KeepLast { depth: 1 })
+        .build()
+}
+
+/// The topic, created (or found) on `participant`.
+pub(crate) fn topic(participant: &DomainParticipant) -> Result<Topic, rustdds::dds::CreateError> {
+    participant.create_topic(
+        TOPIC_NAME.to_owned(),
+        TYPE_NAME.to_owned(),
+        &writer_qos(),
+        TopicKind::NoKey,
+    )
+}
+
+/// Publishes this participant's [`ParticipantEntitiesInfo`].
+pub(crate) struct DiscoveryInfoWriter {
+    writer: DataWriter<ParticipantEntitiesInfo, CDRSerializerAdapter<ParticipantEntitiesInfo>>,
+}
+
+impl DiscoveryInfoWriter {
+    /// Creates the writer.
+    pub(crate) fn new(
+        publisher: &Publisher,
+        topic: &Topic,
+    ) -> Result<Self, rustdds::dds::CreateError> {
+        let writer = publisher.create_datawriter_no_key(topic, Some(writer_qos()))?;
+        Ok(Self { writer })
+    }
+
+    /// Publishes `info`; a failure is logged, since discovery will catch up with the next change.
+    pub(crate) fn publish(&self, info: ParticipantEntitiesInfo) {
+        if let Err(e) = self.writer.write(info, None) {
+            tracing::warn!("could not publish on {TOPIC_NAME}: {e}");
+        }
+    }
+}

@@ -1,0 +1,140 @@
+//! [`Node`]: a named member of the ROS graph, announced on `ros_discovery_info`.
+
+use std::sync::Arc;
+
+use crate::context::Context;
+use crate::entities::{EndpointSide, NodeKey};
+use crate::names::{Namespace, NamespaceError, NodeName, NodeNameError};
+use crate::Gid;
+
+/// Why a [`Node`] could not be created.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum NodeError {
+    /// The node name breaks ROS's rules.
+    #[error("invalid node name '{name}': {source}")]
+    InvalidName {
+        /// The name given.
+        name: String,
+        /// Which rule it breaks.
+        source: NodeNameError,
+    },
+    /// The namespace breaks ROS's rules.
+    #[error("invalid node namespace '{namespace}': {source}")]
+    InvalidNamespace {
+        /// The namespace given (after rcl's normalisation).
+        namespace: String,
+        /// Which rule it breaks.
+        source: NamespaceError,
+    },
+}
+
+/// A ROS node. Creating one announces it on `ros_discovery_info` (the participant republishes its
+/// whole `ParticipantEntitiesInfo`, as rmw_dds_common does); dropping the last handle to it (the
+/// node and every endpoint created through it) withdraws it the same way.
+#[derive(Clone)]
+pub struct Node {
+    inner: Arc<NodeInner>,
+}
+
+pub(crate) struct NodeInner {
+    pub(crate) context: Context,
+    pub(crate) key: NodeKey,
+    pub(crate) name: NodeName,
+    pub(crate) namespace: Namespace,
+}
+
+impl std::fmt::Debug for Node {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Node")
+            .field("fully_qualified_name", &self.fully_qualified_name())
+            .finish()
+    }
+}
+
+impl Context {
+    /// Creates a node named `name` in `namespace`.
+    ///
+    /// As rcl's `rcl_node_init`: an empty namespace means `/`, a relative one is made absolute
+    /// (`ns` → `/ns`); then the name and namespace are validated with rmw's rules.
+    pub fn create_node(&self, name: &str, namespace: &str) -> Result<Node, NodeError> {
+        let node_name = NodeName::new(name).map_err(|source| NodeError::InvalidName {
+            name: name.to_owned(),
+            source,
+        })?;
+        let normalized = match namespace {
+            "" => "/".to_owned(),
+            ns if ns.starts_with('/') => ns.to_owned(),
+            ns => format!("/{ns}"),
+        };
+        let node_namespace =
+            Namespace::new(&normalized).map_err(|source| NodeError::InvalidNamespace {
+                namespace: normalized.clone(),
+                source,
+            })?;
+        let key = self
+            .inner()
+            .add_node(node_namespace.as_str(), node_name.as_str());
+        tracing::debug!(node = %name, namespace = %node_namespace, "created node");
+        Ok(Node {
+            inner: Arc::new(NodeInner {
+                context: self.clone(),
+                key,
+                name: node_name,
+                namespace: node_namespace,
+            }),
+        })
+    }
+}
+
+impl Node {
+    /// The node's name.
+    pub fn name(&self) -> &NodeName {
+        &self.inner.name
+    }
+
+    /// The node's namespace.
+    pub fn namespace(&self) -> &Namespace {
+        &self.inner.namespace
+    }
+
+    /// `/namespace/name`, as `rcl_node_get_fully_qualified_name`.
+    pub fn fully_qualified_name(&self) -> String {
+        if self.inner.namespace.is_root() {
+            format!("/{}", self.inner.name)
+        } else {
+            format!("{}/{}", self.inner.namespace, self.inner.name)
+        }
+    }
+
+    /// The context the node lives in.
+    pub fn context(&self) -> &Context {
+        &self.inner.context
+    }
+
+    pub(crate) fn inner(&self) -> &Arc<NodeInner> {
+        &self.inner
+    }
+}
+
+impl NodeInner {
+    /// Lists an endpoint of this node in `ros_discovery_info`.
+    pub(crate) fn associate(&self, side: EndpointSide, gid: Gid) {
+        self.context
+            .inner()
+            .update_entities(|e| e.associate(self.key, side, gid));
+    }
+
+    /// Withdraws an endpoint of this node from `ros_discovery_info`.
+    pub(crate) fn dissociate(&self, side: EndpointSide, gid: Gid) {
+        self.context
+            .inner()
+            .update_entities(|e| e.dissociate(self.key, side, gid));
+    }
+}
+
+impl Drop for NodeInner {
+    fn drop(&mut self) {
+        let key = self.key;
+        self.context.inner().update_entities(|e| e.remove_node(key));
+    }
+}
