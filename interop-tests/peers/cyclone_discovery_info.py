@@ -5,7 +5,7 @@ Cyclone's own DDS discovery (DCPSParticipant / DCPSPublication / DCPSSubscriptio
 then prints one JSON document on stdout:
 
   {"discovery_info": [{"gid": "01.0f...", "nodes": [{"namespace", "name", "readers", "writers"}]}],
-   "publications": [{"guid", "participant", "topic", "type"}], "subscriptions": [...]}
+   "publications": [{"guid", "participant", "topic", "type", "user_data"}], "subscriptions": [...]}
 
 It stops as soon as a participant announces node NAMESPACE/NAME with at least READERS readers and
 WRITERS writers that are all visible through DDS discovery, or when TIMEOUT seconds have passed
@@ -61,6 +61,16 @@ def dotted(raw: bytes) -> str:
     return ".".join(f"{b:02x}" for b in raw)
 
 
+def user_data(sample) -> str:
+    """The endpoint's USER_DATA as text ("" when absent or empty)."""
+    try:
+        value = sample.qos[Policy.Userdata]
+    except Exception:  # the policy is absent from the discovered QoS
+        return ""
+    data = getattr(value, "data", b"") or b""
+    return bytes(data).decode("utf-8", "replace")
+
+
 def main() -> int:
     domain, namespace, name = int(sys.argv[1]), sys.argv[2], sys.argv[3]
     want_readers, want_writers = int(sys.argv[4]), int(sys.argv[5])
@@ -114,6 +124,7 @@ def main() -> int:
                 "participant": dotted(s.participant_key.bytes),
                 "topic": s.topic_name,
                 "type": s.type_name,
+                "user_data": user_data(s),
             }
             for guid, s in sorted(table.items())
         ]

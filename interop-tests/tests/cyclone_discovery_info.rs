@@ -51,6 +51,7 @@ fn cyclone_peer_sees_our_node_and_endpoint_gids() {
         out.stderr
     );
     let doc: Value = serde_json::from_str(out.stdout.trim()).expect("peer prints JSON");
+    eprintln!("the Cyclone DDS peer saw: {doc}");
 
     // Our participant's message, as Cyclone received it.
     let ours = doc["discovery_info"]
