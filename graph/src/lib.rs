@@ -1,1 +1,38 @@
-//! Graph cache.
+//! horus-ros graph cache: everything known about the ROS 2 graph, as one plain data structure.
+//!
+//! [`GraphCache`] follows rmw_dds_common's `GraphCache` (jazzy `include/rmw_dds_common/graph_cache.hpp`,
+//! `src/graph_cache.cpp`): it is fed by events (participants and readers/writers from DDS
+//! discovery, node ↔ endpoint maps from `ros_discovery_info`) and does no I/O. Mutators return
+//! whether anything changed and can record typed [`GraphEvent`]s for the caller to drain.
+//!
+//! Queries use rcl's names with Rust types: node names, topic and service names and types,
+//! names and types by node, counts, and endpoint information by topic and by service
+//! ([`TopicEndpointInfo`], [`ServiceEndpointInfo`], whose `Display` matches rclpy's `__str__`).
+
+mod cache;
+mod endpoint;
+mod endpoint_query;
+mod error;
+mod event;
+mod info;
+mod query;
+
+#[cfg(test)]
+mod tests;
+
+pub use cache::GraphCache;
+pub use endpoint::{participant_gid_from_prefix, EndpointEntry, GuidPrefix};
+pub use error::GraphError;
+pub use event::GraphEvent;
+pub use horus_ros_msgs::rmw_dds_common::Gid;
+pub use info::{ServiceEndpointInfo, ServiceEndpointType, TopicEndpointInfo, TopicEndpointType};
+pub use query::{NamesAndTypes, NodeInfo};
+
+/// Node name reported for an endpoint whose participant is unknown (rmw_dds_common
+/// `graph_cache.cpp`, `EndpointCreator::BARE_DDS_PARTICIPANT`); also used as its namespace.
+pub const CREATED_BY_BARE_DDS_APP: &str = "_CREATED_BY_BARE_DDS_APP_";
+/// Node name reported for an endpoint of a known participant that no node of it lists
+/// (rmw_dds_common `EndpointCreator::UNDISCOVERED_ROS_NODE`).
+pub const NODE_NAME_UNKNOWN: &str = "_NODE_NAME_UNKNOWN_";
+/// Node namespace reported with [`NODE_NAME_UNKNOWN`].
+pub const NODE_NAMESPACE_UNKNOWN: &str = "_NODE_NAMESPACE_UNKNOWN_";

@@ -10,6 +10,7 @@
 
 pub mod context;
 mod dds;
+pub mod discovery;
 mod entities;
 pub mod gid;
 pub mod names;
@@ -19,8 +20,9 @@ pub mod qos;
 
 pub use context::{
     env::{DiscoveryOptions, DiscoveryRange, DomainId},
-    Context, ContextBuilder, ContextError,
+    Context, ContextBuilder, ContextError, DiscoveryFeed, DiscoveryFeedError,
 };
+pub use discovery::{DiscoveredEndpoint, DiscoveredParticipant, DiscoveryEvent, VendorId};
 pub use gid::Gid;
 pub use node::{Node, NodeError};
 pub use pubsub::{EndpointError, PublishError, Publisher, Subscription, TakeError};

@@ -8,6 +8,7 @@ use std::sync::{Arc, Mutex, MutexGuard};
 use rustdds::{DomainParticipant, QosPolicyBuilder, RTPSEntity};
 
 use crate::dds::{self, discovery_info::DiscoveryInfoWriter};
+use crate::discovery::DiscoveryEvent;
 use crate::entities::LocalEntities;
 use crate::Gid;
 use env::{DiscoveryOptions, DomainId, DomainIdError};
@@ -82,6 +83,7 @@ pub(crate) struct ContextInner {
     pub(crate) gid: Gid,
     entities: Mutex<LocalEntities>,
     discovery_writer: DiscoveryInfoWriter,
+    feed_open: std::sync::atomic::AtomicBool,
 }
 
 impl std::fmt::Debug for Context {
@@ -134,6 +136,7 @@ impl Context {
                 gid,
                 entities,
                 discovery_writer,
+                feed_open: std::sync::atomic::AtomicBool::new(false),
             }),
         })
     }
@@ -188,5 +191,78 @@ impl ContextInner {
             // Published under the lock so that messages leave in the order of the changes.
             self.discovery_writer.publish(message);
         }
+    }
+}
+
+/// Why a [`DiscoveryFeed`] could not be opened.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum DiscoveryFeedError {
+    /// The context already has a feed: rustdds keeps one discovery event queue per participant.
+    #[error("this context already has a discovery feed")]
+    AlreadyOpen,
+    /// The `ros_discovery_info` reader could not be created.
+    #[error("could not create the ros_discovery_info reader: {reason}")]
+    Reader {
+        /// What the DDS layer said.
+        reason: String,
+    },
+}
+
+/// Every [`DiscoveryEvent`] of a context's participant: SPDP participants, SEDP (and local)
+/// readers and writers, and other participants' `ros_discovery_info` messages.
+pub struct DiscoveryFeed {
+    feed: crate::dds::discovery_feed::DdsDiscoveryFeed,
+    _context: Context,
+}
+
+impl std::fmt::Debug for DiscoveryFeed {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("DiscoveryFeed")
+            .field("participant", &self._context.gid())
+            .finish()
+    }
+}
+
+impl DiscoveryFeed {
+    /// The next event, if one is waiting (non-blocking).
+    pub fn try_next(&mut self) -> Option<DiscoveryEvent> {
+        self.feed.try_next()
+    }
+}
+
+impl Context {
+    /// Opens the context's discovery feed (one per context). Events that happened since the
+    /// participant was created are delivered too: rustdds queues them from the start.
+    pub fn discovery_feed(&self) -> Result<DiscoveryFeed, DiscoveryFeedError> {
+        if self
+            .inner
+            .feed_open
+            .swap(true, std::sync::atomic::Ordering::SeqCst)
+        {
+            return Err(DiscoveryFeedError::AlreadyOpen);
+        }
+        let fail = |e: rustdds::dds::CreateError| {
+            self.inner
+                .feed_open
+                .store(false, std::sync::atomic::Ordering::SeqCst);
+            DiscoveryFeedError::Reader {
+                reason: e.to_string(),
+            }
+        };
+        let topic = dds::discovery_info::topic(&self.inner.participant).map_err(fail)?;
+        let reader = self
+            .inner
+            .subscriber
+            .create_datareader_no_key(&topic, Some(dds::discovery_info::reader_qos()))
+            .map_err(fail)?;
+        Ok(DiscoveryFeed {
+            feed: crate::dds::discovery_feed::DdsDiscoveryFeed {
+                listener: self.inner.participant.status_listener(),
+                reader,
+                own_gid: self.inner.gid,
+                pending: Default::default(),
+            },
+            _context: self.clone(),
+        })
     }
 }

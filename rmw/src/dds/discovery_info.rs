@@ -29,6 +29,17 @@ pub(crate) fn writer_qos() -> QosPolicies {
         .build()
 }
 
+/// The reader's QoS: RELIABLE, TRANSIENT_LOCAL, KEEP_ALL.
+pub(crate) fn reader_qos() -> QosPolicies {
+    QosPolicyBuilder::new()
+        .reliability(policy::Reliability::Reliable {
+            max_blocking_time: rustdds::Duration::INFINITE,
+        })
+        .durability(policy::Durability::TransientLocal)
+        .history(policy::History::KeepAll)
+        .build()
+}
+
 /// The topic, created (or found) on `participant`.
 pub(crate) fn topic(participant: &DomainParticipant) -> Result<Topic, rustdds::dds::CreateError> {
     participant.create_topic(

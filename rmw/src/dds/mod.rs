@@ -1,6 +1,7 @@
 //! The rustdds backend: everything that touches rustdds lives below this module, so the rest of
 //! horus-ros sees only our own types (a second backend can sit beside it).
 
+pub(crate) mod discovery_feed;
 pub(crate) mod discovery_info;
 pub(crate) mod participant;
 

@@ -1,0 +1,41 @@
+//! Typed graph changes recorded by the mutators of [`GraphCache`](crate::GraphCache).
+
+use horus_ros_msgs::rmw_dds_common::Gid;
+use horus_ros_rmw::qos::EndpointKind;
+
+/// One change of the graph.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum GraphEvent {
+    /// A node appeared in a participant's `ros_discovery_info`.
+    NodeAdded {
+        /// Node name.
+        name: String,
+        /// Node namespace.
+        namespace: String,
+    },
+    /// A node left its participant's `ros_discovery_info`, or its participant was lost.
+    NodeRemoved {
+        /// Node name.
+        name: String,
+        /// Node namespace.
+        namespace: String,
+    },
+    /// A reader or writer was discovered.
+    EndpointAdded {
+        /// Its GID.
+        gid: Gid,
+        /// Reader or writer.
+        kind: EndpointKind,
+        /// Its DDS topic name (e.g. `rt/chatter`).
+        topic: String,
+    },
+    /// A reader or writer was lost (by itself or with its participant).
+    EndpointRemoved {
+        /// Its GID.
+        gid: Gid,
+        /// Reader or writer.
+        kind: EndpointKind,
+        /// Its DDS topic name.
+        topic: String,
+    },
+}

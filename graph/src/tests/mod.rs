@@ -1,0 +1,8 @@
+//! In-memory tests of the graph cache, with GIDs made from strings as rmw_dds_common's
+//! `test/test_graph_cache.cpp` does.
+
+mod display;
+mod fixtures;
+mod mutators;
+mod queries;
+mod services;

@@ -1,0 +1,235 @@
+//! Mutators: change reporting, events, participant loss, node removal, late discovery info.
+
+use horus_ros_rmw::qos::EndpointKind;
+
+use super::fixtures::*;
+use crate::{
+    participant_gid_from_prefix, GraphCache, GraphEvent, CREATED_BY_BARE_DDS_APP, NODE_NAME_UNKNOWN,
+};
+
+fn node_added(name: &str, namespace: &str) -> GraphEvent {
+    GraphEvent::NodeAdded {
+        name: name.to_owned(),
+        namespace: namespace.to_owned(),
+    }
+}
+
+fn node_removed(name: &str, namespace: &str) -> GraphEvent {
+    GraphEvent::NodeRemoved {
+        name: name.to_owned(),
+        namespace: namespace.to_owned(),
+    }
+}
+
+fn endpoint_removed(g: &str, kind: EndpointKind, topic: &str) -> GraphEvent {
+    GraphEvent::EndpointRemoved {
+        gid: gid(g),
+        kind,
+        topic: topic.to_owned(),
+    }
+}
+
+#[test]
+fn mutators_report_changes() {
+    let mut g = GraphCache::new();
+    assert!(g.add_participant(gid("p"), None));
+    assert!(!g.add_participant(gid("p"), None));
+    assert!(g.add_participant(gid("p"), Some("/".to_owned())));
+    let e = writer("w", "p", "rt/t", STRING);
+    assert!(g.add_entity(e.clone()));
+    assert!(!g.add_entity(e.clone()));
+    let mut moved = e;
+    moved.dds_topic_name = "rt/u".to_owned();
+    assert!(g.add_entity(moved));
+    assert!(g.remove_entity(gid("w")));
+    assert!(!g.remove_entity(gid("w")));
+    let m = msg("p", vec![node("/", "n", &[], &[])]);
+    assert!(g.update_participant_entities(m.clone()));
+    assert!(!g.update_participant_entities(m));
+    assert!(g.remove_participant(gid("p")));
+    assert!(!g.remove_participant(gid("p")));
+}
+
+#[test]
+fn events_are_recorded_only_when_enabled() {
+    let mut g = GraphCache::new();
+    g.add_entity(writer("w0", "p", "rt/t", STRING));
+    assert!(g.drain_events().is_empty());
+    g.record_events(true);
+    let e = writer("w", "p", "rt/t", STRING);
+    g.add_entity(e.clone());
+    g.add_entity(e.clone()); // no change, no event
+    let mut moved = e;
+    moved.dds_topic_name = "rt/u".to_owned();
+    g.add_entity(moved);
+    g.update_participant_entities(msg("p", vec![node("/", "a", &[], &["w"])]));
+    assert_eq!(
+        g.drain_events(),
+        vec![
+            GraphEvent::EndpointAdded {
+                gid: gid("w"),
+                kind: EndpointKind::Writer,
+                topic: "rt/t".to_owned()
+            },
+            endpoint_removed("w", EndpointKind::Writer, "rt/t"),
+            GraphEvent::EndpointAdded {
+                gid: gid("w"),
+                kind: EndpointKind::Writer,
+                topic: "rt/u".to_owned()
+            },
+            node_added("a", "/"),
+        ]
+    );
+    assert!(g.drain_events().is_empty());
+    g.record_events(false);
+    g.remove_entity(gid("w"));
+    assert!(g.drain_events().is_empty());
+}
+
+#[test]
+fn participant_loss_removes_nodes_and_endpoints() {
+    let mut g = sample_graph();
+    g.record_events(true);
+    assert!(g.remove_participant(gid("participant1")));
+    let names: Vec<_> = g.node_names().into_iter().map(|n| n.name).collect();
+    assert_eq!(names, vec!["client", "listener"]);
+    assert_eq!(g.count_publishers("/chatter"), 1); // only the bare DDS writer is left
+    assert_eq!(
+        g.publishers_info_by_topic("/chatter", false)[0].node_name,
+        CREATED_BY_BARE_DDS_APP
+    );
+    assert_eq!(g.count_services("/add_two_ints"), 0);
+    assert_eq!(
+        g.servers_info_by_service("/add_two_ints", false),
+        Ok(vec![])
+    );
+    assert!(g
+        .clients_info_by_service("/add_two_ints", false)
+        .is_ok_and(|c| c.len() == 1));
+    let events = g.drain_events();
+    assert_eq!(
+        events[..2],
+        [node_removed("talker", "/"), node_removed("server", "/")]
+    );
+    // Six endpoints of participant1 (with its ros_discovery_info writer), in GID order.
+    let removed: Vec<_> = events[2..]
+        .iter()
+        .map(|e| match e {
+            GraphEvent::EndpointRemoved { gid, .. } => *gid,
+            other => panic!("unexpected event {other:?}"),
+        })
+        .collect();
+    assert_eq!(
+        removed,
+        [
+            "discovery",
+            "server_rep",
+            "server_req",
+            "talker_hid",
+            "talker_pub",
+            "unlisted1"
+        ]
+        .map(gid)
+    );
+}
+
+#[test]
+fn node_missing_from_new_message_is_gone() {
+    let mut g = sample_graph();
+    g.record_events(true);
+    assert!(g.update_participant_entities(msg(
+        "participant1",
+        vec![node("/", "talker", &[], &["talker_pub", "talker_hid"])],
+    )));
+    assert_eq!(g.drain_events(), vec![node_removed("server", "/")]);
+    assert!(g.service_names_and_types_by_node("server", "/").is_err());
+    // Its endpoints are still discovered, now of an unknown node.
+    assert_eq!(g.count_services("/add_two_ints"), 1);
+    let Ok(servers) = g.servers_info_by_service("/add_two_ints", false) else {
+        panic!("servers query failed");
+    };
+    assert_eq!(servers[0].node_name, NODE_NAME_UNKNOWN);
+}
+
+#[test]
+fn duplicate_nodes_added_and_removed_one_for_one() {
+    let mut g = GraphCache::new();
+    g.record_events(true);
+    let dup = || node("/", "dup", &[], &[]);
+    g.update_participant_entities(msg("p", vec![dup(), dup()]));
+    g.update_participant_entities(msg("p", vec![dup()]));
+    assert_eq!(
+        g.drain_events(),
+        vec![
+            node_added("dup", "/"),
+            node_added("dup", "/"),
+            node_removed("dup", "/")
+        ]
+    );
+    assert_eq!(g.node_count(), 1);
+}
+
+#[test]
+fn late_discovery_info_resolves_endpoints_seen_first() {
+    let mut g = GraphCache::new();
+    g.add_entity(writer("w", "p", "rt/t", STRING));
+    // Participant not seen at all: a bare DDS app, but still counted and listed.
+    assert_eq!(g.count_publishers("/t"), 1);
+    assert!(g.topic_names_and_types(false).contains_key("/t"));
+    assert_eq!(
+        g.publishers_info_by_topic("/t", false)[0].node_name,
+        CREATED_BY_BARE_DDS_APP
+    );
+    // Participant seen in SPDP, no ros_discovery_info yet.
+    g.add_participant(gid("p"), Some("/".to_owned()));
+    assert_eq!(
+        g.publishers_info_by_topic("/t", false)[0].node_name,
+        NODE_NAME_UNKNOWN
+    );
+    assert!(g.node_names().is_empty());
+    // Its message arrives.
+    g.update_participant_entities(msg("p", vec![node("/x", "late", &[], &["w"])]));
+    let info = &g.publishers_info_by_topic("/t", false)[0];
+    assert_eq!(
+        (info.node_name.as_str(), info.node_namespace.as_str()),
+        ("late", "/x")
+    );
+    assert_eq!(g.node_names()[0].enclave.as_deref(), Some("/"));
+}
+
+#[test]
+fn discovery_info_before_spdp_creates_the_participant() {
+    let mut g = GraphCache::new();
+    g.update_participant_entities(msg("p", vec![node("/", "n", &[], &["w"])]));
+    g.add_entity(writer("w", "p", "rt/t", STRING));
+    assert_eq!(g.publishers_info_by_topic("/t", false)[0].node_name, "n");
+    assert_eq!(g.node_names()[0].enclave, None);
+    // SPDP then adds the enclave without losing the nodes.
+    g.add_participant(gid("p"), Some("/secure".to_owned()));
+    assert_eq!(g.node_names()[0].enclave.as_deref(), Some("/secure"));
+    assert_eq!(g.node_count(), 1);
+}
+
+#[test]
+fn participant_gid_from_guid_prefix() {
+    let prefix = [1, 15, 200, 182, 254, 67, 179, 68, 0, 0, 0, 0];
+    assert_eq!(
+        participant_gid_from_prefix(prefix).to_string(),
+        "01.0f.c8.b6.fe.43.b3.44.00.00.00.00.00.00.01.c1"
+    );
+    // Endpoints are matched to a participant by GUID prefix.
+    let mut g = GraphCache::new();
+    g.add_participant(participant_gid_from_prefix(prefix), None);
+    let mut e = writer("w", "p", "rt/t", STRING);
+    let mut data = [0u8; 16];
+    data[..12].copy_from_slice(&prefix);
+    data[12..].copy_from_slice(&[0, 0, 0x12, 0x03]);
+    e.participant_gid = crate::Gid::from_bytes(data);
+    g.add_entity(e);
+    assert_eq!(
+        g.publishers_info_by_topic("/t", false)[0].node_name,
+        NODE_NAME_UNKNOWN
+    );
+    assert!(g.remove_participant(participant_gid_from_prefix(prefix)));
+    assert_eq!(g.count_publishers("/t"), 0);
+}
