@@ -17,8 +17,6 @@ usage: cyclone_discovery_info.py DOMAIN NAMESPACE NAME READERS WRITERS TIMEOUT
 import json
 import sys
 import time
-from dataclasses import dataclass
-from typing import List
 
 from cyclonedds.builtin import (
     BuiltinDataReader,
@@ -27,38 +25,10 @@ from cyclonedds.builtin import (
 )
 from cyclonedds.core import Policy, Qos
 from cyclonedds.domain import DomainParticipant
-from cyclonedds.idl import IdlStruct
-from cyclonedds.idl.types import array, bounded_str, sequence, uint8
 from cyclonedds.sub import DataReader
 from cyclonedds.topic import Topic
 
-
-# rmw_dds_common (jazzy) msg/Gid.msg: char[16] data
-@dataclass
-class Gid(IdlStruct, typename="rmw_dds_common::msg::dds_::Gid_"):
-    data: array[uint8, 16]
-
-
-# rmw_dds_common (jazzy) msg/NodeEntitiesInfo.msg
-@dataclass
-class NodeEntitiesInfo(IdlStruct, typename="rmw_dds_common::msg::dds_::NodeEntitiesInfo_"):
-    node_namespace: bounded_str[256]
-    node_name: bounded_str[256]
-    reader_gid_seq: sequence[Gid]
-    writer_gid_seq: sequence[Gid]
-
-
-# rmw_dds_common (jazzy) msg/ParticipantEntitiesInfo.msg
-@dataclass
-class ParticipantEntitiesInfo(
-    IdlStruct, typename="rmw_dds_common::msg::dds_::ParticipantEntitiesInfo_"
-):
-    gid: Gid
-    node_entities_info_seq: sequence[NodeEntitiesInfo]
-
-
-def dotted(raw: bytes) -> str:
-    return ".".join(f"{b:02x}" for b in raw)
+from ros_types import ParticipantEntitiesInfo, dotted
 
 
 def user_data(sample) -> str:

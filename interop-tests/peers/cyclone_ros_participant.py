@@ -10,47 +10,14 @@ usage: cyclone_ros_participant.py DOMAIN NAMESPACE NODE TYPEHASH LINGER
 import json
 import sys
 import time
-from dataclasses import dataclass
 
 from cyclonedds.core import Policy, Qos
 from cyclonedds.domain import DomainParticipant
-from cyclonedds.idl import IdlStruct
-from cyclonedds.idl.types import array, bounded_str, int32, sequence, uint8, uint32
 from cyclonedds.pub import DataWriter
 from cyclonedds.sub import DataReader
 from cyclonedds.topic import Topic
 
-
-@dataclass
-class Gid(IdlStruct, typename="rmw_dds_common::msg::dds_::Gid_"):
-    data: array[uint8, 16]
-
-
-@dataclass
-class NodeEntitiesInfo(IdlStruct, typename="rmw_dds_common::msg::dds_::NodeEntitiesInfo_"):
-    node_namespace: bounded_str[256]
-    node_name: bounded_str[256]
-    reader_gid_seq: sequence[Gid]
-    writer_gid_seq: sequence[Gid]
-
-
-@dataclass
-class ParticipantEntitiesInfo(
-    IdlStruct, typename="rmw_dds_common::msg::dds_::ParticipantEntitiesInfo_"
-):
-    gid: Gid
-    node_entities_info_seq: sequence[NodeEntitiesInfo]
-
-
-# builtin_interfaces/msg/Time
-@dataclass
-class Time(IdlStruct, typename="builtin_interfaces::msg::dds_::Time_"):
-    sec: int32
-    nanosec: uint32
-
-
-def dotted(raw: bytes) -> str:
-    return ".".join(f"{b:02x}" for b in raw)
+from ros_types import Gid, NodeEntitiesInfo, ParticipantEntitiesInfo, Time, dotted
 
 
 def main() -> int:
