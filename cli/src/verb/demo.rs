@@ -13,6 +13,9 @@ pub struct DemoArgs {
     /// Namespace of the node.
     #[arg(long, default_value = "/")]
     pub namespace: String,
+    /// How long to stay on the graph after printing, so peers can discover the node (ms).
+    #[arg(long, default_value_t = 500)]
+    pub linger_ms: u64,
 }
 
 /// Starts a node with a publisher and a subscription, prints what its participant announces on
@@ -60,5 +63,6 @@ pub fn run(domain_id: Option<u32>, args: &DemoArgs) -> Result<(), String> {
             println!("    writer {g}");
         }
     }
+    std::thread::sleep(std::time::Duration::from_millis(args.linger_ms));
     Ok(())
 }

@@ -74,15 +74,17 @@ pub struct Context {
     inner: Arc<ContextInner>,
 }
 
+/// Fields drop in declaration order: endpoints and the publisher/subscriber go before the
+/// participant they belong to (rustdds logs errors when the participant goes first).
 pub(crate) struct ContextInner {
-    pub(crate) domain: DomainId,
-    pub(crate) discovery: DiscoveryOptions,
-    pub(crate) participant: DomainParticipant,
+    discovery_writer: DiscoveryInfoWriter,
     pub(crate) publisher: rustdds::Publisher,
     pub(crate) subscriber: rustdds::Subscriber,
+    pub(crate) participant: DomainParticipant,
+    pub(crate) domain: DomainId,
+    pub(crate) discovery: DiscoveryOptions,
     pub(crate) gid: Gid,
     entities: Mutex<LocalEntities>,
-    discovery_writer: DiscoveryInfoWriter,
     feed_open: std::sync::atomic::AtomicBool,
 }
 
