@@ -116,19 +116,38 @@ impl Node {
     }
 }
 
-impl NodeInner {
-    /// Lists an endpoint of this node in `ros_discovery_info`.
-    pub(crate) fn associate(&self, side: EndpointSide, gid: Gid) {
-        self.context
+/// An endpoint's place under its node in `ros_discovery_info`: listed when created, withdrawn
+/// when dropped. Endpoint types hold it before their DDS entity, so that (as
+/// `rmw_destroy_publisher` does) the GID is withdrawn before the entity is deleted.
+pub(crate) struct Registration {
+    node: Arc<NodeInner>,
+    side: EndpointSide,
+    gid: Gid,
+}
+
+impl Registration {
+    /// Lists the endpoint `gid` under `node`.
+    pub(crate) fn new(node: &Node, side: EndpointSide, gid: Gid) -> Self {
+        let node = Arc::clone(node.inner());
+        node.context
             .inner()
-            .update_entities(|e| e.associate(self.key, side, gid));
+            .update_entities(|e| e.associate(node.key, side, gid));
+        Self { node, side, gid }
     }
 
-    /// Withdraws an endpoint of this node from `ros_discovery_info`.
-    pub(crate) fn dissociate(&self, side: EndpointSide, gid: Gid) {
-        self.context
+    /// The endpoint's GID.
+    pub(crate) fn gid(&self) -> Gid {
+        self.gid
+    }
+}
+
+impl Drop for Registration {
+    fn drop(&mut self) {
+        let (key, side, gid) = (self.node.key, self.side, self.gid);
+        self.node
+            .context
             .inner()
-            .update_entities(|e| e.dissociate(self.key, side, gid));
+            .update_entities(|e| e.dissociate(key, side, gid));
     }
 }
 

@@ -5,15 +5,13 @@
 //! XCDR1 little-endian. Each endpoint is listed under its node in `ros_discovery_info` from its
 //! creation until it is dropped.
 
-use std::sync::Arc;
-
 use horus_ros_msgs::Message;
 use rustdds::{no_key, CDRDeserializerAdapter, CDRSerializerAdapter, RTPSEntity, TopicKind};
 
 use crate::dds::gid_from_guid;
 use crate::entities::EndpointSide;
 use crate::names::{ExpandError, TopicName};
-use crate::node::{Node, NodeInner};
+use crate::node::{Node, Registration};
 use crate::qos::{EndpointKind, Qos, QosError};
 use crate::Gid;
 
@@ -106,11 +104,11 @@ fn resolve_topic<M: Message>(
 
 /// Publishes messages of type `M` on one topic.
 pub struct Publisher<M: Message> {
-    writer: no_key::DataWriter<M, CDRSerializerAdapter<M>>,
-    gid: Gid,
+    // Dropped first: withdrawn from ros_discovery_info before the DDS writer is deleted.
+    registration: Registration,
     topic: TopicName,
     qos: Qos,
-    node: Arc<NodeInner>,
+    writer: no_key::DataWriter<M, CDRSerializerAdapter<M>>,
 }
 
 impl Node {
@@ -132,14 +130,15 @@ impl Node {
                 topic: topic_name.to_string(),
                 reason: e.to_string(),
             })?;
-        let gid = gid_from_guid(writer.guid());
-        self.inner().associate(EndpointSide::Writer, gid);
         Ok(Publisher {
-            writer,
-            gid,
+            registration: Registration::new(
+                self,
+                EndpointSide::Writer,
+                gid_from_guid(writer.guid()),
+            ),
             topic: topic_name,
             qos: *qos,
-            node: Arc::clone(self.inner()),
+            writer,
         })
     }
 
@@ -161,14 +160,15 @@ impl Node {
                 topic: topic_name.to_string(),
                 reason: e.to_string(),
             })?;
-        let gid = gid_from_guid(reader.guid());
-        self.inner().associate(EndpointSide::Reader, gid);
         Ok(Subscription {
-            reader,
-            gid,
+            registration: Registration::new(
+                self,
+                EndpointSide::Reader,
+                gid_from_guid(reader.guid()),
+            ),
             topic: topic_name,
             qos: *qos,
-            node: Arc::clone(self.inner()),
+            reader,
         })
     }
 }
@@ -184,7 +184,7 @@ impl<M: Message> Publisher<M> {
 
     /// The writer's GID.
     pub fn gid(&self) -> Gid {
-        self.gid
+        self.registration.gid()
     }
 
     /// The fully-qualified topic name.
@@ -198,20 +198,13 @@ impl<M: Message> Publisher<M> {
     }
 }
 
-impl<M: Message> Drop for Publisher<M> {
-    fn drop(&mut self) {
-        // As rmw_destroy_publisher: withdraw from ros_discovery_info, then delete the writer.
-        self.node.dissociate(EndpointSide::Writer, self.gid);
-    }
-}
-
 /// Receives messages of type `M` from one topic.
 pub struct Subscription<M: Message> {
-    reader: no_key::DataReader<M, CDRDeserializerAdapter<M>>,
-    gid: Gid,
+    // Dropped first: withdrawn from ros_discovery_info before the DDS reader is deleted.
+    registration: Registration,
     topic: TopicName,
     qos: Qos,
-    node: Arc<NodeInner>,
+    reader: no_key::DataReader<M, CDRDeserializerAdapter<M>>,
 }
 
 impl<M: Message> Subscription<M> {
@@ -228,7 +221,7 @@ impl<M: Message> Subscription<M> {
 
     /// The reader's GID.
     pub fn gid(&self) -> Gid {
-        self.gid
+        self.registration.gid()
     }
 
     /// The fully-qualified topic name.
@@ -239,11 +232,5 @@ impl<M: Message> Subscription<M> {
     /// The QoS asked for.
     pub fn qos(&self) -> &Qos {
         &self.qos
-    }
-}
-
-impl<M: Message> Drop for Subscription<M> {
-    fn drop(&mut self) {
-        self.node.dissociate(EndpointSide::Reader, self.gid);
     }
 }
