@@ -8,6 +8,9 @@
 //! Queries use rcl's names with Rust types: node names, topic and service names and types,
 //! names and types by node, counts, and endpoint information by topic and by service
 //! ([`TopicEndpointInfo`], [`ServiceEndpointInfo`], whose `Display` matches rclpy's `__str__`).
+//!
+//! [`Graph`] keeps a cache up to date from a context's discovery in the background and offers
+//! change notification and service readiness.
 
 mod cache;
 mod endpoint;
@@ -15,6 +18,7 @@ mod endpoint_query;
 mod error;
 mod event;
 mod info;
+mod live;
 mod query;
 
 #[cfg(test)]
@@ -26,6 +30,7 @@ pub use error::GraphError;
 pub use event::GraphEvent;
 pub use horus_ros_msgs::rmw_dds_common::Gid;
 pub use info::{ServiceEndpointInfo, ServiceEndpointType, TopicEndpointInfo, TopicEndpointType};
+pub use live::{apply_discovery_event, Graph, GraphStartError};
 pub use query::{NamesAndTypes, NodeInfo};
 
 /// Node name reported for an endpoint whose participant is unknown (rmw_dds_common

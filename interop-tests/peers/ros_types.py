@@ -5,7 +5,7 @@ ParticipantEntitiesInfo.msg, and builtin_interfaces/msg/Time.msg."""
 from dataclasses import dataclass
 
 from cyclonedds.idl import IdlStruct
-from cyclonedds.idl.types import array, bounded_str, int32, sequence, uint8, uint32
+from cyclonedds.idl.types import array, bounded_str, int32, int64, sequence, uint8, uint32
 
 
 @dataclass
@@ -38,3 +38,19 @@ class Time(IdlStruct, typename="builtin_interfaces::msg::dds_::Time_"):
 def dotted(raw: bytes) -> str:
     """A GID or GUID printed as ros2cli prints GIDs."""
     return ".".join(f"{b:02x}" for b in raw)
+
+
+@dataclass
+class AddTwoIntsRequest(IdlStruct, typename="example_interfaces::srv::dds_::AddTwoInts_Request_"):
+    a: int64
+    b: int64
+
+
+@dataclass
+class AddTwoIntsResponse(IdlStruct, typename="example_interfaces::srv::dds_::AddTwoInts_Response_"):
+    sum: int64
+
+
+# RIHS01 hashes ROS 2 Jazzy generates for example_interfaces/srv/AddTwoInts_Request / _Response.
+ADD_TWO_INTS_REQUEST_HASH = "RIHS01_000c5fd92d6b2e1a05949348f584d6d652adea1e92d691792011ac2273508302"
+ADD_TWO_INTS_RESPONSE_HASH = "RIHS01_de5c030d4af33cba2749310b249737b631594703f9300495f48bffb2b44dcc2f"

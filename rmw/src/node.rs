@@ -3,6 +3,7 @@
 use std::sync::Arc;
 
 use crate::context::Context;
+use crate::discovery::DiscoveredEndpoint;
 use crate::entities::{EndpointSide, NodeKey};
 use crate::names::{Namespace, NamespaceError, NodeName, NodeNameError};
 use crate::Gid;
@@ -126,12 +127,11 @@ pub(crate) struct Registration {
 }
 
 impl Registration {
-    /// Lists the endpoint `gid` under `node`.
-    pub(crate) fn new(node: &Node, side: EndpointSide, gid: Gid) -> Self {
+    /// Lists `endpoint` under `node`.
+    pub(crate) fn new(node: &Node, side: EndpointSide, endpoint: DiscoveredEndpoint) -> Self {
         let node = Arc::clone(node.inner());
-        node.context
-            .inner()
-            .update_entities(|e| e.associate(node.key, side, gid));
+        let gid = endpoint.gid;
+        node.context.inner().add_endpoint(node.key, side, endpoint);
         Self { node, side, gid }
     }
 
@@ -144,16 +144,12 @@ impl Registration {
 impl Drop for Registration {
     fn drop(&mut self) {
         let (key, side, gid) = (self.node.key, self.side, self.gid);
-        self.node
-            .context
-            .inner()
-            .update_entities(|e| e.dissociate(key, side, gid));
+        self.node.context.inner().remove_endpoint(key, side, gid);
     }
 }
 
 impl Drop for NodeInner {
     fn drop(&mut self) {
-        let key = self.key;
-        self.context.inner().update_entities(|e| e.remove_node(key));
+        self.context.inner().remove_node(self.key);
     }
 }

@@ -9,6 +9,7 @@ use horus_ros_msgs::Message;
 use rustdds::{no_key, CDRDeserializerAdapter, CDRSerializerAdapter, RTPSEntity, TopicKind};
 
 use crate::dds::gid_from_guid;
+use crate::discovery::DiscoveredEndpoint;
 use crate::entities::EndpointSide;
 use crate::names::{ExpandError, TopicName};
 use crate::node::{Node, Registration};
@@ -102,6 +103,27 @@ fn resolve_topic<M: Message>(
     Ok((topic_name, topic, dds_qos))
 }
 
+/// How one of our own endpoints is reported to the discovery feed.
+fn local_endpoint<M: Message>(
+    node: &Node,
+    gid: Gid,
+    kind: EndpointKind,
+    topic: &TopicName,
+    qos: &Qos,
+) -> DiscoveredEndpoint {
+    DiscoveredEndpoint {
+        gid,
+        participant_gid: node.context().gid(),
+        kind,
+        dds_topic_name: topic.to_dds_topic_name(qos.avoid_ros_namespace_conventions),
+        dds_type_name: M::dds_type_name(),
+        qos: *qos,
+        type_hash: M::type_hash(),
+        // What rustdds announces for us: nothing (it cannot send endpoint USER_DATA).
+        user_data: Vec::new(),
+    }
+}
+
 /// Publishes messages of type `M` on one topic.
 pub struct Publisher<M: Message> {
     // Dropped first: withdrawn from ros_discovery_info before the DDS writer is deleted.
@@ -134,7 +156,13 @@ impl Node {
             registration: Registration::new(
                 self,
                 EndpointSide::Writer,
-                gid_from_guid(writer.guid()),
+                local_endpoint::<M>(
+                    self,
+                    gid_from_guid(writer.guid()),
+                    EndpointKind::Writer,
+                    &topic_name,
+                    qos,
+                ),
             ),
             topic: topic_name,
             qos: *qos,
@@ -164,7 +192,13 @@ impl Node {
             registration: Registration::new(
                 self,
                 EndpointSide::Reader,
-                gid_from_guid(reader.guid()),
+                local_endpoint::<M>(
+                    self,
+                    gid_from_guid(reader.guid()),
+                    EndpointKind::Reader,
+                    &topic_name,
+                    qos,
+                ),
             ),
             topic: topic_name,
             qos: *qos,

@@ -3,13 +3,15 @@
 
 pub mod env;
 
+use std::collections::BTreeMap;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard};
 
 use rustdds::{DomainParticipant, QosPolicyBuilder, RTPSEntity};
 
 use crate::dds::{self, discovery_info::DiscoveryInfoWriter};
-use crate::discovery::DiscoveryEvent;
-use crate::entities::LocalEntities;
+use crate::discovery::{DiscoveredEndpoint, DiscoveredParticipant, DiscoveryEvent, VendorId};
+use crate::entities::{EndpointSide, LocalEntities, NodeKey};
 use crate::Gid;
 use env::{DiscoveryOptions, DomainId, DomainIdError};
 use horus_ros_msgs::rmw_dds_common::ParticipantEntitiesInfo;
@@ -84,8 +86,29 @@ pub(crate) struct ContextInner {
     pub(crate) domain: DomainId,
     pub(crate) discovery: DiscoveryOptions,
     pub(crate) gid: Gid,
-    entities: Mutex<LocalEntities>,
-    feed_open: std::sync::atomic::AtomicBool,
+    local: Mutex<LocalState>,
+    feed_open: AtomicBool,
+    /// The status listener, registered once, kept between feeds.
+    status_poll: Mutex<Option<dds::discovery_feed::StatusPoll>>,
+}
+
+/// What this participant itself holds: its nodes, its endpoints, and where to report changes to
+/// them (the open [`DiscoveryFeed`], since DDS discovery reports only remote entities).
+pub(crate) struct LocalState {
+    entities: LocalEntities,
+    endpoints: BTreeMap<Gid, DiscoveredEndpoint>,
+    sink: Option<mio_extras::channel::Sender<DiscoveryEvent>>,
+}
+
+impl LocalState {
+    /// Reports `event` to the open feed, if any; a closed feed stops the reporting.
+    fn report(&mut self, event: DiscoveryEvent) {
+        if let Some(sink) = &self.sink {
+            if sink.send(event).is_err() {
+                self.sink = None;
+            }
+        }
+    }
 }
 
 impl std::fmt::Debug for Context {
@@ -126,7 +149,11 @@ impl Context {
         let topic = dds::discovery_info::topic(&participant).map_err(fail)?;
         let discovery_writer = DiscoveryInfoWriter::new(&publisher, &topic).map_err(fail)?;
         let gid = dds::gid_from_guid(participant.guid());
-        let entities = Mutex::new(LocalEntities::new(gid));
+        let local = Mutex::new(LocalState {
+            entities: LocalEntities::new(gid),
+            endpoints: BTreeMap::new(),
+            sink: None,
+        });
         tracing::debug!(%domain, participant = %gid, "created DDS participant");
         Ok(Self {
             inner: Arc::new(ContextInner {
@@ -136,9 +163,10 @@ impl Context {
                 publisher,
                 subscriber,
                 gid,
-                entities,
+                local,
                 discovery_writer,
-                feed_open: std::sync::atomic::AtomicBool::new(false),
+                feed_open: AtomicBool::new(false),
+                status_poll: Mutex::new(None),
             }),
         })
     }
@@ -160,7 +188,7 @@ impl Context {
 
     /// What this participant currently announces on `ros_discovery_info`.
     pub fn announced_entities(&self) -> ParticipantEntitiesInfo {
-        self.inner.entities().message()
+        self.inner.local().entities.message()
     }
 
     pub(crate) fn inner(&self) -> &Arc<ContextInner> {
@@ -169,29 +197,62 @@ impl Context {
 }
 
 impl ContextInner {
-    /// Locks the local node bookkeeping (a poisoned lock still holds consistent data: every
-    /// mutation is a single push/retain).
-    pub(crate) fn entities(&self) -> MutexGuard<'_, LocalEntities> {
-        self.entities.lock().unwrap_or_else(|p| p.into_inner())
+    /// Locks what this participant holds (a poisoned lock still holds consistent data: every
+    /// mutation is a single push/retain/insert).
+    fn local(&self) -> MutexGuard<'_, LocalState> {
+        lock(&self.local)
     }
 
-    /// Adds a node to the bookkeeping and announces it.
-    pub(crate) fn add_node(&self, namespace: &str, name: &str) -> crate::entities::NodeKey {
-        let mut entities = self.entities();
-        let (key, message) = entities.add_node(namespace, name);
-        self.discovery_writer.publish(message);
+    /// Publishes the participant's new message and reports it to the feed. Called under the
+    /// lock, so that messages leave in the order of the changes.
+    fn announce(&self, local: &mut LocalState, message: ParticipantEntitiesInfo) {
+        self.discovery_writer.publish(message.clone());
+        local.report(DiscoveryEvent::ParticipantEntities(message));
+    }
+
+    /// Adds a node and announces it.
+    pub(crate) fn add_node(&self, namespace: &str, name: &str) -> NodeKey {
+        let mut local = self.local();
+        let (key, message) = local.entities.add_node(namespace, name);
+        self.announce(&mut local, message);
         key
     }
 
-    /// Applies a bookkeeping change and, if it changed anything, republishes the whole participant.
-    pub(crate) fn update_entities(
+    /// Removes a node and announces it.
+    pub(crate) fn remove_node(&self, key: NodeKey) {
+        let mut local = self.local();
+        if let Some(message) = local.entities.remove_node(key) {
+            self.announce(&mut local, message);
+        }
+    }
+
+    /// Lists a new endpoint under a node and announces it.
+    pub(crate) fn add_endpoint(
         &self,
-        change: impl FnOnce(&mut LocalEntities) -> Option<ParticipantEntitiesInfo>,
+        key: NodeKey,
+        side: EndpointSide,
+        endpoint: DiscoveredEndpoint,
     ) {
-        let mut entities = self.entities();
-        if let Some(message) = change(&mut entities) {
-            // Published under the lock so that messages leave in the order of the changes.
-            self.discovery_writer.publish(message);
+        let mut local = self.local();
+        let gid = endpoint.gid;
+        local.endpoints.insert(gid, endpoint.clone());
+        local.report(DiscoveryEvent::EndpointDiscovered(endpoint));
+        if let Some(message) = local.entities.associate(key, side, gid) {
+            self.announce(&mut local, message);
+        }
+    }
+
+    /// Withdraws an endpoint from its node and announces it.
+    pub(crate) fn remove_endpoint(&self, key: NodeKey, side: EndpointSide, gid: Gid) {
+        let mut local = self.local();
+        if let Some(endpoint) = local.endpoints.remove(&gid) {
+            local.report(DiscoveryEvent::EndpointLost {
+                gid,
+                kind: endpoint.kind,
+            });
+        }
+        if let Some(message) = local.entities.dissociate(key, side, gid) {
+            self.announce(&mut local, message);
         }
     }
 }
@@ -202,6 +263,12 @@ pub enum DiscoveryFeedError {
     /// The context already has a feed: rustdds keeps one discovery event queue per participant.
     #[error("this context already has a discovery feed")]
     AlreadyOpen,
+    /// The wake-up machinery (an OS poll instance) could not be set up.
+    #[error("could not set up waiting for discovery events: {reason}")]
+    Poll {
+        /// What the OS said.
+        reason: String,
+    },
     /// The `ros_discovery_info` reader could not be created.
     #[error("could not create the ros_discovery_info reader: {reason}")]
     Reader {
@@ -210,17 +277,36 @@ pub enum DiscoveryFeedError {
     },
 }
 
-/// Every [`DiscoveryEvent`] of a context's participant: SPDP participants, SEDP (and local)
-/// readers and writers, and other participants' `ros_discovery_info` messages.
+/// Every [`DiscoveryEvent`] of a context: remote participants (SPDP), readers and writers (SEDP),
+/// other participants' `ros_discovery_info` messages, and the context's own participant, nodes
+/// and endpoints (reported by the context itself, first as a snapshot when the feed opens).
+/// Dropping the feed allows opening another.
 pub struct DiscoveryFeed {
-    feed: crate::dds::discovery_feed::DdsDiscoveryFeed,
-    _context: Context,
+    /// Always `Some` until dropped.
+    feed: Option<dds::discovery_feed::DdsDiscoveryFeed>,
+    context: Context,
+}
+
+impl Drop for DiscoveryFeed {
+    fn drop(&mut self) {
+        let inner = &self.context.inner;
+        inner.local().sink = None;
+        if let Some(feed) = self.feed.take() {
+            *lock(&inner.status_poll) = Some(feed.close());
+        }
+        inner.feed_open.store(false, Ordering::SeqCst);
+    }
+}
+
+/// Locks a mutex whose data stays consistent even if a holder panicked.
+fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
+    m.lock().unwrap_or_else(|p| p.into_inner())
 }
 
 impl std::fmt::Debug for DiscoveryFeed {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("DiscoveryFeed")
-            .field("participant", &self._context.gid())
+            .field("participant", &self.context.gid())
             .finish()
     }
 }
@@ -228,7 +314,12 @@ impl std::fmt::Debug for DiscoveryFeed {
 impl DiscoveryFeed {
     /// The next event, if one is waiting (non-blocking).
     pub fn try_next(&mut self) -> Option<DiscoveryEvent> {
-        self.feed.try_next()
+        self.feed.as_mut().and_then(|f| f.try_next())
+    }
+
+    /// The next event, waiting for it at most `timeout` (woken by the DDS layer, no polling).
+    pub fn next_timeout(&mut self, timeout: std::time::Duration) -> Option<DiscoveryEvent> {
+        self.feed.as_mut().and_then(|f| f.next_timeout(timeout))
     }
 }
 
@@ -257,14 +348,53 @@ impl Context {
             .subscriber
             .create_datareader_no_key(&topic, Some(dds::discovery_info::reader_qos()))
             .map_err(fail)?;
-        Ok(DiscoveryFeed {
-            feed: crate::dds::discovery_feed::DdsDiscoveryFeed {
-                listener: self.inner.participant.status_listener(),
-                reader,
-                own_gid: self.inner.gid,
-                pending: Default::default(),
+        let (sink, local_events) = mio_extras::channel::channel();
+        let reopened = lock(&self.inner.status_poll).take();
+        let status = match reopened {
+            Some(status) => status,
+            None => dds::discovery_feed::StatusPoll::new(self.inner.participant.status_listener())
+                .map_err(|e| {
+                    self.inner.feed_open.store(false, Ordering::SeqCst);
+                    DiscoveryFeedError::Poll {
+                        reason: e.to_string(),
+                    }
+                })?,
+        };
+        let snapshot =
+            dds::discovery_feed::endpoint_snapshot(&self.inner.participant, self.inner.gid);
+        let feed = dds::discovery_feed::DdsDiscoveryFeed::new(
+            status,
+            reader,
+            local_events,
+            self.inner.gid,
+            snapshot,
+        )
+        .map_err(|(status, e)| {
+            *lock(&self.inner.status_poll) = Some(status);
+            self.inner.feed_open.store(false, Ordering::SeqCst);
+            DiscoveryFeedError::Poll {
+                reason: e.to_string(),
+            }
+        })?;
+        // The snapshot of what this participant holds, then every later change, in order.
+        let mut local = self.inner.local();
+        let _ = sink.send(DiscoveryEvent::ParticipantDiscovered(
+            DiscoveredParticipant {
+                gid: self.inner.gid,
+                vendor_id: VendorId::RUSTDDS,
             },
-            _context: self.clone(),
+        ));
+        for endpoint in local.endpoints.values() {
+            let _ = sink.send(DiscoveryEvent::EndpointDiscovered(endpoint.clone()));
+        }
+        let _ = sink.send(DiscoveryEvent::ParticipantEntities(
+            local.entities.message(),
+        ));
+        local.sink = Some(sink);
+        drop(local);
+        Ok(DiscoveryFeed {
+            feed: Some(feed),
+            context: self.clone(),
         })
     }
 }

@@ -2,6 +2,9 @@
 //! [`DiscoveryEvent`]s.
 
 use std::collections::VecDeque;
+use std::time::{Duration, Instant};
+
+use mio_06 as mio;
 
 use horus_ros_msgs::rmw_dds_common::ParticipantEntitiesInfo;
 use horus_ros_msgs::user_data::parse_type_hash_from_user_data;
@@ -16,30 +19,135 @@ use crate::discovery::{DiscoveredEndpoint, DiscoveredParticipant, DiscoveryEvent
 use crate::qos::{EndpointKind, Qos};
 use crate::Gid;
 
-/// Most samples drained from the `ros_discovery_info` reader per call, so one call stays short.
-const MAX_SAMPLES_PER_POLL: usize = 64;
+/// Most samples drained from the `ros_discovery_info` reader in one go; past it the feed says
+/// more may be waiting rather than block (readers wake only on new data: edge-triggered).
+const MAX_SAMPLES_PER_POLL: usize = 4096;
+
+const STATUS: mio::Token = mio::Token(0);
+const INFO: mio::Token = mio::Token(1);
+const LOCAL: mio::Token = mio::Token(2);
+
+type InfoReader =
+    no_key::DataReader<ParticipantEntitiesInfo, CDRDeserializerAdapter<ParticipantEntitiesInfo>>;
+
+/// The participant's status-event listener registered with a poll instance. rustdds lets a
+/// listener be registered only once, so this outlives each feed and is handed back when a feed
+/// closes.
+pub(crate) struct StatusPoll {
+    poll: mio::Poll,
+    listener: DomainParticipantStatusListener,
+}
+
+impl StatusPoll {
+    /// Registers `listener` with a new poll instance.
+    pub(crate) fn new(listener: DomainParticipantStatusListener) -> std::io::Result<Self> {
+        let poll = mio::Poll::new()?;
+        poll.register(
+            &listener,
+            STATUS,
+            mio::Ready::readable(),
+            mio::PollOpt::edge(),
+        )?;
+        Ok(Self { poll, listener })
+    }
+}
 
 /// The rustdds side of a discovery feed.
 pub(crate) struct DdsDiscoveryFeed {
-    pub(crate) listener: DomainParticipantStatusListener,
-    pub(crate) reader: no_key::DataReader<
-        ParticipantEntitiesInfo,
-        CDRDeserializerAdapter<ParticipantEntitiesInfo>,
-    >,
-    pub(crate) own_gid: Gid,
-    pub(crate) pending: VecDeque<DiscoveryEvent>,
+    poll: mio::Poll,
+    listener: DomainParticipantStatusListener,
+    reader: InfoReader,
+    local: mio_extras::channel::Receiver<DiscoveryEvent>,
+    own_gid: Gid,
+    pending: VecDeque<DiscoveryEvent>,
+    maybe_more: bool,
 }
 
 impl DdsDiscoveryFeed {
+    /// A feed over the participant's status events, the `ros_discovery_info` reader and the
+    /// context's own changes (`local`).
+    pub(crate) fn new(
+        status: StatusPoll,
+        reader: InfoReader,
+        local: mio_extras::channel::Receiver<DiscoveryEvent>,
+        own_gid: Gid,
+        initial: Vec<DiscoveryEvent>,
+    ) -> Result<Self, (StatusPoll, std::io::Error)> {
+        let StatusPoll { poll, listener } = status;
+        let registered = poll
+            .register(&reader, INFO, mio::Ready::readable(), mio::PollOpt::edge())
+            .and_then(|()| {
+                poll.register(&local, LOCAL, mio::Ready::readable(), mio::PollOpt::edge())
+            });
+        if let Err(e) = registered {
+            return Err((StatusPoll { poll, listener }, e));
+        }
+        Ok(Self {
+            poll,
+            listener,
+            reader,
+            local,
+            own_gid,
+            pending: initial.into(),
+            maybe_more: true,
+        })
+    }
+
+    /// Closes the feed, giving back the registered status listener.
+    pub(crate) fn close(self) -> StatusPoll {
+        // Deregistering fails only for what was never registered; nothing to undo then.
+        let _ = self.poll.deregister(&self.reader);
+        let _ = self.poll.deregister(&self.local);
+        StatusPoll {
+            poll: self.poll,
+            listener: self.listener,
+        }
+    }
+
     /// The next event, if any (non-blocking).
     pub(crate) fn try_next(&mut self) -> Option<DiscoveryEvent> {
         if self.pending.is_empty() {
-            self.poll();
+            self.drain();
         }
         self.pending.pop_front()
     }
 
-    fn poll(&mut self) {
+    /// The next event, waiting at most `timeout` for one.
+    pub(crate) fn next_timeout(&mut self, timeout: Duration) -> Option<DiscoveryEvent> {
+        let deadline = Instant::now() + timeout;
+        let mut events = mio::Events::with_capacity(8);
+        loop {
+            if let Some(event) = self.try_next() {
+                return Some(event);
+            }
+            let now = Instant::now();
+            if now >= deadline {
+                return None;
+            }
+            if let Err(e) = self.poll.poll(&mut events, Some(deadline - now)) {
+                if e.kind() != std::io::ErrorKind::Interrupted {
+                    tracing::warn!("waiting for discovery events failed: {e}");
+                    return None;
+                }
+            }
+            // Whatever woke us, everything is drained on the next try.
+            self.maybe_more = true;
+        }
+    }
+
+    fn drain(&mut self) {
+        if !std::mem::take(&mut self.maybe_more) {
+            // Nothing was signalled since the last full drain; a zero-timeout poll tells.
+            let mut events = mio::Events::with_capacity(8);
+            match self.poll.poll(&mut events, Some(Duration::ZERO)) {
+                Ok(n) if n > 0 => {}
+                _ => return,
+            }
+        }
+        // Our own changes first: they were made before anything discovery reports about them.
+        while let Ok(event) = self.local.try_recv() {
+            self.pending.push_back(event);
+        }
         while let Some(status) = self.listener.try_recv_status() {
             if let Some(event) = self.convert(status) {
                 self.pending.push_back(event);
@@ -49,21 +157,23 @@ impl DdsDiscoveryFeed {
             match self.reader.take_next_sample() {
                 Ok(Some(sample)) => {
                     let info = sample.into_value();
-                    // As rmw_dds_common's reader (ignore_local_publications): skip our own.
+                    // As rmw_dds_common's reader (ignore_local_publications): skip our own,
+                    // which the context reports itself.
                     if info.gid != self.own_gid {
                         self.pending
                             .push_back(DiscoveryEvent::ParticipantEntities(info));
                     }
                 }
-                Ok(None) => break,
+                Ok(None) => return,
                 // Malformed CDR from the wire: that sample is dropped, the feed goes on.
                 Err(e) => tracing::warn!("dropped a malformed ros_discovery_info sample: {e}"),
             }
         }
+        self.maybe_more = true;
     }
 
     fn convert(&self, status: DomainParticipantStatusEvent) -> Option<DiscoveryEvent> {
-        match status {
+        let event = match status {
             DomainParticipantStatusEvent::ParticipantDiscovered { dpd } => Some(
                 DiscoveryEvent::ParticipantDiscovered(DiscoveredParticipant {
                     gid: gid_from_guid(dpd.guid),
@@ -94,7 +204,17 @@ impl DdsDiscoveryFeed {
                 })
             }
             _ => None,
-        }
+        }?;
+        // Our own participant and endpoints are reported by the context itself.
+        let gid = match &event {
+            DiscoveryEvent::ParticipantDiscovered(p) => p.gid,
+            DiscoveryEvent::ParticipantLost { gid } | DiscoveryEvent::EndpointLost { gid, .. } => {
+                *gid
+            }
+            DiscoveryEvent::EndpointDiscovered(e) => e.gid,
+            DiscoveryEvent::ParticipantEntities(_) => return Some(event),
+        };
+        (gid.prefix() != self.own_gid.prefix()).then_some(event)
     }
 }
 
@@ -125,21 +245,74 @@ pub(crate) fn user_data_octets(raw: &[u8]) -> &[u8] {
 }
 
 fn endpoint(d: EndpointDescription, kind: EndpointKind) -> DiscoveredEndpoint {
-    let user_data = user_data_octets(&d.user_data).to_vec();
+    endpoint_from_parts(
+        d.guid,
+        d.topic_name,
+        d.type_name,
+        &d.qos,
+        &d.user_data,
+        kind,
+    )
+}
+
+fn endpoint_from_parts(
+    guid: rustdds::GUID,
+    topic_name: String,
+    type_name: String,
+    qos: &rustdds::QosPolicies,
+    raw_user_data: &[u8],
+    kind: EndpointKind,
+) -> DiscoveredEndpoint {
+    let user_data = user_data_octets(raw_user_data).to_vec();
     let type_hash = parse_type_hash_from_user_data(&user_data).unwrap_or_else(|e| {
-        tracing::debug!(topic = %d.topic_name, "unusable type hash in USER_DATA: {e}");
+        tracing::debug!(topic = %topic_name, "unusable type hash in USER_DATA: {e}");
         TypeHash::ZERO
     });
     DiscoveredEndpoint {
-        gid: gid_from_guid(d.guid),
-        participant_gid: participant_gid(d.guid.prefix.as_ref()),
+        gid: gid_from_guid(guid),
+        participant_gid: participant_gid(guid.prefix.as_ref()),
         kind,
-        dds_topic_name: d.topic_name,
-        dds_type_name: d.type_name,
-        qos: Qos::from_dds(&d.qos, kind),
+        dds_topic_name: topic_name,
+        dds_type_name: type_name,
+        qos: Qos::from_dds(qos, kind),
         type_hash,
         user_data,
     }
+}
+
+/// Every remote reader and writer the participant knows now, as discovery events: a feed opened
+/// late starts from these (rustdds keeps no list of participants, only of endpoints).
+pub(crate) fn endpoint_snapshot(
+    participant: &rustdds::DomainParticipant,
+    own_gid: Gid,
+) -> Vec<DiscoveryEvent> {
+    let readers = participant.discovered_readers().into_iter().map(|r| {
+        let t = &r.subscription_topic_data;
+        endpoint_from_parts(
+            r.reader_proxy.remote_reader_guid,
+            t.topic_name().clone(),
+            t.type_name().clone(),
+            &t.qos(),
+            &r.user_data,
+            EndpointKind::Reader,
+        )
+    });
+    let writers = participant.discovered_writers().into_iter().map(|w| {
+        let t = &w.publication_topic_data;
+        endpoint_from_parts(
+            w.writer_proxy.remote_writer_guid,
+            t.topic_name().clone(),
+            t.type_name.clone(),
+            &t.qos(),
+            &w.user_data,
+            EndpointKind::Writer,
+        )
+    });
+    readers
+        .chain(writers)
+        .filter(|e| e.gid.prefix() != own_gid.prefix())
+        .map(DiscoveryEvent::EndpointDiscovered)
+        .collect()
 }
 
 #[cfg(test)]

@@ -1,0 +1,233 @@
+//! [`Graph`]: a [`GraphCache`] kept up to date from a context's discovery feed by a background
+//! thread, with change notification (`wait_for_graph_change`, event subscriptions) and service
+//! readiness checks — what rcl offers through the graph guard condition and
+//! `rcl_service_server_is_available`.
+
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc::{self, Receiver, Sender};
+use std::sync::{Arc, Condvar, Mutex, MutexGuard};
+use std::thread::JoinHandle;
+use std::time::{Duration, Instant};
+
+use horus_ros_rmw::{Context, DiscoveryEvent, DiscoveryFeed, DiscoveryFeedError};
+
+use crate::{EndpointEntry, GraphCache, GraphEvent};
+
+/// How long the background thread waits for discovery before checking whether to stop.
+const STOP_CHECK_INTERVAL: Duration = Duration::from_millis(100);
+/// Most discovery events applied under one lock, so readers are never held off for long.
+const MAX_BATCH: usize = 1024;
+
+/// Why a [`Graph`] could not be started.
+#[derive(Debug, thiserror::Error)]
+pub enum GraphStartError {
+    /// The context's discovery feed could not be opened (e.g. another `Graph` holds it).
+    #[error(transparent)]
+    Feed(#[from] DiscoveryFeedError),
+    /// The background thread could not be started.
+    #[error("could not start the graph thread: {0}")]
+    Thread(#[from] std::io::Error),
+}
+
+/// Applies one discovery event to the cache; returns whether the cache changed.
+pub fn apply_discovery_event(cache: &mut GraphCache, event: DiscoveryEvent) -> bool {
+    match event {
+        DiscoveryEvent::ParticipantDiscovered(p) => cache.add_participant(p.gid, None),
+        DiscoveryEvent::ParticipantLost { gid } => cache.remove_participant(gid),
+        DiscoveryEvent::EndpointDiscovered(e) => cache.add_entity(EndpointEntry {
+            gid: e.gid,
+            participant_gid: e.participant_gid,
+            dds_topic_name: e.dds_topic_name,
+            dds_type_name: e.dds_type_name,
+            qos: e.qos,
+            type_hash: e.type_hash,
+            kind: e.kind,
+        }),
+        DiscoveryEvent::EndpointLost { gid, .. } => cache.remove_entity(gid),
+        DiscoveryEvent::ParticipantEntities(info) => cache.update_participant_entities(info),
+    }
+}
+
+struct State {
+    cache: GraphCache,
+    /// Bumped on every change of the cache.
+    generation: u64,
+}
+
+struct Shared {
+    state: Mutex<State>,
+    changed: Condvar,
+    subscribers: Mutex<Vec<Sender<GraphEvent>>>,
+    stop: AtomicBool,
+}
+
+impl Shared {
+    fn state(&self) -> MutexGuard<'_, State> {
+        self.state.lock().unwrap_or_else(|p| p.into_inner())
+    }
+}
+
+/// The live ROS graph of one context: every participant, node and endpoint it can see, its own
+/// included. Dropping it stops the background thread.
+pub struct Graph {
+    shared: Arc<Shared>,
+    worker: Option<JoinHandle<()>>,
+}
+
+impl std::fmt::Debug for Graph {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Graph")
+            .field("generation", &self.generation())
+            .finish()
+    }
+}
+
+impl Graph {
+    /// Starts following `context`'s discovery (one `Graph` per context at a time).
+    pub fn new(context: &Context) -> Result<Self, GraphStartError> {
+        let feed = context.discovery_feed()?;
+        let mut cache = GraphCache::new();
+        cache.record_events(true);
+        let shared = Arc::new(Shared {
+            state: Mutex::new(State {
+                cache,
+                generation: 0,
+            }),
+            changed: Condvar::new(),
+            subscribers: Mutex::new(Vec::new()),
+            stop: AtomicBool::new(false),
+        });
+        let worker_shared = Arc::clone(&shared);
+        let worker = std::thread::Builder::new()
+            .name("horus-ros-graph".to_owned())
+            .spawn(move || run(&worker_shared, feed))?;
+        Ok(Self {
+            shared,
+            worker: Some(worker),
+        })
+    }
+
+    /// Runs `f` on the cache as it is now (the cache is locked meanwhile: keep `f` short).
+    pub fn read<R>(&self, f: impl FnOnce(&GraphCache) -> R) -> R {
+        f(&self.shared.state().cache)
+    }
+
+    /// A counter bumped on every change of the graph.
+    pub fn generation(&self) -> u64 {
+        self.shared.state().generation
+    }
+
+    /// Every change from now on, as typed events (the receiver may be dropped at any time).
+    pub fn subscribe(&self) -> Receiver<GraphEvent> {
+        let (tx, rx) = mpsc::channel();
+        self.shared
+            .subscribers
+            .lock()
+            .unwrap_or_else(|p| p.into_inner())
+            .push(tx);
+        rx
+    }
+
+    /// Waits until the graph changes, at most `timeout`; returns whether it changed
+    /// (`rcl_wait` on the graph guard condition).
+    pub fn wait_for_graph_change(&self, timeout: Duration) -> bool {
+        let deadline = Instant::now() + timeout;
+        let mut state = self.shared.state();
+        let start = state.generation;
+        while state.generation == start {
+            let now = Instant::now();
+            if now >= deadline {
+                return false;
+            }
+            state = self
+                .shared
+                .changed
+                .wait_timeout(state, deadline - now)
+                .map(|(s, _)| s)
+                .unwrap_or_else(|p| p.into_inner().0);
+        }
+        true
+    }
+
+    /// Waits until `condition` holds on the cache, at most `timeout`; returns whether it holds.
+    /// Checked at once and after every change, never by polling.
+    pub fn wait_until(
+        &self,
+        timeout: Duration,
+        mut condition: impl FnMut(&GraphCache) -> bool,
+    ) -> bool {
+        let deadline = Instant::now() + timeout;
+        let mut state = self.shared.state();
+        loop {
+            if condition(&state.cache) {
+                return true;
+            }
+            let now = Instant::now();
+            if now >= deadline {
+                return false;
+            }
+            let seen = state.generation;
+            while state.generation == seen {
+                let now = Instant::now();
+                if now >= deadline {
+                    return condition(&state.cache);
+                }
+                state = self
+                    .shared
+                    .changed
+                    .wait_timeout(state, deadline - now)
+                    .map(|(s, _)| s)
+                    .unwrap_or_else(|p| p.into_inner().0);
+            }
+        }
+    }
+
+    /// Whether a server of `service` (fully qualified) can answer now: its request reader AND its
+    /// reply writer are both known (a request sent when only the reader is known could have its
+    /// reply lost — rclcpp#625).
+    pub fn service_is_ready(&self, service: &str) -> bool {
+        self.read(|c| c.service_is_available(service))
+    }
+
+    /// Waits until [`service_is_ready`](Self::service_is_ready), at most `timeout`.
+    pub fn wait_for_service(&self, service: &str, timeout: Duration) -> bool {
+        self.wait_until(timeout, |c| c.service_is_available(service))
+    }
+}
+
+impl Drop for Graph {
+    fn drop(&mut self) {
+        self.shared.stop.store(true, Ordering::SeqCst);
+        if let Some(worker) = self.worker.take() {
+            let _ = worker.join();
+        }
+    }
+}
+
+/// The background thread: applies discovery events in batches and tells waiters and subscribers.
+fn run(shared: &Shared, mut feed: DiscoveryFeed) {
+    while !shared.stop.load(Ordering::SeqCst) {
+        let Some(first) = feed.next_timeout(STOP_CHECK_INTERVAL) else {
+            continue;
+        };
+        let events = {
+            let mut state = shared.state();
+            let mut changed = apply_discovery_event(&mut state.cache, first);
+            for _ in 1..MAX_BATCH {
+                match feed.try_next() {
+                    Some(event) => changed |= apply_discovery_event(&mut state.cache, event),
+                    None => break,
+                }
+            }
+            if changed {
+                state.generation += 1;
+            }
+            state.cache.drain_events()
+        };
+        shared.changed.notify_all();
+        if !events.is_empty() {
+            let mut subscribers = shared.subscribers.lock().unwrap_or_else(|p| p.into_inner());
+            subscribers.retain(|s| events.iter().all(|e| s.send(e.clone()).is_ok()));
+        }
+    }
+}

@@ -1,0 +1,86 @@
+//! The discovery feed reports the context's own participant, nodes and endpoints (DDS discovery
+//! reports only remote ones): a snapshot when it opens, then every change in order.
+
+use std::time::Duration;
+
+use horus_ros_msgs::builtin_interfaces::msg::Time;
+use horus_ros_msgs::Message;
+use horus_ros_rmw::qos::{EndpointKind, Qos};
+use horus_ros_rmw::{Context, DiscoveryEvent, DiscoveryFeedError, VendorId};
+
+const DOMAIN: u32 = 36;
+
+fn next(feed: &mut horus_ros_rmw::DiscoveryFeed) -> DiscoveryEvent {
+    feed.next_timeout(Duration::from_secs(5))
+        .expect("an event within 5 s")
+}
+
+#[test]
+fn own_entities_are_reported_as_snapshot_then_changes() {
+    let context = Context::builder()
+        .domain_id(DOMAIN)
+        .build()
+        .expect("context");
+    let node = context.create_node("me", "/ns").expect("node");
+    let publisher = node
+        .create_publisher::<Time>("t", &Qos::default())
+        .expect("publisher");
+
+    let mut feed = context.discovery_feed().expect("feed");
+    assert!(matches!(
+        context.discovery_feed(),
+        Err(DiscoveryFeedError::AlreadyOpen)
+    ));
+    match next(&mut feed) {
+        DiscoveryEvent::ParticipantDiscovered(p) => {
+            assert_eq!(p.gid, context.gid());
+            assert_eq!(p.vendor_id, VendorId::RUSTDDS);
+        }
+        other => panic!("expected our participant first, got {other:?}"),
+    }
+    match next(&mut feed) {
+        DiscoveryEvent::EndpointDiscovered(e) => {
+            assert_eq!(e.gid, publisher.gid());
+            assert_eq!(e.participant_gid, context.gid());
+            assert_eq!(e.kind, EndpointKind::Writer);
+            assert_eq!(e.dds_topic_name, "rt/ns/t");
+            assert_eq!(e.dds_type_name, "builtin_interfaces::msg::dds_::Time_");
+            assert_eq!(e.type_hash, Time::type_hash());
+        }
+        other => panic!("expected our writer, got {other:?}"),
+    }
+    match next(&mut feed) {
+        DiscoveryEvent::ParticipantEntities(info) => assert_eq!(info, context.announced_entities()),
+        other => panic!("expected our ros_discovery_info, got {other:?}"),
+    }
+
+    let gid = publisher.gid();
+    drop(publisher);
+    assert_eq!(
+        next(&mut feed),
+        DiscoveryEvent::EndpointLost {
+            gid,
+            kind: EndpointKind::Writer
+        }
+    );
+    match next(&mut feed) {
+        DiscoveryEvent::ParticipantEntities(info) => {
+            assert!(info.node_entities_info_seq[0].writer_gid_seq.is_empty());
+        }
+        other => panic!("expected the republished message, got {other:?}"),
+    }
+    drop(node);
+    match next(&mut feed) {
+        DiscoveryEvent::ParticipantEntities(info) => {
+            assert!(info.node_entities_info_seq.is_empty())
+        }
+        other => panic!("expected the node's removal, got {other:?}"),
+    }
+    // Nothing else about ourselves arrives (DDS discovery of our own entities is filtered).
+    assert_eq!(feed.next_timeout(Duration::from_millis(300)), None);
+
+    drop(feed);
+    if let Err(e) = context.discovery_feed() {
+        panic!("a dropped feed can be opened again, but: {e}");
+    }
+}
