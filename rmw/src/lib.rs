@@ -17,6 +17,7 @@ pub mod names;
 pub mod node;
 pub mod pubsub;
 pub mod qos;
+pub mod raw;
 
 pub use context::{
     env::{DiscoveryOptions, DiscoveryRange, DomainId},
@@ -26,3 +27,4 @@ pub use discovery::{DiscoveredEndpoint, DiscoveredParticipant, DiscoveryEvent, V
 pub use gid::Gid;
 pub use node::{Node, NodeError};
 pub use pubsub::{EndpointError, PublishError, Publisher, Subscription, TakeError};
+pub use raw::{RawEndpointSpec, RawReader, RawSample, RawWriter, SampleId};

@@ -4,6 +4,7 @@
 pub(crate) mod discovery_feed;
 pub(crate) mod discovery_info;
 pub(crate) mod participant;
+pub(crate) mod raw;
 
 use horus_ros_msgs::rmw_dds_common::Gid;
 use rustdds::GUID;
@@ -12,4 +13,9 @@ use rustdds::GUID;
 /// `convert_gid_to_message` / rmw_cyclonedds `convert_guid_to_gid` fill Jazzy's 16-byte GID.
 pub(crate) fn gid_from_guid(guid: GUID) -> Gid {
     Gid::from_bytes(guid.to_bytes())
+}
+
+/// The DDS GUID a GID stands for.
+pub(crate) fn guid_from_gid(gid: Gid) -> rustdds::GUID {
+    rustdds::GUID::from_bytes(*gid.as_bytes())
 }
