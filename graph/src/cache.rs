@@ -1,15 +1,18 @@
 //! [`GraphCache`]: the state and its mutators (rmw_dds_common jazzy `graph_cache.cpp`:
 //! `add_entity`, `remove_entity`, `add_participant`, `remove_participant`,
-//! `update_participant_entities`).
+//! `update_participant_entities`), and the indexes the mutators keep up to date so that
+//! queries need not scan every endpoint.
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet, HashMap};
 
 use horus_ros_msgs::rmw_dds_common::{Gid, NodeEntitiesInfo, ParticipantEntitiesInfo};
 use horus_ros_msgs::TypeHash;
+use horus_ros_rmw::names::{is_hidden_name, DemangledTopic};
 use horus_ros_rmw::qos::EndpointKind;
 
 use crate::endpoint::{EndpointEntry, GuidPrefix};
 use crate::event::GraphEvent;
+use crate::query::{demangle_service_type, demangle_type};
 
 /// What is known about one participant.
 #[derive(Debug, Clone, Default)]
@@ -39,16 +42,183 @@ impl Participant {
     }
 }
 
+/// The demangled forms of one DDS type name used on one topic.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub(crate) struct TypeUse {
+    /// How many endpoints of the topic have this type.
+    pub(crate) endpoints: usize,
+    /// `_demangle_if_ros_type` of the DDS type name (`pkg/msg/Name`, else unchanged).
+    pub(crate) message_type: String,
+    /// `_demangle_service_type_only` of the DDS type name (`pkg/srv/Name`).
+    pub(crate) service_type: Option<String>,
+}
+
+/// Everything known about one DDS topic name: its endpoints and their types.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub(crate) struct TopicEntry {
+    /// The DDS topic name classified and demangled once.
+    pub(crate) demangled: DemangledTopic,
+    /// Whether the demangled ROS name is hidden (false for non-ROS topics).
+    pub(crate) hidden: bool,
+    /// Readers on the topic, in GID order.
+    pub(crate) readers: BTreeSet<Gid>,
+    /// Writers on the topic, in GID order.
+    pub(crate) writers: BTreeSet<Gid>,
+    /// The DDS type names of its endpoints, with their demangled forms.
+    pub(crate) types: BTreeMap<String, TypeUse>,
+}
+
+impl TopicEntry {
+    fn new(dds_topic: &str) -> Self {
+        let demangled = DemangledTopic::from_dds_topic_name(dds_topic);
+        let hidden = match &demangled {
+            DemangledTopic::Topic(t) => is_hidden_name(t.as_str()),
+            DemangledTopic::ServiceRequest(s) | DemangledTopic::ServiceReply(s) => {
+                is_hidden_name(s.as_str())
+            }
+            DemangledTopic::NotRos => false,
+        };
+        Self {
+            demangled,
+            hidden,
+            readers: BTreeSet::new(),
+            writers: BTreeSet::new(),
+            types: BTreeMap::new(),
+        }
+    }
+
+    /// The endpoints of `kind` on the topic, in GID order.
+    pub(crate) fn gids(&self, kind: EndpointKind) -> &BTreeSet<Gid> {
+        match kind {
+            EndpointKind::Reader => &self.readers,
+            EndpointKind::Writer => &self.writers,
+        }
+    }
+
+    fn gids_mut(&mut self, kind: EndpointKind) -> &mut BTreeSet<Gid> {
+        match kind {
+            EndpointKind::Reader => &mut self.readers,
+            EndpointKind::Writer => &mut self.writers,
+        }
+    }
+}
+
+/// Nodes by namespace then name: each (participant, index into its `nodes`) listing it.
+type NodeIndex = BTreeMap<String, BTreeMap<String, BTreeSet<(GuidPrefix, usize)>>>;
+
+/// Indexes derived from `GraphCache::endpoints` and `GraphCache::participants`, kept in step
+/// by every mutator (and rebuilt from scratch by the tests to check that).
+#[derive(Debug, Default, Clone, PartialEq, Eq)]
+pub(crate) struct Indexes {
+    /// DDS topic name → its endpoints and types. Topics with no endpoint are dropped.
+    pub(crate) topics: BTreeMap<String, TopicEntry>,
+    /// Participant GUID prefix → GIDs of its endpoints (participant known or not).
+    pub(crate) by_participant: BTreeMap<GuidPrefix, BTreeSet<Gid>>,
+    /// Node namespace → name → (participant, node index), in participant then node order.
+    pub(crate) nodes: NodeIndex,
+    /// Number of nodes of all participants, duplicates counted.
+    pub(crate) node_count: usize,
+}
+
+impl Indexes {
+    fn add_endpoint(&mut self, e: &EndpointEntry) {
+        let topic = match self.topics.get_mut(e.dds_topic_name.as_str()) {
+            Some(topic) => topic,
+            None => self
+                .topics
+                .entry(e.dds_topic_name.clone())
+                .or_insert_with(|| TopicEntry::new(&e.dds_topic_name)),
+        };
+        topic.gids_mut(e.kind).insert(e.gid);
+        match topic.types.get_mut(e.dds_type_name.as_str()) {
+            Some(used) => used.endpoints += 1,
+            None => {
+                topic.types.insert(
+                    e.dds_type_name.clone(),
+                    TypeUse {
+                        endpoints: 1,
+                        message_type: demangle_type(&e.dds_type_name),
+                        service_type: demangle_service_type(&e.dds_type_name),
+                    },
+                );
+            }
+        }
+        self.by_participant
+            .entry(e.participant_prefix())
+            .or_default()
+            .insert(e.gid);
+    }
+
+    fn remove_endpoint(&mut self, e: &EndpointEntry) {
+        if let Some(topic) = self.topics.get_mut(e.dds_topic_name.as_str()) {
+            topic.gids_mut(e.kind).remove(&e.gid);
+            if let Some(used) = topic.types.get_mut(e.dds_type_name.as_str()) {
+                used.endpoints -= 1;
+                if used.endpoints == 0 {
+                    topic.types.remove(e.dds_type_name.as_str());
+                }
+            }
+            if topic.readers.is_empty() && topic.writers.is_empty() {
+                self.topics.remove(e.dds_topic_name.as_str());
+            }
+        }
+        let prefix = e.participant_prefix();
+        if let Some(gids) = self.by_participant.get_mut(&prefix) {
+            gids.remove(&e.gid);
+            if gids.is_empty() {
+                self.by_participant.remove(&prefix);
+            }
+        }
+    }
+
+    fn add_nodes(&mut self, prefix: GuidPrefix, nodes: &[NodeEntitiesInfo]) {
+        for (index, node) in nodes.iter().enumerate() {
+            let names = match self.nodes.get_mut(node.node_namespace.as_str()) {
+                Some(names) => names,
+                None => self.nodes.entry(node.node_namespace.clone()).or_default(),
+            };
+            let places = match names.get_mut(node.node_name.as_str()) {
+                Some(places) => places,
+                None => names.entry(node.node_name.clone()).or_default(),
+            };
+            places.insert((prefix, index));
+        }
+        self.node_count += nodes.len();
+    }
+
+    fn remove_nodes(&mut self, prefix: GuidPrefix, nodes: &[NodeEntitiesInfo]) {
+        for (index, node) in nodes.iter().enumerate() {
+            let Some(names) = self.nodes.get_mut(node.node_namespace.as_str()) else {
+                continue;
+            };
+            if let Some(places) = names.get_mut(node.node_name.as_str()) {
+                places.remove(&(prefix, index));
+                if places.is_empty() {
+                    names.remove(node.node_name.as_str());
+                }
+            }
+            if names.is_empty() {
+                self.nodes.remove(node.node_namespace.as_str());
+            }
+        }
+        self.node_count -= nodes.len();
+    }
+}
+
 /// The ROS 2 graph as seen so far: participants, their nodes, and every reader and writer.
 ///
 /// A plain data structure fed by discovery events; no I/O, no locking (wrap it in a mutex to
-/// share it). Maps are keyed by GID in `BTreeMap`s, so every query is deterministic.
+/// share it). Endpoints are indexed by DDS topic and by participant (GID-ordered sets) and
+/// nodes by namespace and name, so every query is deterministic and a query about one topic,
+/// service or node costs about as much as what it returns, not a scan of the whole graph.
 #[derive(Debug, Default)]
 pub struct GraphCache {
     /// Participants by GUID prefix.
     pub(crate) participants: BTreeMap<GuidPrefix, Participant>,
-    /// Readers and writers by GID.
-    pub(crate) endpoints: BTreeMap<Gid, EndpointEntry>,
+    /// Readers and writers by GID (hashed: GID order comes from the indexes' sets).
+    pub(crate) endpoints: HashMap<Gid, EndpointEntry>,
+    /// Indexes over `participants` and `endpoints`.
+    pub(crate) index: Indexes,
     /// Service type hashes known to the caller, by demangled service type.
     pub(crate) service_type_hashes: BTreeMap<String, TypeHash>,
     /// Recorded events, when enabled.
@@ -81,6 +251,11 @@ impl GraphCache {
         }
     }
 
+    /// Whether events are being recorded (so building one is worth it).
+    fn recording(&self) -> bool {
+        self.events.is_some()
+    }
+
     /// Adds or updates a participant (seen in SPDP) and its enclave. Returns whether anything
     /// changed. A participant first known through `ros_discovery_info` has no enclave.
     pub fn add_participant(&mut self, participant_gid: Gid, enclave: Option<String>) -> bool {
@@ -111,6 +286,7 @@ impl GraphCache {
         let mut changed = false;
         if let Some(participant) = self.participants.remove(&prefix) {
             changed = true;
+            self.index.remove_nodes(prefix, &participant.nodes);
             for node in participant.nodes {
                 self.emit(GraphEvent::NodeRemoved {
                     name: node.node_name,
@@ -118,12 +294,12 @@ impl GraphCache {
                 });
             }
         }
-        let lost: Vec<Gid> = self
-            .endpoints
-            .iter()
-            .filter(|(_, e)| e.participant_prefix() == prefix)
-            .map(|(gid, _)| *gid)
-            .collect();
+        // In GID order, as the endpoints map would give them.
+        let lost = self
+            .index
+            .by_participant
+            .remove(&prefix)
+            .unwrap_or_default();
         for gid in lost {
             changed |= self.remove_entity(gid);
         }
@@ -136,11 +312,15 @@ impl GraphCache {
         if self.endpoints.get(&entry.gid) == Some(&entry) {
             return false;
         }
-        let event = GraphEvent::EndpointAdded {
+        let event = self.recording().then(|| GraphEvent::EndpointAdded {
             gid: entry.gid,
             kind: entry.kind,
             topic: entry.dds_topic_name.clone(),
-        };
+        });
+        if let Some(old) = self.endpoints.get(&entry.gid) {
+            self.index.remove_endpoint(old);
+        }
+        self.index.add_endpoint(&entry);
         if let Some(old) = self.endpoints.insert(entry.gid, entry) {
             self.emit(GraphEvent::EndpointRemoved {
                 gid: old.gid,
@@ -148,7 +328,9 @@ impl GraphCache {
                 topic: old.dds_topic_name,
             });
         }
-        self.emit(event);
+        if let Some(event) = event {
+            self.emit(event);
+        }
         true
     }
 
@@ -156,6 +338,7 @@ impl GraphCache {
     pub fn remove_entity(&mut self, gid: Gid) -> bool {
         match self.endpoints.remove(&gid) {
             Some(old) => {
+                self.index.remove_endpoint(&old);
                 self.emit(GraphEvent::EndpointRemoved {
                     gid: old.gid,
                     kind: old.kind,
@@ -175,8 +358,14 @@ impl GraphCache {
         if participant.nodes == msg.node_entities_info_seq {
             return false;
         }
+        let prefix = msg.gid.prefix();
         let old = std::mem::take(&mut participant.nodes);
+        self.index.remove_nodes(prefix, &old);
         participant.set_nodes(msg.node_entities_info_seq);
+        self.index.add_nodes(prefix, &participant.nodes);
+        if self.events.is_none() {
+            return true;
+        }
         let new: Vec<(String, String)> = participant
             .nodes
             .iter()
@@ -201,6 +390,26 @@ impl GraphCache {
     pub fn set_service_type_hash(&mut self, service_type: &str, hash: TypeHash) {
         self.service_type_hashes
             .insert(service_type.to_owned(), hash);
+    }
+}
+
+#[cfg(test)]
+impl GraphCache {
+    /// The indexes rebuilt from scratch from the participants and endpoints.
+    pub(crate) fn rebuilt_indexes(&self) -> Indexes {
+        let mut index = Indexes::default();
+        for e in self.endpoints.values() {
+            index.add_endpoint(e);
+        }
+        for (prefix, participant) in &self.participants {
+            index.add_nodes(*prefix, &participant.nodes);
+        }
+        index
+    }
+
+    /// Panics unless the maintained indexes equal the rebuilt ones.
+    pub(crate) fn assert_indexes_consistent(&self) {
+        assert_eq!(self.index, self.rebuilt_indexes(), "indexes out of step");
     }
 }
 

@@ -12,16 +12,30 @@ use horus_ros_rmw::names::{
 };
 use horus_ros_rmw::qos::EndpointKind;
 
-use crate::cache::GraphCache;
+use crate::cache::{GraphCache, TopicEntry};
 use crate::endpoint::{EndpointEntry, GuidPrefix};
 use crate::error::GraphError;
 use crate::info::{ServiceEndpointInfo, ServiceEndpointType, TopicEndpointInfo, TopicEndpointType};
 use crate::query::{demangle_service_type, demangle_type};
 
 /// Identity used to pair a service's reader and writer: participant + reported node.
-type PairKey = (GuidPrefix, String, String);
+type PairKey<'a> = (GuidPrefix, &'a str, &'a str);
 
 impl GraphCache {
+    /// The endpoints of `kind` on a DDS topic, in GID order, with the topic's entry.
+    fn topic_endpoints(
+        &self,
+        dds_topic: &str,
+        kind: EndpointKind,
+    ) -> Option<(&TopicEntry, impl Iterator<Item = &EndpointEntry>)> {
+        let topic = self.index.topics.get(dds_topic)?;
+        let endpoints = topic
+            .gids(kind)
+            .iter()
+            .filter_map(|gid| self.endpoints.get(gid));
+        Some((topic, endpoints))
+    }
+
     fn topic_endpoints_info(
         &self,
         topic: &str,
@@ -37,16 +51,20 @@ impl GraphCache {
             EndpointKind::Writer => TopicEndpointType::Publisher,
             EndpointKind::Reader => TopicEndpointType::Subscription,
         };
-        self.endpoints
-            .values()
-            .filter(|e| e.kind == kind && e.dds_topic_name == dds_topic)
+        let Some((topic, endpoints)) = self.topic_endpoints(&dds_topic, kind) else {
+            return Vec::new();
+        };
+        endpoints
             .map(|e| {
                 let creator = self.creator(e);
                 let (node_name, node_namespace) = creator.name_and_namespace();
                 TopicEndpointInfo {
                     node_name: node_name.to_owned(),
                     node_namespace: node_namespace.to_owned(),
-                    topic_type: demangle_type(&e.dds_type_name),
+                    topic_type: topic.types.get(e.dds_type_name.as_str()).map_or_else(
+                        || demangle_type(&e.dds_type_name),
+                        |u| u.message_type.clone(),
+                    ),
                     topic_type_hash: e.type_hash,
                     endpoint_type,
                     endpoint_gid: e.gid,
@@ -76,23 +94,31 @@ impl GraphCache {
         &self,
         dds_topic: &str,
         kind: EndpointKind,
-    ) -> BTreeMap<PairKey, Vec<&EndpointEntry>> {
-        let mut out: BTreeMap<PairKey, Vec<&EndpointEntry>> = BTreeMap::new();
-        for e in self
-            .endpoints
-            .values()
-            .filter(|e| e.kind == kind && e.dds_topic_name == dds_topic)
-        {
+    ) -> BTreeMap<PairKey<'_>, Vec<&EndpointEntry>> {
+        let mut out: BTreeMap<PairKey<'_>, Vec<&EndpointEntry>> = BTreeMap::new();
+        let Some((_, endpoints)) = self.topic_endpoints(dds_topic, kind) else {
+            return out;
+        };
+        for e in endpoints {
             let (name, namespace) = self.creator(e).name_and_namespace();
-            out.entry((
-                e.participant_prefix(),
-                name.to_owned(),
-                namespace.to_owned(),
-            ))
-            .or_default()
-            .push(e);
+            out.entry((e.participant_prefix(), name, namespace))
+                .or_default()
+                .push(e);
         }
         out
+    }
+
+    /// `pkg/srv/Name` of an endpoint's request or response type, demangled when it was indexed.
+    fn service_type_of(&self, dds_topic: &str, e: &EndpointEntry) -> Option<String> {
+        match self
+            .index
+            .topics
+            .get(dds_topic)
+            .and_then(|topic| topic.types.get(e.dds_type_name.as_str()))
+        {
+            Some(used) => used.service_type.clone(),
+            None => demangle_service_type(&e.dds_type_name),
+        }
     }
 
     /// Pairs the readers on `reader_topic` with the writers on `writer_topic` of the same
@@ -104,6 +130,9 @@ impl GraphCache {
         endpoint_type: ServiceEndpointType,
     ) -> Vec<ServiceEndpointInfo> {
         let readers = self.endpoints_by_node(reader_topic, EndpointKind::Reader);
+        if readers.is_empty() {
+            return Vec::new();
+        }
         let mut writers = self.endpoints_by_node(writer_topic, EndpointKind::Writer);
         let mut out = Vec::new();
         for (key, node_readers) in readers {
@@ -111,8 +140,9 @@ impl GraphCache {
                 continue;
             };
             for (reader, writer) in node_readers.into_iter().zip(node_writers) {
-                let service_type = demangle_service_type(&reader.dds_type_name)
-                    .or_else(|| demangle_service_type(&writer.dds_type_name))
+                let service_type = self
+                    .service_type_of(reader_topic, reader)
+                    .or_else(|| self.service_type_of(writer_topic, writer))
                     .unwrap_or_else(|| reader.dds_type_name.clone());
                 let service_type_hash = self
                     .service_type_hashes
@@ -120,8 +150,8 @@ impl GraphCache {
                     .copied()
                     .unwrap_or(TypeHash::ZERO);
                 out.push(ServiceEndpointInfo {
-                    node_name: key.1.clone(),
-                    node_namespace: key.2.clone(),
+                    node_name: key.1.to_owned(),
+                    node_namespace: key.2.to_owned(),
                     service_type,
                     service_type_hash,
                     endpoint_type,

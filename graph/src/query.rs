@@ -7,12 +7,12 @@ use std::collections::{BTreeMap, BTreeSet};
 
 use horus_ros_msgs::rmw_dds_common::{Gid, NodeEntitiesInfo};
 use horus_ros_rmw::names::{
-    is_hidden_name, DemangledTopic, RosTypeName, ROS_SERVICE_RESPONSE_PREFIX, ROS_TOPIC_PREFIX,
+    DemangledTopic, RosTypeName, ROS_SERVICE_RESPONSE_PREFIX, ROS_TOPIC_PREFIX,
     SERVICE_REPLY_SUFFIX,
 };
 use horus_ros_rmw::qos::EndpointKind;
 
-use crate::cache::GraphCache;
+use crate::cache::{GraphCache, TopicEntry, TypeUse};
 use crate::endpoint::EndpointEntry;
 use crate::error::GraphError;
 use crate::{CREATED_BY_BARE_DDS_APP, NODE_NAMESPACE_UNKNOWN, NODE_NAME_UNKNOWN};
@@ -80,30 +80,41 @@ enum Family {
 }
 
 impl Family {
-    /// The ROS name and demangled type of an endpoint, if it belongs to this family.
-    fn demangle(self, e: &EndpointEntry) -> Option<(String, Option<String>)> {
-        let demangled = DemangledTopic::from_dds_topic_name(&e.dds_topic_name);
-        let name = match (self, &demangled) {
-            (Self::Topics, DemangledTopic::Topic(t)) => {
-                return Some((t.as_str().to_owned(), Some(demangle_type(&e.dds_type_name))))
-            }
+    /// The ROS name of a topic, if it belongs to this family.
+    fn name(self, topic: &TopicEntry) -> Option<&str> {
+        match (self, &topic.demangled) {
+            (Self::Topics, DemangledTopic::Topic(t)) => Some(t.as_str()),
             (
                 Self::Services,
                 DemangledTopic::ServiceRequest(s) | DemangledTopic::ServiceReply(s),
             )
             | (Self::ServiceRequests, DemangledTopic::ServiceRequest(s))
-            | (Self::ServiceReplies, DemangledTopic::ServiceReply(s)) => s.as_str().to_owned(),
-            _ => return None,
-        };
-        Some((name, demangle_service_type(&e.dds_type_name)))
+            | (Self::ServiceReplies, DemangledTopic::ServiceReply(s)) => Some(s.as_str()),
+            _ => None,
+        }
+    }
+
+    /// The demangled type this family reports for a DDS type used on a topic of it.
+    fn demangled_type(self, used: &TypeUse) -> Option<&str> {
+        match self {
+            Self::Topics => Some(&used.message_type),
+            Self::Services | Self::ServiceRequests | Self::ServiceReplies => {
+                used.service_type.as_deref()
+            }
+        }
     }
 }
 
 /// Adds a demangled name and its type (types that fail to demangle are left out).
-fn insert(out: &mut NamesAndTypes, name: String, ty: Option<String>) {
-    let types = out.entry(name).or_default();
+fn insert(out: &mut NamesAndTypes, name: &str, ty: Option<&str>) {
+    let types = match out.get_mut(name) {
+        Some(types) => types,
+        None => out.entry(name.to_owned()).or_default(),
+    };
     if let Some(ty) = ty {
-        types.insert(ty);
+        if !types.contains(ty) {
+            types.insert(ty.to_owned());
+        }
     }
 }
 
@@ -125,32 +136,44 @@ impl GraphCache {
     /// Every node of every participant with its enclave, duplicates kept, sorted by
     /// (namespace, name, enclave) (rmw_dds_common lists them in participant order).
     pub fn node_names(&self) -> Vec<NodeInfo> {
-        let mut nodes: Vec<NodeInfo> = self
-            .participants
-            .values()
-            .flat_map(|p| {
-                p.nodes.iter().map(|n| NodeInfo {
-                    namespace: n.node_namespace.clone(),
-                    name: n.node_name.clone(),
-                    enclave: p.enclave.clone(),
-                })
-            })
-            .collect();
-        nodes.sort();
+        // The node index is already in (namespace, name) order; only enclaves need sorting.
+        let mut nodes = Vec::with_capacity(self.index.node_count);
+        for (namespace, names) in &self.index.nodes {
+            for (name, places) in names {
+                let start = nodes.len();
+                nodes.extend(places.iter().map(|(prefix, _)| {
+                    NodeInfo {
+                        namespace: namespace.clone(),
+                        name: name.clone(),
+                        enclave: self
+                            .participants
+                            .get(prefix)
+                            .and_then(|p| p.enclave.clone()),
+                    }
+                }));
+                if nodes.len() - start > 1 {
+                    nodes[start..].sort_by(|a, b| a.enclave.cmp(&b.enclave));
+                }
+            }
+        }
         nodes
     }
 
     /// Number of nodes (`get_number_of_nodes`), duplicates counted.
     pub fn node_count(&self) -> usize {
-        self.participants.values().map(|p| p.nodes.len()).sum()
+        self.index.node_count
     }
 
+    /// Linear in the number of DDS topics (not endpoints): each topic keeps its types.
     fn names_and_types(&self, family: Family, include_hidden: bool) -> NamesAndTypes {
         let mut out = NamesAndTypes::new();
-        for e in self.endpoints.values() {
-            if let Some((name, ty)) = family.demangle(e) {
-                if include_hidden || !is_hidden_name(&name) {
-                    insert(&mut out, name, ty);
+        for topic in self.index.topics.values() {
+            if topic.hidden && !include_hidden {
+                continue;
+            }
+            if let Some(name) = family.name(topic) {
+                for used in topic.types.values() {
+                    insert(&mut out, name, family.demangled_type(used));
                 }
             }
         }
@@ -172,10 +195,12 @@ impl GraphCache {
     /// The first node with this name and namespace (rmw_dds_common `__find_node`: with
     /// duplicate names only the first, in participant order, is used).
     fn find_node(&self, name: &str, namespace: &str) -> Result<&NodeEntitiesInfo, GraphError> {
-        self.participants
-            .values()
-            .flat_map(|p| p.nodes.iter())
-            .find(|n| n.node_name == name && n.node_namespace == namespace)
+        self.index
+            .nodes
+            .get(namespace)
+            .and_then(|names| names.get(name))
+            .and_then(|places| places.first())
+            .and_then(|(prefix, index)| self.participants.get(prefix)?.nodes.get(*index))
             .ok_or_else(|| GraphError::NodeNotFound {
                 name: name.to_owned(),
                 namespace: namespace.to_owned(),
@@ -196,7 +221,14 @@ impl GraphCache {
         };
         let mut out = NamesAndTypes::new();
         for e in gids.iter().filter_map(|gid| self.endpoints.get(gid)) {
-            if let Some((name, ty)) = family.demangle(e) {
+            let Some(topic) = self.index.topics.get(e.dds_topic_name.as_str()) else {
+                continue;
+            };
+            if let Some(name) = family.name(topic) {
+                let ty = topic
+                    .types
+                    .get(e.dds_type_name.as_str())
+                    .and_then(|used| family.demangled_type(used));
                 insert(&mut out, name, ty);
             }
         }
@@ -253,10 +285,10 @@ impl GraphCache {
 
     /// Number of endpoints of `kind` on a DDS topic.
     pub(crate) fn count(&self, dds_topic: &str, kind: EndpointKind) -> usize {
-        self.endpoints
-            .values()
-            .filter(|e| e.kind == kind && e.dds_topic_name == dds_topic)
-            .count()
+        self.index
+            .topics
+            .get(dds_topic)
+            .map_or(0, |topic| topic.gids(kind).len())
     }
 
     /// Publishers of a topic (writers on `rt/<topic>`), nodes known or not.

@@ -3,6 +3,7 @@
 
 mod display;
 mod fixtures;
+mod index;
 mod mutators;
 mod queries;
 mod services;
