@@ -9,7 +9,9 @@ use std::sync::{Arc, Condvar, Mutex, MutexGuard};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
-use horus_ros_rmw::{Context, DiscoveryEvent, DiscoveryFeed, DiscoveryFeedError};
+use std::collections::BTreeMap;
+
+use horus_ros_rmw::{Context, DiscoveryEvent, DiscoveryFeed, DiscoveryFeedError, Gid, VendorId};
 
 use crate::{EndpointEntry, GraphCache, GraphEvent};
 
@@ -50,6 +52,8 @@ pub fn apply_discovery_event(cache: &mut GraphCache, event: DiscoveryEvent) -> b
 
 struct State {
     cache: GraphCache,
+    /// Vendor of each participant seen by SPDP, by GUID prefix (the cache keeps no vendors).
+    vendors: BTreeMap<[u8; 12], VendorId>,
     /// Bumped on every change of the cache.
     generation: u64,
 }
@@ -91,6 +95,7 @@ impl Graph {
         let shared = Arc::new(Shared {
             state: Mutex::new(State {
                 cache,
+                vendors: BTreeMap::new(),
                 generation: 0,
             }),
             changed: Condvar::new(),
@@ -182,6 +187,12 @@ impl Graph {
         }
     }
 
+    /// The DDS vendor of the participant `gid` belongs to (any GID of it: participant or
+    /// endpoint), if SPDP has announced it: tells which RMW's wire conventions it follows.
+    pub fn participant_vendor(&self, gid: Gid) -> Option<VendorId> {
+        self.shared.state().vendors.get(&gid.prefix()).copied()
+    }
+
     /// Whether a server of `service` (fully qualified) can answer now: its request reader AND its
     /// reply writer are both known (a request sent when only the reader is known could have its
     /// reply lost — rclcpp#625).
@@ -204,6 +215,20 @@ impl Drop for Graph {
     }
 }
 
+/// Applies one event to the state: vendors, then the cache.
+fn apply(state: &mut State, event: DiscoveryEvent) -> bool {
+    match &event {
+        DiscoveryEvent::ParticipantDiscovered(p) => {
+            state.vendors.insert(p.gid.prefix(), p.vendor_id);
+        }
+        DiscoveryEvent::ParticipantLost { gid } => {
+            state.vendors.remove(&gid.prefix());
+        }
+        _ => {}
+    }
+    apply_discovery_event(&mut state.cache, event)
+}
+
 /// The background thread: applies discovery events in batches and tells waiters and subscribers.
 fn run(shared: &Shared, mut feed: DiscoveryFeed) {
     while !shared.stop.load(Ordering::SeqCst) {
@@ -212,10 +237,10 @@ fn run(shared: &Shared, mut feed: DiscoveryFeed) {
         };
         let events = {
             let mut state = shared.state();
-            let mut changed = apply_discovery_event(&mut state.cache, first);
+            let mut changed = apply(&mut state, first);
             for _ in 1..MAX_BATCH {
                 match feed.try_next() {
-                    Some(event) => changed |= apply_discovery_event(&mut state.cache, event),
+                    Some(event) => changed |= apply(&mut state, event),
                     None => break,
                 }
             }
