@@ -9,7 +9,7 @@ use std::sync::{Arc, Condvar, Mutex, MutexGuard};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet, HashMap};
 
 use horus_ros_rmw::{Context, DiscoveryEvent, DiscoveryFeed, DiscoveryFeedError, Gid, VendorId};
 
@@ -47,6 +47,8 @@ pub fn apply_discovery_event(cache: &mut GraphCache, event: DiscoveryEvent) -> b
         }),
         DiscoveryEvent::EndpointLost { gid, .. } => cache.remove_entity(gid),
         DiscoveryEvent::ParticipantEntities(info) => cache.update_participant_entities(info),
+        // Matches are kept by `Graph`, not by the cache.
+        DiscoveryEvent::Matched { .. } => false,
     }
 }
 
@@ -54,6 +56,8 @@ struct State {
     cache: GraphCache,
     /// Vendor of each participant seen by SPDP, by GUID prefix (the cache keeps no vendors).
     vendors: BTreeMap<[u8; 12], VendorId>,
+    /// For each of our endpoints, the endpoints it is matched with.
+    matches: HashMap<Gid, BTreeSet<Gid>>,
     /// Bumped on every change of the cache.
     generation: u64,
 }
@@ -96,6 +100,7 @@ impl Graph {
             state: Mutex::new(State {
                 cache,
                 vendors: BTreeMap::new(),
+                matches: HashMap::new(),
                 generation: 0,
             }),
             changed: Condvar::new(),
@@ -161,10 +166,15 @@ impl Graph {
         timeout: Duration,
         mut condition: impl FnMut(&GraphCache) -> bool,
     ) -> bool {
+        self.wait_state(timeout, |state| condition(&state.cache))
+    }
+
+    /// Waits until `condition` holds on the state, at most `timeout`, re-checking on every change.
+    fn wait_state(&self, timeout: Duration, mut condition: impl FnMut(&State) -> bool) -> bool {
         let deadline = Instant::now() + timeout;
         let mut state = self.shared.state();
         loop {
-            if condition(&state.cache) {
+            if condition(&state) {
                 return true;
             }
             let now = Instant::now();
@@ -175,7 +185,7 @@ impl Graph {
             while state.generation == seen {
                 let now = Instant::now();
                 if now >= deadline {
-                    return condition(&state.cache);
+                    return condition(&state);
                 }
                 state = self
                     .shared
@@ -185,6 +195,23 @@ impl Graph {
                     .unwrap_or_else(|p| p.into_inner().0);
             }
         }
+    }
+
+    /// Whether our endpoint `local` is matched with `remote` (data from the writer of the pair
+    /// reaches the reader), as the DDS layer reported it.
+    pub fn is_matched(&self, local: Gid, remote: Gid) -> bool {
+        self.shared
+            .state()
+            .matches
+            .get(&local)
+            .is_some_and(|m| m.contains(&remote))
+    }
+
+    /// Waits until `local` is matched with `remote`, at most `timeout`.
+    pub fn wait_for_match(&self, local: Gid, remote: Gid, timeout: Duration) -> bool {
+        self.wait_state(timeout, |s| {
+            s.matches.get(&local).is_some_and(|m| m.contains(&remote))
+        })
     }
 
     /// The DDS vendor of the participant `gid` belongs to (any GID of it: participant or
@@ -222,7 +249,21 @@ fn apply(state: &mut State, event: DiscoveryEvent) -> bool {
             state.vendors.insert(p.gid.prefix(), p.vendor_id);
         }
         DiscoveryEvent::ParticipantLost { gid } => {
-            state.vendors.remove(&gid.prefix());
+            let prefix = gid.prefix();
+            state.vendors.remove(&prefix);
+            state.matches.retain(|local, _| local.prefix() != prefix);
+            for remotes in state.matches.values_mut() {
+                remotes.retain(|r| r.prefix() != prefix);
+            }
+        }
+        DiscoveryEvent::EndpointLost { gid, .. } => {
+            state.matches.remove(gid);
+            for remotes in state.matches.values_mut() {
+                remotes.remove(gid);
+            }
+        }
+        DiscoveryEvent::Matched { local, remote } => {
+            return state.matches.entry(*local).or_default().insert(*remote);
         }
         _ => {}
     }

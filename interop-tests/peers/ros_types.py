@@ -54,3 +54,99 @@ class AddTwoIntsResponse(IdlStruct, typename="example_interfaces::srv::dds_::Add
 # RIHS01 hashes ROS 2 Jazzy generates for example_interfaces/srv/AddTwoInts_Request / _Response.
 ADD_TWO_INTS_REQUEST_HASH = "RIHS01_000c5fd92d6b2e1a05949348f584d6d652adea1e92d691792011ac2273508302"
 ADD_TWO_INTS_RESPONSE_HASH = "RIHS01_de5c030d4af33cba2749310b249737b631594703f9300495f48bffb2b44dcc2f"
+
+
+# --- rmw_cyclonedds_cpp service wire format (jazzy) -------------------------------------------------
+# rmw_cyclonedds_cpp serialises every request and reply as the 16-byte cdds_request_header_t
+# { uint64_t guid; int64_t seq; } (src/serdata.hpp: `typedef struct cdds_request_header`) put into the
+# CDR stream right after the 4-byte encapsulation header and before the message's own fields
+# (src/Serialization.cpp, `serialize_top_level(CDRCursor *, const cdds_request_wrapper_t &)`:
+# put_rtps_header, then put_bytes(guid, 8), put_bytes(seq, 8), then the message). The encapsulation
+# header is {0x00, 0x01 (little endian), 0x00, 0x00}: CDR_LE, i.e. XCDR1 (`put_rtps_header`). Both
+# header fields are 8 bytes at stream offset 0 and 8, so the int64 message fields that follow need
+# no padding. These types keep the ROS type names so they match rmw_cyclonedds' endpoints; their
+# bytes on the wire are exactly rmw_cyclonedds' for example_interfaces/srv/AddTwoInts.
+from cyclonedds.idl.types import uint64  # noqa: E402  (appended section)
+
+
+@dataclass
+class CddsAddTwoIntsRequest(
+    IdlStruct, typename="example_interfaces::srv::dds_::AddTwoInts_Request_"
+):
+    client_guid: uint64  # cdds_request_header_t.guid: the client's request-writer instance handle
+    seq: int64  # cdds_request_header_t.seq
+    a: int64
+    b: int64
+
+
+@dataclass
+class CddsAddTwoIntsResponse(
+    IdlStruct, typename="example_interfaces::srv::dds_::AddTwoInts_Response_"
+):
+    client_guid: uint64  # echoed from the request
+    seq: int64  # echoed from the request
+    sum: int64
+
+
+def cdds_csid(participant_guid: bytes, counter: int) -> bytes:
+    """rmw_cyclonedds' client/service id (rmw_node.cpp `get_unique_csid`): the participant's 12-byte
+    GUID prefix followed by the context's client/service counter (1 for the first client or service
+    created in the context) as a 4-byte big-endian number."""
+    return bytes(participant_guid[:12]) + counter.to_bytes(4, "big")
+
+
+def cdds_csid_text(csid: bytes) -> str:
+    """The id as rmw_node.cpp `csid_to_string` prints it: `std::hex`, the first byte under
+    `std::setw(2)` (so space-padded to two characters, e.g. " 1"), the other 15 bytes unpadded, all
+    joined by '.'."""
+    return f"{csid[0]:>2x}" + "".join(f".{b:x}" for b in csid[1:])
+
+
+def rmw_parse_key_value(raw: bytes) -> dict:
+    """USER_DATA parsed as rmw/impl/cpp/key_value.hpp `parse_key_value` (jazzy) does: `key=value;`
+    pairs, alphanumeric keys, values may hold anything but ';'; anything malformed yields {}."""
+    pairs, key, value, key_found, prev = {}, b"", b"", False, 0
+    if not raw:
+        return {}
+    for c in raw:
+        if key_found:
+            if c == 0x3B and prev != 0x3B:  # first ';' ends the value
+                prev = c
+                continue
+            if c != 0x3B and prev == 0x3B:  # next key starts
+                if not value:
+                    return {}
+                pairs[key.decode("latin-1")] = value
+                key, value, key_found = b"", b"", False
+            else:
+                value += bytes([c])
+        if not key_found:
+            if c == 0x3D:  # '='
+                if not key:
+                    return {}
+                key_found = True
+            elif chr(c).isascii() and chr(c).isalnum():  # C isalnum, "C" locale
+                key += bytes([c])
+            elif c == 0 and not key and pairs:
+                break  # trailing NULs are accepted
+            elif prev != 0x3B or key:
+                return {}
+        prev = c
+    if key_found:
+        if not value:
+            return {}
+        pairs[key.decode("latin-1")] = value
+    elif key:
+        return {}
+    return pairs
+
+
+def user_data_key(qos, key: str):
+    """rmw_node.cpp `get_user_data_key`: the value of `key` in a QoS's USER_DATA, or None."""
+    from cyclonedds.core import Policy
+
+    ud = qos[Policy.Userdata] if qos is not None else None
+    if ud is None:
+        return None
+    value = rmw_parse_key_value(bytes(ud.data)).get(key)
+    return None if value is None else value.decode("latin-1")

@@ -4,6 +4,8 @@
 //! with the interpreter named by `HORUS_ROS_INTEROP_PYTHON` (set by `scripts/test` to a private
 //! virtual environment that `scripts/setup` creates), else `python3`.
 
+pub mod fastdds;
+
 use std::io::Read;
 use std::path::PathBuf;
 use std::process::{Child, Command, Stdio};

@@ -71,4 +71,13 @@ pub enum DiscoveryEvent {
     },
     /// Another participant's `ros_discovery_info` message (its nodes and their endpoints).
     ParticipantEntities(ParticipantEntitiesInfo),
+    /// One of our endpoints was matched with another (remote or of this participant): data
+    /// written by the writer of the pair now reaches the reader. The match ends when either
+    /// endpoint is lost.
+    Matched {
+        /// Our endpoint.
+        local: Gid,
+        /// The endpoint it was matched with.
+        remote: Gid,
+    },
 }

@@ -25,6 +25,6 @@ pub use context::{
 };
 pub use discovery::{DiscoveredEndpoint, DiscoveredParticipant, DiscoveryEvent, VendorId};
 pub use gid::Gid;
-pub use node::{Node, NodeError};
+pub use node::{Node, NodeError, WeakNode};
 pub use pubsub::{EndpointError, PublishError, Publisher, Subscription, TakeError};
 pub use raw::{RawEndpointSpec, RawReader, RawSample, RawWriter, SampleId};

@@ -87,7 +87,23 @@ impl Context {
     }
 }
 
+/// A handle to a [`Node`] that does not keep it alive.
+#[derive(Clone, Debug, Default)]
+pub struct WeakNode(std::sync::Weak<NodeInner>);
+
+impl WeakNode {
+    /// The node, if something still keeps it alive.
+    pub fn upgrade(&self) -> Option<Node> {
+        self.0.upgrade().map(|inner| Node { inner })
+    }
+}
+
 impl Node {
+    /// A handle that does not keep the node alive.
+    pub fn downgrade(&self) -> WeakNode {
+        WeakNode(Arc::downgrade(&self.inner))
+    }
+
     /// The node's name.
     pub fn name(&self) -> &NodeName {
         &self.inner.name

@@ -1,19 +1,17 @@
 //! Raw endpoints: readers and writers of pre-serialized CDR bodies with sample identities, for the
 //! services layer (request/reply correlation) and anything that encodes its own payloads.
 //!
-//! Each endpoint is listed under its node in `ros_discovery_info` like any other, tracks which
-//! remote endpoints it is matched with, and can be waited on without polling.
+//! Each endpoint is listed under its node in `ros_discovery_info` like any other; a reader can be
+//! waited on without polling. Which endpoints are matched is reported by the discovery feed
+//! ([`DiscoveryEvent::Matched`](crate::DiscoveryEvent::Matched)): rustdds' per-endpoint status
+//! channels hold only 4 events and drop the rest.
 
-use std::collections::BTreeSet;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use horus_ros_msgs::TypeHash;
-use mio_06 as mio;
+use rustdds::mio1 as mio;
 use rustdds::no_key::{DataReader, DataWriter};
-use rustdds::{
-    DataReaderStatus, DataWriterStatus, RTPSEntity, SampleIdentity, SequenceNumber, StatusEvented,
-    TopicKind, WriteOptionsBuilder,
-};
+use rustdds::{RTPSEntity, SampleIdentity, SequenceNumber, TopicKind, WriteOptionsBuilder};
 
 use crate::dds::raw::{RawAdapter, RawPayload};
 use crate::dds::{gid_from_guid, guid_from_gid};
@@ -25,7 +23,6 @@ use crate::qos::{EndpointKind, Qos};
 use crate::Gid;
 
 const DATA: mio::Token = mio::Token(0);
-const STATUS: mio::Token = mio::Token(1);
 
 /// A sample's identity: the GID of the writer that wrote it and its sequence number there
 /// (`rmw_request_id_t` / DDS `SampleIdentity`).
@@ -82,21 +79,6 @@ pub struct RawEndpointSpec {
     pub qos: Qos,
 }
 
-/// The set of remote endpoints a local one is matched with, kept from its status events.
-#[derive(Debug, Default)]
-struct Matches(BTreeSet<Gid>);
-
-impl Matches {
-    fn update(&mut self, remote: rustdds::GUID, change: i32) {
-        let gid = gid_from_guid(remote);
-        if change > 0 {
-            self.0.insert(gid);
-        } else if change < 0 {
-            self.0.remove(&gid);
-        }
-    }
-}
-
 fn create_topic(
     node: &Node,
     spec: &RawEndpointSpec,
@@ -136,30 +118,11 @@ fn describe(
     }
 }
 
-fn new_poll(
-    data: Option<&dyn mio::Evented>,
-    status: &dyn mio::Evented,
-) -> Result<mio::Poll, EndpointError> {
-    let fail = |e: std::io::Error| EndpointError::Dds {
-        kind: "poll",
-        topic: String::new(),
-        reason: e.to_string(),
-    };
-    let poll = mio::Poll::new().map_err(fail)?;
-    if let Some(data) = data {
-        poll.register(data, DATA, mio::Ready::readable(), mio::PollOpt::edge())
-            .map_err(fail)?;
-    }
-    poll.register(status, STATUS, mio::Ready::readable(), mio::PollOpt::edge())
-        .map_err(fail)?;
-    Ok(poll)
-}
-
 /// Waits on `poll` until it signals or `timeout` passes; returns whether it signalled.
-fn wait_on(poll: &mio::Poll, timeout: Duration) -> bool {
+fn wait_on(poll: &mut mio::Poll, timeout: Duration) -> bool {
     let mut events = mio::Events::with_capacity(4);
     match poll.poll(&mut events, Some(timeout)) {
-        Ok(n) => n > 0,
+        Ok(()) => !events.is_empty(),
         Err(e) => {
             tracing::debug!("poll failed: {e}");
             false
@@ -171,8 +134,6 @@ fn wait_on(poll: &mio::Poll, timeout: Duration) -> bool {
 pub struct RawWriter {
     // Dropped first: withdrawn from ros_discovery_info before the writer is deleted.
     registration: Registration,
-    poll: mio::Poll,
-    matches: Matches,
     topic: String,
     writer: DataWriter<RawPayload, RawAdapter>,
 }
@@ -189,7 +150,6 @@ impl std::fmt::Debug for RawWriter {
 pub struct RawReader {
     registration: Registration,
     poll: mio::Poll,
-    matches: Matches,
     topic: String,
     reader: DataReader<RawPayload, RawAdapter>,
 }
@@ -213,7 +173,7 @@ impl Node {
                     source,
                 })?;
         let topic = create_topic(self, spec, &dds_qos)?;
-        let mut writer = self
+        let writer = self
             .context()
             .inner()
             .publisher
@@ -224,7 +184,6 @@ impl Node {
                 reason: e.to_string(),
             })?;
         let gid = gid_from_guid(writer.guid());
-        let poll = new_poll(None, writer.as_status_evented())?;
         let registration = Registration::new(
             self,
             EndpointSide::Writer,
@@ -232,8 +191,6 @@ impl Node {
         );
         Ok(RawWriter {
             registration,
-            poll,
-            matches: Matches::default(),
             topic: spec.dds_topic_name.clone(),
             writer,
         })
@@ -266,15 +223,11 @@ impl Node {
             reason: e.to_string(),
         };
         let poll = mio::Poll::new().map_err(fail)?;
-        poll.register(&reader, DATA, mio::Ready::readable(), mio::PollOpt::edge())
+        // rustdds' mio 1 sources are drained by take/try_recv, so edge-triggered waking works
+        // (its mio 0.6 readiness fires only once: it is never drained).
+        poll.registry()
+            .register(&mut reader, DATA, mio::Interest::READABLE)
             .map_err(fail)?;
-        poll.register(
-            reader.as_status_evented(),
-            STATUS,
-            mio::Ready::readable(),
-            mio::PollOpt::edge(),
-        )
-        .map_err(fail)?;
         let registration = Registration::new(
             self,
             EndpointSide::Reader,
@@ -283,7 +236,6 @@ impl Node {
         Ok(RawReader {
             registration,
             poll,
-            matches: Matches::default(),
             topic: spec.dds_topic_name.clone(),
             reader,
         })
@@ -326,35 +278,6 @@ impl RawWriter {
                 reason: e.to_string(),
             })
     }
-
-    /// The remote readers this writer is matched with now.
-    pub fn matched_readers(&mut self) -> &BTreeSet<Gid> {
-        while let Some(status) = self.writer.try_recv_status() {
-            if let DataWriterStatus::PublicationMatched {
-                current, reader, ..
-            } = status
-            {
-                self.matches.update(reader, current.count_change());
-            }
-        }
-        &self.matches.0
-    }
-
-    /// Waits until the remote reader `reader` is matched, at most `timeout`.
-    pub fn wait_for_reader(&mut self, reader: Gid, timeout: Duration) -> bool {
-        let deadline = Instant::now() + timeout;
-        loop {
-            if self.matched_readers().contains(&reader) {
-                return true;
-            }
-            let now = Instant::now();
-            if now >= deadline {
-                return false;
-            }
-            // Status channels are edge-triggered; a short cap covers a missed edge.
-            wait_on(&self.poll, (deadline - now).min(Duration::from_millis(10)));
-        }
-    }
 }
 
 impl RawReader {
@@ -387,22 +310,9 @@ impl RawReader {
         }
     }
 
-    /// Waits until data or a status change may be there, at most `timeout`; returns whether
-    /// something was signalled. Take until `None` after it: wake-ups are edge-triggered.
-    pub fn wait(&self, timeout: Duration) -> bool {
-        wait_on(&self.poll, timeout)
-    }
-
-    /// The remote writers this reader is matched with now.
-    pub fn matched_writers(&mut self) -> &BTreeSet<Gid> {
-        while let Some(status) = self.reader.try_recv_status() {
-            if let DataReaderStatus::SubscriptionMatched {
-                current, writer, ..
-            } = status
-            {
-                self.matches.update(writer, current.count_change());
-            }
-        }
-        &self.matches.0
+    /// Waits until data may be there, at most `timeout`; returns whether something was
+    /// signalled. Take until `None` after it: wake-ups are edge-triggered.
+    pub fn wait(&mut self, timeout: Duration) -> bool {
+        wait_on(&mut self.poll, timeout)
     }
 }

@@ -4,7 +4,7 @@ use std::time::{Duration, Instant};
 
 use horus_ros_msgs::{Message, TypeHash};
 use horus_ros_rmw::qos::Qos;
-use horus_ros_rmw::{Context, RawEndpointSpec, SampleId};
+use horus_ros_rmw::{Context, DiscoveryEvent, RawEndpointSpec, SampleId};
 
 const DOMAIN: u32 = 38;
 
@@ -24,16 +24,35 @@ fn raw_samples_carry_identity_and_related_identity() {
         .build()
         .expect("context");
     let node = context.create_node("raw", "/").expect("node");
-    let mut writer = node
+    let mut feed = context.discovery_feed().expect("feed");
+    let writer = node
         .create_raw_writer(&spec("rq/rawRequest"))
         .expect("writer");
     let mut reader = node
         .create_raw_reader(&spec("rq/rawRequest"))
         .expect("reader");
-    assert!(
-        writer.wait_for_reader(reader.gid(), Duration::from_secs(10)),
-        "writer never matched the reader"
-    );
+    // The feed reports both sides of the match (writer→reader and reader→writer).
+    let mut matched = (false, false);
+    let deadline = Instant::now() + Duration::from_secs(10);
+    while matched != (true, true) {
+        assert!(
+            Instant::now() < deadline,
+            "no match within 10 s: {matched:?}"
+        );
+        match feed.next_timeout(Duration::from_millis(100)) {
+            Some(DiscoveryEvent::Matched { local, remote })
+                if (local, remote) == (writer.gid(), reader.gid()) =>
+            {
+                matched.0 = true
+            }
+            Some(DiscoveryEvent::Matched { local, remote })
+                if (local, remote) == (reader.gid(), writer.gid()) =>
+            {
+                matched.1 = true
+            }
+            _ => {}
+        }
+    }
 
     let related = SampleId {
         writer: reader.gid(),
@@ -66,5 +85,4 @@ fn raw_samples_carry_identity_and_related_identity() {
     assert_eq!(got[0].related, Some(related));
     assert_eq!(got[1].id, second);
     assert_eq!(got[1].related, None);
-    assert!(reader.matched_writers().contains(&writer.gid()));
 }

@@ -1,1 +1,66 @@
-//! Services.
+//! horus-ros services: call and serve ROS 2 services from Rust, wire-compatible with ROS 2 Jazzy
+//! nodes on rmw_fastrtps_cpp and rmw_cyclonedds_cpp.
+//!
+//! ```no_run
+//! use horus_ros_services::prelude::*;
+//!
+//! let _server = ServiceServerBuilder::<AddTwoInts>::new()
+//!     .name("/add_two_ints")
+//!     .on_request(|req| Ok(AddTwoIntsResponse { sum: req.a + req.b }))
+//!     .build()?;
+//! let mut client = ServiceClient::<AddTwoInts>::builder().name("/add_two_ints").build()?;
+//! let reply = client.call(AddTwoIntsRequest { a: 2, b: 3 }, Duration::from_secs(1))?;
+//! assert_eq!(reply.sum, 5);
+//! # Ok::<(), horus_ros_services::Error>(())
+//! ```
+//!
+//! - [`ServiceServerBuilder`] / [`ServiceServer`]: serve from a background thread woken by
+//!   requests; handler errors reach horus-ros clients as [`ServiceError::ServiceFailed`], panics
+//!   are caught.
+//! - [`ServiceClient`]: `call`, `call_resilient`, `call_optional`; [`AsyncServiceClient`] returns
+//!   [`PendingResponse`]s that can be checked, waited on or awaited.
+//! - The wire convention (rmw_fastrtps or rmw_cyclonedds) is chosen per peer from its DDS vendor.
+
+#[macro_use]
+mod macros;
+
+mod client;
+mod error;
+mod naming;
+mod retry;
+mod runtime;
+mod server;
+mod wire;
+
+pub use client::{AsyncServiceClient, PendingResponse, ServiceClient, ServiceClientBuilder};
+pub use error::{Error, Result, ServiceError, SetupError};
+pub use naming::default_service_name;
+pub use retry::RetryConfig;
+pub use server::{ServiceServer, ServiceServerBuilder, DEFAULT_POLL_INTERVAL};
+pub use wire::WireFlavour;
+
+pub use horus_ros_msgs::{Message, Service};
+pub use horus_ros_rmw::{Context, Node};
+
+/// Everything an application needs, in one import.
+pub mod prelude {
+    pub use crate::service;
+    pub use crate::{
+        AsyncServiceClient, Error, PendingResponse, Result, RetryConfig, ServiceClient,
+        ServiceError, ServiceServer, ServiceServerBuilder, WireFlavour,
+    };
+    pub use horus_ros_msgs::example_interfaces::srv::{
+        AddTwoInts, AddTwoIntsRequest, AddTwoIntsResponse,
+    };
+    pub use horus_ros_msgs::{Message, Service};
+    pub use horus_ros_rmw::{Context, Node};
+    pub use std::time::Duration;
+}
+
+#[doc(hidden)]
+pub mod __private {
+    pub use crate::macros::names;
+    pub use horus_ros_msgs;
+    pub use pastey;
+    pub use serde;
+}

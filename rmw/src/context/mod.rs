@@ -97,14 +97,14 @@ pub(crate) struct ContextInner {
 pub(crate) struct LocalState {
     entities: LocalEntities,
     endpoints: BTreeMap<Gid, DiscoveredEndpoint>,
-    sink: Option<mio_extras::channel::Sender<DiscoveryEvent>>,
+    sink: Option<dds::discovery_feed::LocalSink>,
 }
 
 impl LocalState {
     /// Reports `event` to the open feed, if any; a closed feed stops the reporting.
     fn report(&mut self, event: DiscoveryEvent) {
         if let Some(sink) = &self.sink {
-            if sink.send(event).is_err() {
+            if !sink.send(event) {
                 self.sink = None;
             }
         }
@@ -348,7 +348,6 @@ impl Context {
             .subscriber
             .create_datareader_no_key(&topic, Some(dds::discovery_info::reader_qos()))
             .map_err(fail)?;
-        let (sink, local_events) = mio_extras::channel::channel();
         let reopened = lock(&self.inner.status_poll).take();
         let status = match reopened {
             Some(status) => status,
@@ -362,20 +361,15 @@ impl Context {
         };
         let snapshot =
             dds::discovery_feed::endpoint_snapshot(&self.inner.participant, self.inner.gid);
-        let feed = dds::discovery_feed::DdsDiscoveryFeed::new(
-            status,
-            reader,
-            local_events,
-            self.inner.gid,
-            snapshot,
-        )
-        .map_err(|(status, e)| {
-            *lock(&self.inner.status_poll) = Some(status);
-            self.inner.feed_open.store(false, Ordering::SeqCst);
-            DiscoveryFeedError::Poll {
-                reason: e.to_string(),
-            }
-        })?;
+        let (feed, sink) =
+            dds::discovery_feed::DdsDiscoveryFeed::new(status, reader, self.inner.gid, snapshot)
+                .map_err(|(status, e)| {
+                    *lock(&self.inner.status_poll) = Some(status);
+                    self.inner.feed_open.store(false, Ordering::SeqCst);
+                    DiscoveryFeedError::Poll {
+                        reason: e.to_string(),
+                    }
+                })?;
         // The snapshot of what this participant holds, then every later change, in order.
         let mut local = self.inner.local();
         let _ = sink.send(DiscoveryEvent::ParticipantDiscovered(

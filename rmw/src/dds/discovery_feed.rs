@@ -4,7 +4,9 @@
 use std::collections::VecDeque;
 use std::time::{Duration, Instant};
 
-use mio_06 as mio;
+use std::sync::{mpsc, Arc};
+
+use rustdds::mio1 as mio;
 
 use horus_ros_msgs::rmw_dds_common::ParticipantEntitiesInfo;
 use horus_ros_msgs::user_data::parse_type_hash_from_user_data;
@@ -19,8 +21,8 @@ use crate::discovery::{DiscoveredEndpoint, DiscoveredParticipant, DiscoveryEvent
 use crate::qos::{EndpointKind, Qos};
 use crate::Gid;
 
-/// Most samples drained from the `ros_discovery_info` reader in one go; past it the feed says
-/// more may be waiting rather than block (readers wake only on new data: edge-triggered).
+/// Most samples drained from the `ros_discovery_info` reader in one go (the rest come with the
+/// next call: `try_next` drains whenever nothing is pending).
 const MAX_SAMPLES_PER_POLL: usize = 4096;
 
 const STATUS: mio::Token = mio::Token(0);
@@ -30,78 +32,95 @@ const LOCAL: mio::Token = mio::Token(2);
 type InfoReader =
     no_key::DataReader<ParticipantEntitiesInfo, CDRDeserializerAdapter<ParticipantEntitiesInfo>>;
 
-/// The participant's status-event listener registered with a poll instance. rustdds lets a
-/// listener be registered only once, so this outlives each feed and is handed back when a feed
-/// closes.
+/// Where the context reports its own changes to an open feed: a channel plus a waker of the
+/// feed's poll.
+#[derive(Clone)]
+pub(crate) struct LocalSink {
+    tx: mpsc::Sender<DiscoveryEvent>,
+    waker: Arc<mio::Waker>,
+}
+
+impl LocalSink {
+    /// Sends `event` to the feed; `false` if the feed is gone.
+    pub(crate) fn send(&self, event: DiscoveryEvent) -> bool {
+        let sent = self.tx.send(event).is_ok();
+        if sent {
+            // A failed wake only delays the event until the feed's next wake-up.
+            let _ = self.waker.wake();
+        }
+        sent
+    }
+}
+
+/// The participant's status-event listener registered with a poll instance (and the poll's one
+/// waker). rustdds lets a listener be registered only once, so this outlives each feed and is
+/// handed back when a feed closes.
 pub(crate) struct StatusPoll {
     poll: mio::Poll,
+    waker: Arc<mio::Waker>,
     listener: DomainParticipantStatusListener,
 }
 
 impl StatusPoll {
     /// Registers `listener` with a new poll instance.
-    pub(crate) fn new(listener: DomainParticipantStatusListener) -> std::io::Result<Self> {
+    pub(crate) fn new(mut listener: DomainParticipantStatusListener) -> std::io::Result<Self> {
         let poll = mio::Poll::new()?;
-        poll.register(
-            &listener,
-            STATUS,
-            mio::Ready::readable(),
-            mio::PollOpt::edge(),
-        )?;
-        Ok(Self { poll, listener })
+        poll.registry()
+            .register(&mut listener, STATUS, mio::Interest::READABLE)?;
+        let waker = Arc::new(mio::Waker::new(poll.registry(), LOCAL)?);
+        Ok(Self {
+            poll,
+            waker,
+            listener,
+        })
     }
 }
 
 /// The rustdds side of a discovery feed.
 pub(crate) struct DdsDiscoveryFeed {
-    poll: mio::Poll,
-    listener: DomainParticipantStatusListener,
+    status: StatusPoll,
     reader: InfoReader,
-    local: mio_extras::channel::Receiver<DiscoveryEvent>,
+    local: mpsc::Receiver<DiscoveryEvent>,
     own_gid: Gid,
     pending: VecDeque<DiscoveryEvent>,
-    maybe_more: bool,
 }
 
 impl DdsDiscoveryFeed {
     /// A feed over the participant's status events, the `ros_discovery_info` reader and the
-    /// context's own changes (`local`).
+    /// context's own changes (sent through the returned [`LocalSink`]).
     pub(crate) fn new(
         status: StatusPoll,
-        reader: InfoReader,
-        local: mio_extras::channel::Receiver<DiscoveryEvent>,
+        mut reader: InfoReader,
         own_gid: Gid,
         initial: Vec<DiscoveryEvent>,
-    ) -> Result<Self, (StatusPoll, std::io::Error)> {
-        let StatusPoll { poll, listener } = status;
-        let registered = poll
-            .register(&reader, INFO, mio::Ready::readable(), mio::PollOpt::edge())
-            .and_then(|()| {
-                poll.register(&local, LOCAL, mio::Ready::readable(), mio::PollOpt::edge())
-            });
-        if let Err(e) = registered {
-            return Err((StatusPoll { poll, listener }, e));
+    ) -> Result<(Self, LocalSink), (StatusPoll, std::io::Error)> {
+        if let Err(e) = status
+            .poll
+            .registry()
+            .register(&mut reader, INFO, mio::Interest::READABLE)
+        {
+            return Err((status, e));
         }
-        Ok(Self {
-            poll,
-            listener,
+        let (tx, local) = mpsc::channel();
+        let sink = LocalSink {
+            tx,
+            waker: Arc::clone(&status.waker),
+        };
+        let feed = Self {
+            status,
             reader,
             local,
             own_gid,
             pending: initial.into(),
-            maybe_more: true,
-        })
+        };
+        Ok((feed, sink))
     }
 
     /// Closes the feed, giving back the registered status listener.
-    pub(crate) fn close(self) -> StatusPoll {
+    pub(crate) fn close(mut self) -> StatusPoll {
         // Deregistering fails only for what was never registered; nothing to undo then.
-        let _ = self.poll.deregister(&self.reader);
-        let _ = self.poll.deregister(&self.local);
-        StatusPoll {
-            poll: self.poll,
-            listener: self.listener,
-        }
+        let _ = self.status.poll.registry().deregister(&mut self.reader);
+        self.status
     }
 
     /// The next event, if any (non-blocking).
@@ -124,31 +143,22 @@ impl DdsDiscoveryFeed {
             if now >= deadline {
                 return None;
             }
-            if let Err(e) = self.poll.poll(&mut events, Some(deadline - now)) {
+            if let Err(e) = self.status.poll.poll(&mut events, Some(deadline - now)) {
                 if e.kind() != std::io::ErrorKind::Interrupted {
                     tracing::warn!("waiting for discovery events failed: {e}");
                     return None;
                 }
             }
-            // Whatever woke us, everything is drained on the next try.
-            self.maybe_more = true;
         }
     }
 
+    /// Moves everything waiting into `pending` (wake-ups are edge-triggered: all is drained).
     fn drain(&mut self) {
-        if !std::mem::take(&mut self.maybe_more) {
-            // Nothing was signalled since the last full drain; a zero-timeout poll tells.
-            let mut events = mio::Events::with_capacity(8);
-            match self.poll.poll(&mut events, Some(Duration::ZERO)) {
-                Ok(n) if n > 0 => {}
-                _ => return,
-            }
-        }
         // Our own changes first: they were made before anything discovery reports about them.
         while let Ok(event) = self.local.try_recv() {
             self.pending.push_back(event);
         }
-        while let Some(status) = self.listener.try_recv_status() {
+        while let Some(status) = self.status.listener.try_recv_status() {
             if let Some(event) = self.convert(status) {
                 self.pending.push_back(event);
             }
@@ -169,7 +179,6 @@ impl DdsDiscoveryFeed {
                 Err(e) => tracing::warn!("dropped a malformed ros_discovery_info sample: {e}"),
             }
         }
-        self.maybe_more = true;
     }
 
     fn convert(&self, status: DomainParticipantStatusEvent) -> Option<DiscoveryEvent> {
@@ -203,6 +212,24 @@ impl DdsDiscoveryFeed {
                     kind: EndpointKind::Writer,
                 })
             }
+            DomainParticipantStatusEvent::RemoteReaderMatched {
+                local_writer,
+                remote_reader,
+            } => {
+                return Some(DiscoveryEvent::Matched {
+                    local: gid_from_guid(local_writer),
+                    remote: gid_from_guid(remote_reader),
+                });
+            }
+            DomainParticipantStatusEvent::RemoteWriterMatched {
+                local_reader,
+                remote_writer,
+            } => {
+                return Some(DiscoveryEvent::Matched {
+                    local: gid_from_guid(local_reader),
+                    remote: gid_from_guid(remote_writer),
+                });
+            }
             _ => None,
         }?;
         // Our own participant and endpoints are reported by the context itself.
@@ -212,7 +239,9 @@ impl DdsDiscoveryFeed {
                 *gid
             }
             DiscoveryEvent::EndpointDiscovered(e) => e.gid,
-            DiscoveryEvent::ParticipantEntities(_) => return Some(event),
+            DiscoveryEvent::ParticipantEntities(_) | DiscoveryEvent::Matched { .. } => {
+                return Some(event)
+            }
         };
         (gid.prefix() != self.own_gid.prefix()).then_some(event)
     }

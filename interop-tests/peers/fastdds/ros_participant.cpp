@@ -1,0 +1,589 @@
+// An independent DDS peer (eProsima Fast DDS 2.9, the DDS of rmw_fastrtps_cpp) that joins the
+// ROS 2 Jazzy graph as an rmw_fastrtps_cpp participant would:
+//
+// * one DomainParticipant whose USER_DATA is `enclave=/;` plus the terminating NUL, exactly as
+//   rmw_fastrtps_shared_cpp `participant.cpp` (jazzy) writes it (`snprintf` into a buffer sized
+//   `strlen + 1`), and whose name is the enclave;
+// * a `ros_discovery_info` writer (RELIABLE, TRANSIENT_LOCAL, KEEP_LAST 1) and reader (RELIABLE,
+//   TRANSIENT_LOCAL, KEEP_ALL) of `rmw_dds_common::msg::dds_::ParticipantEntitiesInfo_`
+//   (rmw_dds_common `qos.cpp` / rmw_fastrtps_shared_cpp `init_rmw_context_impl.cpp`);
+// * a node NAMESPACE/NODE announced there, republished whenever its endpoints change;
+// * a service server for SERVICE (`example_interfaces/srv/AddTwoInts`): a reader on
+//   `rq<SERVICE>Request` and a writer on `rr<SERVICE>Reply`, and a client for the same service
+//   (writer on rq, reader on rr), all with rmw_qos_profile_services_default mapped the way
+//   rmw_fastrtps_shared_cpp `qos.cpp` does (RELIABLE, VOLATILE, KEEP_LAST 10, XCDR1
+//   representation, USER_DATA `typehash=RIHS01_<hex>;` without a NUL, from rmw_dds_common
+//   `encode_type_hash_for_user_data_qos`), memory policy PREALLOCATED_WITH_REALLOC and data
+//   sharing off (rmw_fastrtps_cpp `rmw_service.cpp`, `rmw_client.cpp`);
+// * the server answers requests as rmw_fastrtps does (`rmw_request.cpp`, `rmw_response.cpp`):
+//   the request id is the request's sample identity with its GUID replaced by the
+//   related_sample_identity GUID when one is given; the reply carries that id as its
+//   related_sample_identity, after waiting for the client's reply reader to match when that
+//   GUID is a reader.
+//
+// It prints ONE JSON line on stdout describing what it created, lingers LINGER seconds
+// answering requests, then removes its node (republishing ros_discovery_info) and deletes every
+// entity so that peers see them leave.
+//
+// usage: ros_participant DOMAIN NAMESPACE NODE SERVICE LINGER
+//   SERVICE is a fully qualified service name (`/add_two_ints`).
+
+#include <chrono>
+#include <cinttypes>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <functional>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <fastcdr/Cdr.h>
+#include <fastcdr/FastBuffer.h>
+#include <fastdds/dds/domain/DomainParticipant.hpp>
+#include <fastdds/dds/domain/DomainParticipantFactory.hpp>
+#include <fastdds/dds/domain/qos/DomainParticipantQos.hpp>
+#include <fastdds/dds/publisher/DataWriter.hpp>
+#include <fastdds/dds/publisher/Publisher.hpp>
+#include <fastdds/dds/publisher/qos/DataWriterQos.hpp>
+#include <fastdds/dds/subscriber/DataReader.hpp>
+#include <fastdds/dds/subscriber/SampleInfo.hpp>
+#include <fastdds/dds/subscriber/Subscriber.hpp>
+#include <fastdds/dds/subscriber/qos/DataReaderQos.hpp>
+#include <fastdds/dds/topic/Topic.hpp>
+#include <fastdds/dds/topic/TopicDataType.hpp>
+#include <fastdds/dds/topic/TypeSupport.hpp>
+#include <fastdds/rtps/common/InstanceHandle.h>
+#include <fastdds/rtps/common/WriteParams.h>
+#include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
+
+using eprosima::fastdds::dds::DataReader;
+using eprosima::fastdds::dds::DataReaderQos;
+using eprosima::fastdds::dds::DataWriter;
+using eprosima::fastdds::dds::DataWriterQos;
+using eprosima::fastdds::dds::DomainParticipant;
+using eprosima::fastdds::dds::DomainParticipantFactory;
+using eprosima::fastdds::dds::DomainParticipantQos;
+using eprosima::fastdds::dds::Publisher;
+using eprosima::fastdds::dds::SampleInfo;
+using eprosima::fastdds::dds::Subscriber;
+using eprosima::fastdds::dds::Topic;
+using eprosima::fastdds::dds::TopicDataType;
+using eprosima::fastdds::dds::TypeSupport;
+using eprosima::fastrtps::rtps::GUID_t;
+using eprosima::fastrtps::rtps::InstanceHandle_t;
+using eprosima::fastrtps::rtps::SerializedPayload_t;
+using eprosima::fastrtps::rtps::WriteParams;
+using ReturnCode_t = eprosima::fastrtps::types::ReturnCode_t;
+
+namespace {
+
+// REP-2011 hashes of the request and response types, from a Jazzy build's type descriptions.
+const char * const REQUEST_HASH =
+  "RIHS01_000c5fd92d6b2e1a05949348f584d6d652adea1e92d691792011ac2273508302";
+const char * const RESPONSE_HASH =
+  "RIHS01_de5c030d4af33cba2749310b249737b631594703f9300495f48bffb2b44dcc2f";
+
+// ---------------------------------------------------------------------------------------------
+// Message types (rmw_dds_common jazzy msg/*.msg; example_interfaces srv/AddTwoInts.srv)
+
+struct Gid
+{
+  uint8_t data[16];  // rmw_dds_common/msg/Gid.msg: char[16] data (Jazzy)
+};
+
+struct NodeEntitiesInfo
+{
+  std::string node_namespace;
+  std::string node_name;
+  std::vector<Gid> reader_gid_seq;
+  std::vector<Gid> writer_gid_seq;
+};
+
+struct ParticipantEntitiesInfo
+{
+  Gid gid;
+  std::vector<NodeEntitiesInfo> node_entities_info_seq;
+};
+
+struct AddTwoIntsRequest
+{
+  int64_t a = 0;
+  int64_t b = 0;
+};
+
+struct AddTwoIntsResponse
+{
+  int64_t sum = 0;
+};
+
+void serialize_gid(eprosima::fastcdr::Cdr & cdr, const Gid & gid)
+{
+  for (uint8_t byte : gid.data) {
+    cdr.serialize(byte);
+  }
+}
+
+void deserialize_gid(eprosima::fastcdr::Cdr & cdr, Gid & gid)
+{
+  for (uint8_t & byte : gid.data) {
+    cdr.deserialize(byte);
+  }
+}
+
+void serialize(eprosima::fastcdr::Cdr & cdr, const ParticipantEntitiesInfo & m)
+{
+  serialize_gid(cdr, m.gid);
+  cdr.serialize(static_cast<uint32_t>(m.node_entities_info_seq.size()));
+  for (const auto & node : m.node_entities_info_seq) {
+    cdr.serialize(node.node_namespace);
+    cdr.serialize(node.node_name);
+    cdr.serialize(static_cast<uint32_t>(node.reader_gid_seq.size()));
+    for (const auto & g : node.reader_gid_seq) {
+      serialize_gid(cdr, g);
+    }
+    cdr.serialize(static_cast<uint32_t>(node.writer_gid_seq.size()));
+    for (const auto & g : node.writer_gid_seq) {
+      serialize_gid(cdr, g);
+    }
+  }
+}
+
+void deserialize_gids(eprosima::fastcdr::Cdr & cdr, std::vector<Gid> & gids)
+{
+  uint32_t n = 0;
+  cdr.deserialize(n);
+  gids.resize(n);
+  for (auto & g : gids) {
+    deserialize_gid(cdr, g);
+  }
+}
+
+void deserialize(eprosima::fastcdr::Cdr & cdr, ParticipantEntitiesInfo & m)
+{
+  deserialize_gid(cdr, m.gid);
+  uint32_t n = 0;
+  cdr.deserialize(n);
+  m.node_entities_info_seq.resize(n);
+  for (auto & node : m.node_entities_info_seq) {
+    cdr.deserialize(node.node_namespace);
+    cdr.deserialize(node.node_name);
+    deserialize_gids(cdr, node.reader_gid_seq);
+    deserialize_gids(cdr, node.writer_gid_seq);
+  }
+}
+
+// An upper bound of the XCDR1 size of the body starting at offset 4 (after the encapsulation).
+size_t serialized_size(const ParticipantEntitiesInfo & m)
+{
+  size_t size = 16 + 4;
+  for (const auto & node : m.node_entities_info_seq) {
+    size += 3 + 4 + node.node_namespace.size() + 1;
+    size += 3 + 4 + node.node_name.size() + 1;
+    size += 3 + 4 + 16 * node.reader_gid_seq.size();
+    size += 3 + 4 + 16 * node.writer_gid_seq.size();
+  }
+  return size;
+}
+
+void serialize(eprosima::fastcdr::Cdr & cdr, const AddTwoIntsRequest & m)
+{
+  cdr.serialize(m.a);
+  cdr.serialize(m.b);
+}
+void deserialize(eprosima::fastcdr::Cdr & cdr, AddTwoIntsRequest & m)
+{
+  cdr.deserialize(m.a);
+  cdr.deserialize(m.b);
+}
+size_t serialized_size(const AddTwoIntsRequest &) {return 16;}
+
+void serialize(eprosima::fastcdr::Cdr & cdr, const AddTwoIntsResponse & m) {cdr.serialize(m.sum);}
+void deserialize(eprosima::fastcdr::Cdr & cdr, AddTwoIntsResponse & m) {cdr.deserialize(m.sum);}
+size_t serialized_size(const AddTwoIntsResponse &) {return 8;}
+
+// A keyless TopicDataType writing XCDR1 with the encapsulation header, the way the
+// rmw_fastrtps_shared_cpp TypeSupport does (`TypeSupport_impl.cpp`: DDS_CDR, DEFAULT_ENDIAN,
+// no type object / type information).
+template<typename T>
+class RosType : public TopicDataType
+{
+public:
+  RosType(const char * name, uint32_t max_size)
+  {
+    setName(name);
+    m_typeSize = max_size + 4;
+    m_isGetKeyDefined = false;
+    auto_fill_type_object(false);
+    auto_fill_type_information(false);
+  }
+
+  bool serialize(void * data, SerializedPayload_t * payload) override
+  {
+    const T * m = static_cast<const T *>(data);
+    eprosima::fastcdr::FastBuffer buffer(reinterpret_cast<char *>(payload->data), payload->max_size);
+    eprosima::fastcdr::Cdr cdr(
+      buffer, eprosima::fastcdr::Cdr::DEFAULT_ENDIAN, eprosima::fastcdr::Cdr::DDS_CDR);
+    payload->encapsulation =
+      cdr.endianness() == eprosima::fastcdr::Cdr::BIG_ENDIANNESS ? CDR_BE : CDR_LE;
+    try {
+      cdr.serialize_encapsulation();
+      ::serialize(cdr, *m);
+    } catch (const std::exception &) {
+      return false;
+    }
+    payload->length = static_cast<uint32_t>(cdr.getSerializedDataLength());
+    return true;
+  }
+
+  bool deserialize(SerializedPayload_t * payload, void * data) override
+  {
+    T * m = static_cast<T *>(data);
+    eprosima::fastcdr::FastBuffer buffer(reinterpret_cast<char *>(payload->data), payload->length);
+    eprosima::fastcdr::Cdr cdr(
+      buffer, eprosima::fastcdr::Cdr::DEFAULT_ENDIAN, eprosima::fastcdr::Cdr::DDS_CDR);
+    try {
+      cdr.read_encapsulation();
+      payload->encapsulation =
+        cdr.endianness() == eprosima::fastcdr::Cdr::BIG_ENDIANNESS ? CDR_BE : CDR_LE;
+      ::deserialize(cdr, *m);
+    } catch (const std::exception &) {
+      return false;
+    }
+    return true;
+  }
+
+  std::function<uint32_t()> getSerializedSizeProvider(void * data) override
+  {
+    return [data]() {
+             return static_cast<uint32_t>(4 + ::serialized_size(*static_cast<const T *>(data)));
+           };
+  }
+
+  void * createData() override {return new T();}
+  void deleteData(void * data) override {delete static_cast<T *>(data);}
+  bool getKey(void *, InstanceHandle_t *, bool) override {return false;}
+};
+
+// ---------------------------------------------------------------------------------------------
+
+Gid to_gid(const GUID_t & guid)
+{
+  // rmw_fastrtps_shared_cpp `guid_utils.hpp` copy_from_fastrtps_guid_to_byte_array: prefix then
+  // entity id, 16 bytes.
+  Gid gid{};
+  std::memcpy(gid.data, guid.guidPrefix.value, 12);
+  std::memcpy(gid.data + 12, guid.entityId.value, 4);
+  return gid;
+}
+
+std::string dotted(const Gid & gid)
+{
+  std::string out;
+  char buf[4];
+  for (size_t i = 0; i < 16; ++i) {
+    std::snprintf(buf, sizeof buf, i == 0 ? "%02x" : ".%02x", gid.data[i]);
+    out += buf;
+  }
+  return out;
+}
+
+std::string json_string(const std::string & s)
+{
+  std::string out = "\"";
+  for (char c : s) {
+    if (c == '"' || c == '\\') {
+      out += '\\';
+      out += c;
+    } else if (static_cast<unsigned char>(c) < 0x20) {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "\\u%04x", c);
+      out += buf;
+    } else {
+      out += c;
+    }
+  }
+  return out + "\"";
+}
+
+template<typename EntityQos>
+std::string qos_json(const EntityQos & qos)
+{
+  using namespace eprosima::fastdds::dds;
+  std::ostringstream out;
+  out << "{\"reliability\": \""
+      << (qos.reliability().kind == RELIABLE_RELIABILITY_QOS ? "RELIABLE" : "BEST_EFFORT")
+      << "\", \"durability\": \"";
+  switch (qos.durability().kind) {
+    case VOLATILE_DURABILITY_QOS: out << "VOLATILE"; break;
+    case TRANSIENT_LOCAL_DURABILITY_QOS: out << "TRANSIENT_LOCAL"; break;
+    case TRANSIENT_DURABILITY_QOS: out << "TRANSIENT"; break;
+    default: out << "PERSISTENT"; break;
+  }
+  out << "\", \"history\": \""
+      << (qos.history().kind == KEEP_LAST_HISTORY_QOS ? "KEEP_LAST" : "KEEP_ALL")
+      << "\", \"depth\": " << qos.history().depth << "}";
+  return out.str();
+}
+
+std::vector<eprosima::fastrtps::rtps::octet> octets(const std::string & s)
+{
+  return std::vector<eprosima::fastrtps::rtps::octet>(s.begin(), s.end());
+}
+
+// rmw_qos_profile_services_default (KEEP_LAST 10, RELIABLE, VOLATILE) as rmw_fastrtps_shared_cpp
+// `qos.cpp` fills a DataReader/DataWriter QoS, plus what `rmw_service.cpp` / `rmw_client.cpp`
+// change when RMW_FASTRTPS_USE_QOS_FROM_XML is unset.
+template<typename EntityQos>
+void services_default(EntityQos & qos, const char * type_hash)
+{
+  using namespace eprosima::fastdds::dds;
+  qos.history().kind = KEEP_LAST_HISTORY_QOS;
+  if (qos.history().depth < 10) {
+    qos.history().depth = 10;
+  }
+  qos.durability().kind = VOLATILE_DURABILITY_QOS;
+  qos.reliability().kind = RELIABLE_RELIABILITY_QOS;
+  qos.user_data().setValue(octets(std::string("typehash=") + type_hash + ";"));
+  qos.endpoint().history_memory_policy =
+    eprosima::fastrtps::rtps::PREALLOCATED_WITH_REALLOC_MEMORY_MODE;
+  qos.data_sharing().off();
+}
+
+DataReaderQos service_reader_qos(Subscriber * subscriber, const char * type_hash)
+{
+  DataReaderQos qos = subscriber->get_default_datareader_qos();
+  services_default(qos, type_hash);
+  qos.type_consistency().representation.clear();
+  qos.type_consistency().representation.m_value.push_back(
+    eprosima::fastdds::dds::XCDR_DATA_REPRESENTATION);
+  return qos;
+}
+
+DataWriterQos service_writer_qos(Publisher * publisher, const char * type_hash)
+{
+  DataWriterQos qos = publisher->get_default_datawriter_qos();
+  services_default(qos, type_hash);
+  qos.publish_mode().kind = eprosima::fastdds::dds::SYNCHRONOUS_PUBLISH_MODE;
+  qos.representation().clear();
+  qos.representation().m_value.push_back(eprosima::fastdds::dds::XCDR_DATA_REPRESENTATION);
+  return qos;
+}
+
+bool writer_matched_reader(DataWriter * writer, const GUID_t & reader)
+{
+  std::vector<InstanceHandle_t> handles;
+  if (writer->get_matched_subscriptions(handles) != ReturnCode_t::RETCODE_OK) {
+    return false;
+  }
+  for (const auto & h : handles) {
+    if (eprosima::fastrtps::rtps::iHandle2GUID(h) == reader) {
+      return true;
+    }
+  }
+  return false;
+}
+
+// Answers every waiting request, as rmw_fastrtps `__rmw_take_request` + `__rmw_send_response`.
+void serve(DataReader * requests, DataWriter * replies)
+{
+  AddTwoIntsRequest request;
+  SampleInfo info;
+  while (requests->take_next_sample(&request, &info) == ReturnCode_t::RETCODE_OK) {
+    if (!info.valid_data) {
+      continue;
+    }
+    eprosima::fastrtps::rtps::SampleIdentity id = info.sample_identity;
+    const GUID_t & related = info.related_sample_identity.writer_guid();
+    if (related != GUID_t::unknown()) {
+      id.writer_guid() = related;
+    }
+    // An entity id whose kind has bit 0x04 set is a reader: the client's reply reader. Wait
+    // (bounded) until our reply writer has matched it.
+    if ((id.writer_guid().entityId.value[3] & 0x04) != 0) {
+      auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(1);
+      while (!writer_matched_reader(replies, id.writer_guid()) &&
+        std::chrono::steady_clock::now() < deadline)
+      {
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+      }
+    }
+    AddTwoIntsResponse response;
+    response.sum = request.a + request.b;
+    WriteParams params;
+    params.related_sample_identity(id);
+    if (!replies->write(&response, params)) {
+      std::fprintf(stderr, "ros_participant: could not write a reply\n");
+    }
+  }
+}
+
+}  // namespace
+
+int main(int argc, char ** argv)
+{
+  if (argc != 6) {
+    std::fprintf(stderr, "usage: %s DOMAIN NAMESPACE NODE SERVICE LINGER\n", argv[0]);
+    return 2;
+  }
+  const uint32_t domain = static_cast<uint32_t>(std::strtoul(argv[1], nullptr, 10));
+  const std::string node_namespace = argv[2];
+  const std::string node_name = argv[3];
+  const std::string service = argv[4];
+  const double linger = std::strtod(argv[5], nullptr);
+
+  auto factory = DomainParticipantFactory::get_instance();
+  DomainParticipantQos pqos = factory->get_default_participant_qos();
+  // Loopback only: one UDPv4 transport restricted to 127.0.0.1, no shared memory. Discovery
+  // keeps Fast DDS's defaults (SPDP multicast 239.255.0.1, port 7400 + 250 * domain).
+  auto udp = std::make_shared<eprosima::fastdds::rtps::UDPv4TransportDescriptor>();
+  udp->interfaceWhiteList.emplace_back("127.0.0.1");
+  pqos.transport().use_builtin_transports = false;
+  pqos.transport().user_transports.push_back(udp);
+  // rmw_fastrtps_shared_cpp `participant.cpp`: "enclave=%s;" written with snprintf into a
+  // buffer of strlen + 1 bytes, so USER_DATA ends with the NUL.
+  const std::string enclave = "/";
+  std::string user_data = "enclave=" + enclave + ";";
+  std::vector<eprosima::fastrtps::rtps::octet> ud(user_data.begin(), user_data.end());
+  ud.push_back(0);
+  pqos.user_data().setValue(ud);
+  pqos.name(enclave.c_str());
+  pqos.wire_protocol().builtin.readerHistoryMemoryPolicy =
+    eprosima::fastrtps::rtps::PREALLOCATED_WITH_REALLOC_MEMORY_MODE;
+  pqos.wire_protocol().builtin.writerHistoryMemoryPolicy =
+    eprosima::fastrtps::rtps::PREALLOCATED_WITH_REALLOC_MEMORY_MODE;
+
+  DomainParticipant * participant = factory->create_participant(domain, pqos);
+  if (participant == nullptr) {
+    std::fprintf(stderr, "ros_participant: could not create the participant\n");
+    return 1;
+  }
+  Publisher * publisher = participant->create_publisher(participant->get_default_publisher_qos());
+  Subscriber * subscriber =
+    participant->create_subscriber(participant->get_default_subscriber_qos());
+
+  TypeSupport info_type(new RosType<ParticipantEntitiesInfo>(
+      "rmw_dds_common::msg::dds_::ParticipantEntitiesInfo_", 4096));
+  TypeSupport request_type(new RosType<AddTwoIntsRequest>(
+      "example_interfaces::srv::dds_::AddTwoInts_Request_", 16));
+  TypeSupport response_type(new RosType<AddTwoIntsResponse>(
+      "example_interfaces::srv::dds_::AddTwoInts_Response_", 8));
+  info_type.register_type(participant);
+  request_type.register_type(participant);
+  response_type.register_type(participant);
+
+  // ros_discovery_info (rmw_dds_common `qos_profile_rt_discovery_info`-style QoS as created by
+  // rmw_fastrtps_shared_cpp `init_rmw_context_impl.cpp`).
+  Topic * info_topic = participant->create_topic(
+    "ros_discovery_info", info_type.get_type_name(), participant->get_default_topic_qos());
+  DataWriterQos info_wqos = publisher->get_default_datawriter_qos();
+  info_wqos.reliability().kind = eprosima::fastdds::dds::RELIABLE_RELIABILITY_QOS;
+  info_wqos.durability().kind = eprosima::fastdds::dds::TRANSIENT_LOCAL_DURABILITY_QOS;
+  info_wqos.history().kind = eprosima::fastdds::dds::KEEP_LAST_HISTORY_QOS;
+  info_wqos.history().depth = 1;
+  info_wqos.endpoint().history_memory_policy =
+    eprosima::fastrtps::rtps::PREALLOCATED_WITH_REALLOC_MEMORY_MODE;
+  info_wqos.data_sharing().off();
+  DataWriter * info_writer = publisher->create_datawriter(info_topic, info_wqos);
+  DataReaderQos info_rqos = subscriber->get_default_datareader_qos();
+  info_rqos.reliability().kind = eprosima::fastdds::dds::RELIABLE_RELIABILITY_QOS;
+  info_rqos.durability().kind = eprosima::fastdds::dds::TRANSIENT_LOCAL_DURABILITY_QOS;
+  info_rqos.history().kind = eprosima::fastdds::dds::KEEP_ALL_HISTORY_QOS;
+  info_rqos.endpoint().history_memory_policy =
+    eprosima::fastrtps::rtps::PREALLOCATED_WITH_REALLOC_MEMORY_MODE;
+  info_rqos.data_sharing().off();
+  DataReader * info_reader = subscriber->create_datareader(info_topic, info_rqos);
+  if (info_writer == nullptr || info_reader == nullptr) {
+    std::fprintf(stderr, "ros_participant: could not create the ros_discovery_info endpoints\n");
+    return 1;
+  }
+
+  ParticipantEntitiesInfo info;
+  info.gid = to_gid(participant->guid());
+  auto publish_info = [&]() {
+      if (!info_writer->write(&info)) {
+        std::fprintf(stderr, "ros_participant: could not write ros_discovery_info\n");
+      }
+    };
+  publish_info();  // the context: no node yet
+  NodeEntitiesInfo node;
+  node.node_namespace = node_namespace;
+  node.node_name = node_name;
+  info.node_entities_info_seq.push_back(node);
+  publish_info();  // the node, no endpoints yet
+
+  // The service: rmw_fastrtps_cpp `rmw_service.cpp` creates the request reader, then the reply
+  // writer, then announces both GIDs.
+  const std::string request_topic_name = "rq" + service + "Request";
+  const std::string reply_topic_name = "rr" + service + "Reply";
+  Topic * request_topic = participant->create_topic(
+    request_topic_name, request_type.get_type_name(), participant->get_default_topic_qos());
+  Topic * reply_topic = participant->create_topic(
+    reply_topic_name, response_type.get_type_name(), participant->get_default_topic_qos());
+  DataReader * request_reader =
+    subscriber->create_datareader(request_topic, service_reader_qos(subscriber, REQUEST_HASH));
+  DataWriter * reply_writer =
+    publisher->create_datawriter(reply_topic, service_writer_qos(publisher, RESPONSE_HASH));
+  if (request_topic == nullptr || reply_topic == nullptr || request_reader == nullptr ||
+    reply_writer == nullptr)
+  {
+    std::fprintf(stderr, "ros_participant: could not create the service\n");
+    return 1;
+  }
+  info.node_entities_info_seq[0].reader_gid_seq.push_back(to_gid(request_reader->guid()));
+  info.node_entities_info_seq[0].writer_gid_seq.push_back(to_gid(reply_writer->guid()));
+  publish_info();
+
+  // The client: rmw_fastrtps_cpp `rmw_client.cpp` creates the reply reader, then the request
+  // writer.
+  DataReader * reply_reader =
+    subscriber->create_datareader(reply_topic, service_reader_qos(subscriber, RESPONSE_HASH));
+  DataWriter * request_writer =
+    publisher->create_datawriter(request_topic, service_writer_qos(publisher, REQUEST_HASH));
+  if (reply_reader == nullptr || request_writer == nullptr) {
+    std::fprintf(stderr, "ros_participant: could not create the client\n");
+    return 1;
+  }
+  info.node_entities_info_seq[0].reader_gid_seq.push_back(to_gid(reply_reader->guid()));
+  info.node_entities_info_seq[0].writer_gid_seq.push_back(to_gid(request_writer->guid()));
+  publish_info();
+
+  std::ostringstream line;
+  line << "{\"participant\": " << json_string(dotted(info.gid))
+       << ", \"vendor\": \"010f\""
+       << ", \"node\": {\"namespace\": " << json_string(node_namespace)
+       << ", \"name\": " << json_string(node_name) << "}"
+       << ", \"request_topic\": " << json_string(request_topic_name)
+       << ", \"reply_topic\": " << json_string(reply_topic_name)
+       << ", \"server\": {\"request_reader\": "
+       << json_string(dotted(to_gid(request_reader->guid())))
+       << ", \"reply_writer\": " << json_string(dotted(to_gid(reply_writer->guid()))) << "}"
+       << ", \"client\": {\"request_writer\": "
+       << json_string(dotted(to_gid(request_writer->guid())))
+       << ", \"reply_reader\": " << json_string(dotted(to_gid(reply_reader->guid()))) << "}"
+       << ", \"qos\": {\"request_reader\": " << qos_json(request_reader->get_qos())
+       << ", \"reply_writer\": " << qos_json(reply_writer->get_qos())
+       << ", \"request_writer\": " << qos_json(request_writer->get_qos())
+       << ", \"reply_reader\": " << qos_json(reply_reader->get_qos()) << "}}";
+  std::printf("%s\n", line.str().c_str());
+  std::fflush(stdout);
+
+  // Linger, answering requests.
+  const auto end = std::chrono::steady_clock::now() +
+    std::chrono::microseconds(static_cast<int64_t>(linger * 1e6));
+  while (std::chrono::steady_clock::now() < end) {
+    request_reader->wait_for_unread_message(eprosima::fastrtps::Duration_t(0, 50000000));
+    serve(request_reader, reply_writer);
+  }
+
+  // Leave as rmw does: the node goes (ros_discovery_info republished), then the endpoints and
+  // the participant are deleted, which Fast DDS announces (SEDP / SPDP disposal).
+  info.node_entities_info_seq.clear();
+  publish_info();
+  info_writer->wait_for_acknowledgments(eprosima::fastrtps::Duration_t(0, 200000000));
+  participant->delete_contained_entities();
+  factory->delete_participant(participant);
+  return 0;
+}

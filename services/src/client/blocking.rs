@@ -1,0 +1,200 @@
+//! [`ServiceClient`]: blocking calls, with retries and an optional-server variant.
+
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use horus_ros_msgs::Service;
+use horus_ros_rmw::names::ServiceName;
+use horus_ros_rmw::qos::Qos;
+use horus_ros_rmw::{Gid, Node};
+
+use super::core::{ClientCore, ClientOptions};
+use super::pending::AsyncServiceClient;
+use crate::wire::WireFlavour;
+use crate::{RetryConfig, ServiceError, SetupError};
+
+/// Builds a [`ServiceClient`] or an [`AsyncServiceClient`].
+#[must_use = "a builder does nothing until .build() is called"]
+pub struct ServiceClientBuilder<S: Service> {
+    options: ClientOptions,
+    _service: std::marker::PhantomData<fn() -> S>,
+}
+
+impl<S: Service> Default for ServiceClientBuilder<S> {
+    fn default() -> Self {
+        Self {
+            options: ClientOptions::default(),
+            _service: std::marker::PhantomData,
+        }
+    }
+}
+
+impl<S: Service> ServiceClientBuilder<S> {
+    /// Calls from `node` instead of the process's default node.
+    pub fn node(mut self, node: &Node) -> Self {
+        self.options.node = Some(node.clone());
+        self
+    }
+
+    /// The service name (default: [`default_service_name`](crate::default_service_name)).
+    pub fn name(mut self, name: impl Into<String>) -> Self {
+        self.options.name = Some(name.into());
+        self
+    }
+
+    /// The QoS of the request writer and reply reader (default: `services_default`).
+    pub fn qos(mut self, qos: Qos) -> Self {
+        self.options.qos = qos;
+        self
+    }
+
+    /// Uses this wire convention instead of the one of the server found.
+    pub fn wire_flavour(mut self, flavour: WireFlavour) -> Self {
+        self.options.flavour = Some(flavour);
+        self
+    }
+
+    /// The longest a waiting call sleeps between checks (replies wake it at once). Default 1 ms.
+    pub fn poll_interval(mut self, interval: Duration) -> Self {
+        self.options.poll_interval = interval.max(Duration::from_micros(50));
+        self
+    }
+
+    /// A blocking client.
+    pub fn build(self) -> Result<ServiceClient<S>, SetupError> {
+        Ok(ServiceClient {
+            core: Arc::new(ClientCore::new(self.options)?),
+        })
+    }
+
+    /// A non-blocking client.
+    pub fn build_async(self) -> Result<AsyncServiceClient<S>, SetupError> {
+        AsyncServiceClient::from_core(ClientCore::new(self.options)?)
+    }
+}
+
+/// Calls a service and waits for the reply.
+pub struct ServiceClient<S: Service> {
+    core: Arc<ClientCore<S>>,
+}
+
+impl<S: Service> std::fmt::Debug for ServiceClient<S> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("ServiceClient")
+            .field("name", self.core.name())
+            .field("type", &S::TYPE_NAME)
+            .finish()
+    }
+}
+
+impl<S: Service> ServiceClient<S> {
+    /// A client of the service's default name on the default node.
+    pub fn new() -> Result<Self, SetupError> {
+        Self::builder().build()
+    }
+
+    /// Like [`new`](Self::new), waking at least every `interval` while waiting (default 1 ms;
+    /// replies wake a waiting call at once either way).
+    pub fn with_poll_interval(interval: Duration) -> Result<Self, SetupError> {
+        Self::builder().poll_interval(interval).build()
+    }
+
+    /// A builder to choose node, name, QoS and wire convention.
+    pub fn builder() -> ServiceClientBuilder<S> {
+        ServiceClientBuilder::default()
+    }
+
+    /// The fully-qualified service name.
+    pub fn name(&self) -> &ServiceName {
+        self.core.name()
+    }
+
+    /// The GIDs of the request writer and the reply reader.
+    pub fn gids(&self) -> (Gid, Gid) {
+        self.core.gids()
+    }
+
+    /// Whether a server is on the graph with both its endpoints (rclcpp `service_is_ready`).
+    pub fn server_available(&self) -> bool {
+        self.core.server_available()
+    }
+
+    /// Waits until a server can take a call, at most `timeout` (rclcpp `wait_for_service`).
+    pub fn wait_for_service(&self, timeout: Duration) -> bool {
+        self.core.wait_ready(Instant::now() + timeout).is_ok()
+    }
+
+    /// Calls once: waits (within `timeout`) for a server, sends, waits for the reply.
+    ///
+    /// `NoServer` if no server of this service and type appeared within `timeout`; `Timeout` if
+    /// one was there but did not answer in time; `ServiceFailed` if its handler returned `Err`.
+    pub fn call(
+        &mut self,
+        request: S::Request,
+        timeout: Duration,
+    ) -> Result<S::Response, ServiceError> {
+        let deadline = Instant::now() + timeout;
+        let server = self.core.wait_ready(deadline)?;
+        let key = self.core.send(&request, server, deadline)?;
+        loop {
+            self.core.drain_replies();
+            if let Some(result) = self.core.take_result(key) {
+                return result;
+            }
+            let now = Instant::now();
+            if now >= deadline {
+                self.core.forget(key);
+                return Err(ServiceError::Timeout);
+            }
+            self.core
+                .wait_for_replies((deadline - now).min(self.core.poll_interval));
+        }
+    }
+
+    /// Calls with retries on Timeout and Transport: 3 retries, backoff 10, 20, 40 ms; each
+    /// attempt has the whole `timeout`.
+    pub fn call_resilient(
+        &mut self,
+        request: S::Request,
+        timeout: Duration,
+    ) -> Result<S::Response, ServiceError> {
+        self.call_resilient_with(request, timeout, RetryConfig::default())
+    }
+
+    /// Calls with the given retry policy (only Timeout and Transport are retried).
+    pub fn call_resilient_with(
+        &mut self,
+        request: S::Request,
+        timeout: Duration,
+        retry: RetryConfig,
+    ) -> Result<S::Response, ServiceError> {
+        let mut attempt = 0;
+        loop {
+            match self.call(request.clone(), timeout) {
+                Err(e) if e.is_transient() && attempt < retry.max_retries => {
+                    tracing::debug!(service = %self.name(), attempt, "retrying after: {e}");
+                    std::thread::sleep(retry.backoff(attempt));
+                    attempt += 1;
+                }
+                result => return result,
+            }
+        }
+    }
+
+    /// Like [`call`](Self::call), but `Ok(None)` when no server exists.
+    pub fn call_optional(
+        &mut self,
+        request: S::Request,
+        timeout: Duration,
+    ) -> Result<Option<S::Response>, ServiceError> {
+        match self.call(request, timeout) {
+            Err(ServiceError::NoServer) => Ok(None),
+            result => result.map(Some),
+        }
+    }
+
+    /// Requests sent whose replies are still awaited (0 between calls: nothing leaks).
+    pub fn pending_requests(&self) -> usize {
+        self.core.pending_count()
+    }
+}

@@ -1,0 +1,376 @@
+//! What sync and async clients share: the endpoints, the server lookup, sending in the server's
+//! wire convention, and routing replies to the calls waiting for them.
+
+use std::collections::HashMap;
+use std::marker::PhantomData;
+use std::sync::atomic::{AtomicI64, Ordering};
+use std::sync::{Condvar, Mutex, MutexGuard};
+use std::task::Waker;
+use std::time::{Duration, Instant};
+
+use horus_ros_msgs::Service;
+use horus_ros_rmw::names::ServiceName;
+use horus_ros_rmw::qos::Qos;
+use horus_ros_rmw::{Gid, Node, RawReader, RawSample, RawWriter, SampleId};
+
+use crate::naming::{default_service_name, ServiceTopics};
+use crate::runtime::Runtime;
+use crate::wire::{client_id, decode, encode, CycloneHeader, WireFlavour, HORUS_CLIENT_MARKER};
+use crate::{ServiceError, SetupError};
+
+/// rmw_cyclonedds numbers requests with one process-wide counter; so do we.
+static NEXT_CYCLONE_SEQ: AtomicI64 = AtomicI64::new(1);
+
+/// Longest single wait while a call waits for its server to become usable.
+const READY_CHECK_INTERVAL: Duration = Duration::from_millis(10);
+
+/// Identifies one outstanding request.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub(crate) struct RequestKey {
+    flavour: WireFlavour,
+    sequence: i64,
+}
+
+/// A server usable now: both endpoints known and matched with ours.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct ReadyServer {
+    flavour: WireFlavour,
+}
+
+/// Where an outstanding request stands.
+pub(crate) struct Slot<R> {
+    result: Option<Result<R, ServiceError>>,
+    waker: Option<Waker>,
+    deadline: Instant,
+}
+
+/// Options shared by the client kinds.
+#[derive(Clone, Debug)]
+pub(crate) struct ClientOptions {
+    pub(crate) node: Option<Node>,
+    pub(crate) name: Option<String>,
+    pub(crate) qos: Qos,
+    pub(crate) flavour: Option<WireFlavour>,
+    pub(crate) poll_interval: Duration,
+}
+
+impl Default for ClientOptions {
+    fn default() -> Self {
+        Self {
+            node: None,
+            name: None,
+            qos: Qos::services_default(),
+            flavour: None,
+            poll_interval: Duration::from_millis(1),
+        }
+    }
+}
+
+pub(crate) struct ClientCore<S: Service> {
+    runtime: Runtime,
+    name: ServiceName,
+    requests: Mutex<RawWriter>,
+    replies: Mutex<RawReader>,
+    request_writer: Gid,
+    reply_reader: Gid,
+    client_id: u64,
+    flavour: Option<WireFlavour>,
+    pub(crate) poll_interval: Duration,
+    pending: Mutex<HashMap<RequestKey, Slot<S::Response>>>,
+    unsent_wakers: Mutex<Vec<Waker>>,
+    pub(crate) completed: Condvar,
+    _service: PhantomData<fn() -> S>,
+}
+
+fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
+    m.lock().unwrap_or_else(|p| p.into_inner())
+}
+
+impl<S: Service> ClientCore<S> {
+    pub(crate) fn new(options: ClientOptions) -> Result<Self, SetupError> {
+        let runtime = Runtime::for_node(options.node.as_ref())?;
+        let name = options.name.unwrap_or_else(default_service_name::<S>);
+        let topics = ServiceTopics::resolve::<S>(&runtime.node, &name, &options.qos)?;
+        let requests = runtime.node.create_raw_writer(&topics.request)?;
+        let replies = runtime.node.create_raw_reader(&topics.reply)?;
+        Ok(Self {
+            request_writer: requests.gid(),
+            reply_reader: replies.gid(),
+            client_id: client_id(requests.gid()),
+            requests: Mutex::new(requests),
+            replies: Mutex::new(replies),
+            runtime,
+            name: topics.name,
+            flavour: options.flavour,
+            poll_interval: options.poll_interval,
+            pending: Mutex::new(HashMap::new()),
+            unsent_wakers: Mutex::new(Vec::new()),
+            completed: Condvar::new(),
+            _service: PhantomData,
+        })
+    }
+
+    pub(crate) fn name(&self) -> &ServiceName {
+        &self.name
+    }
+
+    /// The GIDs of the request writer and reply reader.
+    pub(crate) fn gids(&self) -> (Gid, Gid) {
+        (self.request_writer, self.reply_reader)
+    }
+
+    /// The servers of this service and type that the graph knows with both endpoints.
+    fn servers(&self) -> Vec<(Gid, Gid)> {
+        self.runtime
+            .graph
+            .read(|c| c.servers_info_by_service(self.name.as_str(), false))
+            .unwrap_or_default()
+            .into_iter()
+            .filter(|s| s.service_type == S::TYPE_NAME && s.endpoint_gids.len() == 2)
+            .map(|s| (s.endpoint_gids[0], s.endpoint_gids[1]))
+            .collect()
+    }
+
+    /// Whether any endpoint of this service with this type is on the graph (even half-visible).
+    fn any_server_endpoint(&self) -> bool {
+        self.runtime.graph.read(|c| {
+            c.service_names_and_types(true)
+                .get(self.name.as_str())
+                .is_some_and(|types| types.contains(S::TYPE_NAME))
+                && c.count_services(self.name.as_str()) > 0
+        })
+    }
+
+    /// Whether a server is on the graph with both endpoints (rcl `service_is_ready`).
+    pub(crate) fn server_available(&self) -> bool {
+        !self.servers().is_empty()
+    }
+
+    /// A server usable now, if any: known to the graph with both endpoints, and its request
+    /// reader and reply writer matched with our writer and reader (so neither the request nor
+    /// the first reply can be lost).
+    pub(crate) fn ready_server(&self) -> Option<ReadyServer> {
+        let graph = &self.runtime.graph;
+        self.servers()
+            .into_iter()
+            .find(|(reader, writer)| {
+                graph.is_matched(self.request_writer, *reader)
+                    && graph.is_matched(self.reply_reader, *writer)
+            })
+            .map(|(reader, _)| ReadyServer {
+                flavour: self.flavour.unwrap_or_else(|| {
+                    WireFlavour::for_vendor(self.runtime.graph.participant_vendor(reader))
+                }),
+            })
+    }
+
+    /// Waits until a server is ready, at most until `deadline`: `NoServer` if none ever showed
+    /// up, `Timeout` if one was there but never became usable.
+    pub(crate) fn wait_ready(&self, deadline: Instant) -> Result<ReadyServer, ServiceError> {
+        loop {
+            if let Some(ready) = self.ready_server() {
+                return Ok(ready);
+            }
+            let now = Instant::now();
+            if now >= deadline {
+                return Err(self.not_ready_error());
+            }
+            // Servers appearing and matches being made are graph changes.
+            self.runtime
+                .graph
+                .wait_for_graph_change((deadline - now).min(READY_CHECK_INTERVAL));
+        }
+    }
+
+    /// The error for a call that found no usable server.
+    pub(crate) fn not_ready_error(&self) -> ServiceError {
+        if self.any_server_endpoint() {
+            ServiceError::Timeout
+        } else {
+            ServiceError::NoServer
+        }
+    }
+
+    /// Sends `request` in the server's convention and registers the slot its reply goes to.
+    pub(crate) fn send(
+        &self,
+        request: &S::Request,
+        server: ReadyServer,
+        deadline: Instant,
+    ) -> Result<RequestKey, ServiceError> {
+        let body = encode(request)?;
+        // The pending lock is held while writing, so a reply cannot be routed before its slot exists.
+        let mut pending = lock(&self.pending);
+        let requests = lock(&self.requests);
+        let key = match server.flavour {
+            WireFlavour::FastRtps => {
+                let related = SampleId {
+                    writer: self.reply_reader,
+                    sequence_number: HORUS_CLIENT_MARKER,
+                };
+                let id = requests
+                    .write(body, Some(related), None)
+                    .map_err(|e| ServiceError::Transport(e.to_string()))?;
+                RequestKey {
+                    flavour: WireFlavour::FastRtps,
+                    sequence: id.sequence_number,
+                }
+            }
+            WireFlavour::CycloneDds => {
+                let seq = NEXT_CYCLONE_SEQ.fetch_add(1, Ordering::Relaxed);
+                let header = CycloneHeader {
+                    guid: self.client_id,
+                    seq,
+                };
+                requests
+                    .write(header.prepend(&body), None, None)
+                    .map_err(|e| ServiceError::Transport(e.to_string()))?;
+                RequestKey {
+                    flavour: WireFlavour::CycloneDds,
+                    sequence: seq,
+                }
+            }
+        };
+        pending.insert(
+            key,
+            Slot {
+                result: None,
+                waker: None,
+                deadline,
+            },
+        );
+        Ok(key)
+    }
+
+    /// Takes every reply that has arrived and hands each to its call; replies to nobody (late,
+    /// after a timeout, or to other clients) are dropped.
+    pub(crate) fn drain_replies(&self) {
+        let mut replies = lock(&self.replies);
+        let mut routed = false;
+        loop {
+            match replies.take() {
+                Ok(Some(sample)) => routed |= self.route(sample),
+                Ok(None) => break,
+                Err(e) => tracing::debug!(service = %self.name, "dropped a reply: {e}"),
+            }
+        }
+        drop(replies);
+        if routed {
+            self.completed.notify_all();
+        }
+    }
+
+    /// Waits for reply data at most `timeout` (then call [`drain_replies`](Self::drain_replies)).
+    pub(crate) fn wait_for_replies(&self, timeout: Duration) {
+        lock(&self.replies).wait(timeout);
+    }
+
+    fn route(&self, sample: RawSample) -> bool {
+        let (key, outcome) = match sample.related {
+            Some(related) => {
+                // rmw_fastrtps `__rmw_take_response`: ours iff the related GUID is our reader or writer.
+                if related.writer != self.reply_reader && related.writer != self.request_writer {
+                    return false;
+                }
+                if related.sequence_number < 0 {
+                    // A horus-ros server's error reply: the handler's message as a CDR string.
+                    let message = decode::<String>(&sample.body, sample.big_endian)
+                        .unwrap_or_else(|_| "the service handler failed".to_owned());
+                    let key = RequestKey {
+                        flavour: WireFlavour::FastRtps,
+                        sequence: -related.sequence_number,
+                    };
+                    (key, Err(ServiceError::ServiceFailed(message)))
+                } else {
+                    let key = RequestKey {
+                        flavour: WireFlavour::FastRtps,
+                        sequence: related.sequence_number,
+                    };
+                    (key, decode::<S::Response>(&sample.body, sample.big_endian))
+                }
+            }
+            None => {
+                // rmw_cyclonedds `rmw_take_response`: ours iff the header carries our id.
+                let Some((header, message)) = CycloneHeader::split(&sample.body, sample.big_endian)
+                else {
+                    return false;
+                };
+                if header.guid != self.client_id {
+                    return false;
+                }
+                let key = RequestKey {
+                    flavour: WireFlavour::CycloneDds,
+                    sequence: header.seq,
+                };
+                (key, decode::<S::Response>(message, sample.big_endian))
+            }
+        };
+        let mut pending = lock(&self.pending);
+        let Some(slot) = pending.get_mut(&key) else {
+            return false;
+        };
+        if slot.result.is_none() {
+            slot.result = Some(outcome);
+            if let Some(waker) = slot.waker.take() {
+                waker.wake();
+            }
+        }
+        true
+    }
+
+    /// The result of `key` if it is in, removing its slot.
+    pub(crate) fn take_result(&self, key: RequestKey) -> Option<Result<S::Response, ServiceError>> {
+        let mut pending = lock(&self.pending);
+        let done = pending.get(&key).is_some_and(|s| s.result.is_some());
+        if done {
+            pending.remove(&key).and_then(|s| s.result)
+        } else {
+            None
+        }
+    }
+
+    /// Stores the waker to wake when `key`'s reply arrives.
+    pub(crate) fn set_waker(&self, key: RequestKey, waker: &Waker) {
+        if let Some(slot) = lock(&self.pending).get_mut(&key) {
+            slot.waker = Some(waker.clone());
+        }
+    }
+
+    /// Forgets `key` (its call timed out or was abandoned): a late reply is then dropped.
+    pub(crate) fn forget(&self, key: RequestKey) {
+        lock(&self.pending).remove(&key);
+    }
+
+    /// Waits until some reply is routed or `timeout` passes (async clients' blocking wait).
+    pub(crate) fn wait_completion(&self, timeout: Duration) {
+        let pending = lock(&self.pending);
+        let _ = self.completed.wait_timeout(pending, timeout);
+    }
+
+    /// Parks the waker of a future still waiting for a usable server.
+    pub(crate) fn park_unsent(&self, waker: &Waker) {
+        lock(&self.unsent_wakers).push(waker.clone());
+    }
+
+    /// Wakes futures waiting for a server (to retry sending) and those past their deadline
+    /// (each then re-checks its own state).
+    pub(crate) fn wake_all_expired_or_unsent(&self) {
+        for w in std::mem::take(&mut *lock(&self.unsent_wakers)) {
+            w.wake();
+        }
+        let now = Instant::now();
+        for slot in lock(&self.pending)
+            .values_mut()
+            .filter(|s| s.deadline <= now)
+        {
+            if let Some(w) = slot.waker.take() {
+                w.wake();
+            }
+        }
+    }
+
+    /// Requests waiting for their reply now.
+    pub(crate) fn pending_count(&self) -> usize {
+        lock(&self.pending).len()
+    }
+}

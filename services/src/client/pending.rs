@@ -1,0 +1,220 @@
+//! [`AsyncServiceClient`] and [`PendingResponse`]: calls that do not block the caller.
+
+use std::future::Future;
+use std::pin::Pin;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+use std::task::{Context as TaskContext, Poll};
+use std::thread::JoinHandle;
+use std::time::{Duration, Instant};
+
+use horus_ros_msgs::Service;
+use horus_ros_rmw::names::ServiceName;
+
+use super::core::{ClientCore, RequestKey};
+use super::ServiceClientBuilder;
+use crate::{ServiceError, SetupError};
+
+/// How often the reply thread wakes futures so they can notice deadlines and servers appearing.
+const TICK: Duration = Duration::from_millis(10);
+
+/// Calls a service without blocking: each call returns a [`PendingResponse`] to check, wait on,
+/// or `.await`. A background thread receives the replies.
+pub struct AsyncServiceClient<S: Service> {
+    core: Arc<ClientCore<S>>,
+    stop: Arc<AtomicBool>,
+    pump: Option<JoinHandle<()>>,
+}
+
+impl<S: Service> std::fmt::Debug for AsyncServiceClient<S> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("AsyncServiceClient")
+            .field("name", self.core.name())
+            .finish()
+    }
+}
+
+impl<S: Service> AsyncServiceClient<S> {
+    /// A client of the service's default name on the default node.
+    pub fn new() -> Result<Self, SetupError> {
+        ServiceClientBuilder::<S>::default().build_async()
+    }
+
+    /// A builder to choose node, name, QoS and wire convention (`build_async()`).
+    pub fn builder() -> ServiceClientBuilder<S> {
+        ServiceClientBuilder::default()
+    }
+
+    pub(crate) fn from_core(core: ClientCore<S>) -> Result<Self, SetupError> {
+        let core = Arc::new(core);
+        let stop = Arc::new(AtomicBool::new(false));
+        let pump = {
+            let (core, stop) = (Arc::clone(&core), Arc::clone(&stop));
+            std::thread::Builder::new()
+                .name(format!("horus-cli{}", core.name()))
+                .spawn(move || {
+                    while !stop.load(Ordering::SeqCst) {
+                        core.wait_for_replies(TICK);
+                        core.drain_replies();
+                        core.wake_all_expired_or_unsent();
+                    }
+                })?
+        };
+        Ok(Self {
+            core,
+            stop,
+            pump: Some(pump),
+        })
+    }
+
+    /// The fully-qualified service name.
+    pub fn name(&self) -> &ServiceName {
+        self.core.name()
+    }
+
+    /// Starts a call (never blocks). If no server is usable yet, the request is sent as soon as
+    /// one is, within `timeout`.
+    pub fn call_async(&mut self, request: S::Request, timeout: Duration) -> PendingResponse<S> {
+        let mut pending = PendingResponse {
+            core: Arc::clone(&self.core),
+            deadline: Instant::now() + timeout,
+            state: State::Unsent(Some(request)),
+        };
+        pending.advance();
+        pending
+    }
+}
+
+impl<S: Service> Drop for AsyncServiceClient<S> {
+    fn drop(&mut self) {
+        self.stop.store(true, Ordering::SeqCst);
+        if let Some(pump) = self.pump.take() {
+            let _ = pump.join();
+        }
+    }
+}
+
+enum State<S: Service> {
+    /// Waiting for a usable server.
+    Unsent(Option<S::Request>),
+    /// Sent; waiting for the reply.
+    Sent(RequestKey),
+    /// Finished; the result was handed out (or is about to be).
+    Done(Option<Result<S::Response, ServiceError>>),
+}
+
+/// One call of an [`AsyncServiceClient`]: check it, wait for it, or `.await` it (any executor).
+/// Dropping it abandons the call; a late reply is then dropped.
+pub struct PendingResponse<S: Service> {
+    core: Arc<ClientCore<S>>,
+    deadline: Instant,
+    state: State<S>,
+}
+
+impl<S: Service> std::fmt::Debug for PendingResponse<S> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let state = match self.state {
+            State::Unsent(_) => "unsent",
+            State::Sent(_) => "sent",
+            State::Done(_) => "done",
+        };
+        f.debug_struct("PendingResponse")
+            .field("state", &state)
+            .finish()
+    }
+}
+
+impl<S: Service> PendingResponse<S> {
+    /// Moves the call on as far as it can go without blocking.
+    fn advance(&mut self) {
+        if let State::Unsent(request) = &mut self.state {
+            if let Some(server) = self.core.ready_server() {
+                let outcome = match request.take() {
+                    Some(req) => self.core.send(&req, server, self.deadline),
+                    None => Err(ServiceError::Transport(
+                        "request already consumed".to_owned(),
+                    )),
+                };
+                self.state = match outcome {
+                    Ok(key) => State::Sent(key),
+                    Err(e) => State::Done(Some(Err(e))),
+                };
+            } else if Instant::now() >= self.deadline {
+                self.state = State::Done(Some(Err(self.core.not_ready_error())));
+            }
+        }
+        if let State::Sent(key) = self.state {
+            if let Some(result) = self.core.take_result(key) {
+                self.state = State::Done(Some(result));
+            } else if Instant::now() >= self.deadline {
+                self.core.forget(key);
+                self.state = State::Done(Some(Err(ServiceError::Timeout)));
+            }
+        }
+    }
+
+    /// The response if it is in (non-blocking): `Ok(None)` while waiting. After it returned a
+    /// response or an error, further calls return `Ok(None)`.
+    pub fn check(&mut self) -> Result<Option<S::Response>, ServiceError> {
+        self.advance();
+        match &mut self.state {
+            State::Done(result) => result.take().transpose(),
+            _ => Ok(None),
+        }
+    }
+
+    /// Whether the timeout has passed without a result.
+    pub fn is_expired(&self) -> bool {
+        !matches!(self.state, State::Done(_)) && Instant::now() >= self.deadline
+    }
+
+    /// Blocks until the response, an error, or the timeout.
+    pub fn wait(mut self) -> Result<S::Response, ServiceError> {
+        loop {
+            self.advance();
+            if let State::Done(result) = &mut self.state {
+                return result.take().unwrap_or(Err(ServiceError::Timeout));
+            }
+            let left = self.deadline.saturating_duration_since(Instant::now());
+            self.core.wait_completion(left.min(TICK));
+        }
+    }
+}
+
+// Nothing in a PendingResponse is pinned in place (no self-references, no pin projections).
+impl<S: Service> Unpin for PendingResponse<S> {}
+
+impl<S: Service> Future for PendingResponse<S> {
+    type Output = Result<S::Response, ServiceError>;
+
+    fn poll(self: Pin<&mut Self>, cx: &mut TaskContext<'_>) -> Poll<Self::Output> {
+        let this = self.get_mut();
+        this.advance();
+        match &mut this.state {
+            State::Done(result) => Poll::Ready(result.take().unwrap_or(Err(ServiceError::Timeout))),
+            State::Sent(key) => {
+                this.core.set_waker(*key, cx.waker());
+                // The reply may have been routed between advance() and set_waker().
+                this.advance();
+                match &mut this.state {
+                    State::Done(result) => {
+                        Poll::Ready(result.take().unwrap_or(Err(ServiceError::Timeout)))
+                    }
+                    _ => Poll::Pending,
+                }
+            }
+            State::Unsent(_) => {
+                this.core.park_unsent(cx.waker());
+                Poll::Pending
+            }
+        }
+    }
+}
+
+impl<S: Service> Drop for PendingResponse<S> {
+    fn drop(&mut self) {
+        if let State::Sent(key) = self.state {
+            self.core.forget(key);
+        }
+    }
+}

@@ -1,0 +1,77 @@
+//! Errors: [`ServiceError`] for calls (the seed API's four cases), [`SetupError`] for creating
+//! servers and clients, and [`Error`] joining both for `?` in applications.
+
+use horus_ros_graph::GraphStartError;
+use horus_ros_rmw::names::ExpandError;
+use horus_ros_rmw::{ContextError, EndpointError, NodeError};
+
+/// Why a service call failed.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum ServiceError {
+    /// No reply within the timeout (the server was there but did not answer in time).
+    /// Retried by `call_resilient`.
+    #[error("the service call timed out")]
+    Timeout,
+    /// The server's handler returned `Err(message)` (or panicked). Not retried.
+    #[error("the service handler failed: {0}")]
+    ServiceFailed(String),
+    /// No server of this service and type is on the graph. Not retried.
+    #[error("no server is available for this service")]
+    NoServer,
+    /// The request or reply could not be encoded, sent, received or decoded. Retried by
+    /// `call_resilient`.
+    #[error("service transport error: {0}")]
+    Transport(String),
+}
+
+impl ServiceError {
+    /// Whether `call_resilient` retries after this error (Timeout and Transport).
+    pub fn is_transient(&self) -> bool {
+        matches!(self, Self::Timeout | Self::Transport(_))
+    }
+}
+
+/// Why a service server or client could not be created.
+#[derive(Debug, thiserror::Error)]
+pub enum SetupError {
+    /// The default context could not be created from the environment.
+    #[error(transparent)]
+    Context(#[from] ContextError),
+    /// The default node could not be created.
+    #[error(transparent)]
+    Node(#[from] NodeError),
+    /// The service name is not a valid ROS name.
+    #[error("invalid service name '{name}': {source}")]
+    InvalidName {
+        /// The name given.
+        name: String,
+        /// Why it is invalid.
+        source: ExpandError,
+    },
+    /// The DDS reader or writer could not be created.
+    #[error(transparent)]
+    Endpoint(#[from] EndpointError),
+    /// The graph of the node's context could not be followed.
+    #[error(transparent)]
+    Graph(#[from] GraphStartError),
+    /// The server thread could not be started.
+    #[error("could not start the service thread: {0}")]
+    Thread(#[from] std::io::Error),
+    /// The builder was given no request handler.
+    #[error("a service server needs a request handler: call .on_request(..) before .build()")]
+    NoHandler,
+}
+
+/// Any horus-ros services error, for `?` in applications.
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    /// A call failed.
+    #[error(transparent)]
+    Service(#[from] ServiceError),
+    /// A server or client could not be created.
+    #[error(transparent)]
+    Setup(#[from] SetupError),
+}
+
+/// `Result` with [`Error`] as the default error.
+pub type Result<T, E = Error> = std::result::Result<T, E>;

@@ -1,0 +1,94 @@
+//! Service names and the DDS topics and types behind them.
+
+use horus_ros_msgs::{Message, Service};
+use horus_ros_rmw::names::ServiceName;
+use horus_ros_rmw::qos::Qos;
+use horus_ros_rmw::{Node, RawEndpointSpec};
+
+use crate::SetupError;
+
+/// The name a service gets when none is given: its type's name in snake case, absolute
+/// (`horus_ros/srv/GetMapRegion` → `/get_map_region`).
+pub fn default_service_name<S: Service>() -> String {
+    let short = S::TYPE_NAME.rsplit('/').next().unwrap_or(S::TYPE_NAME);
+    let mut out = String::from("/");
+    for (i, c) in short.chars().enumerate() {
+        if c.is_ascii_uppercase() {
+            if i > 0 {
+                out.push('_');
+            }
+            out.push(c.to_ascii_lowercase());
+        } else {
+            out.push(c);
+        }
+    }
+    out
+}
+
+/// The history depth of every service reader and writer at least: requests from many clients
+/// arriving at once, and replies to many concurrent async calls, must not push each other out of
+/// a KEEP_LAST 10 history (services_default's depth). History depth is not sent in DDS
+/// discovery, so peers see no difference.
+pub(crate) const MIN_SERVICE_HISTORY_DEPTH: usize = 256;
+
+/// A service's resolved name and the specs of its request and reply topics.
+pub(crate) struct ServiceTopics {
+    pub(crate) name: ServiceName,
+    pub(crate) request: RawEndpointSpec,
+    pub(crate) reply: RawEndpointSpec,
+}
+
+impl ServiceTopics {
+    /// Resolves `name` (relative names, `~`, substitutions) for `node` and names the topics:
+    /// `rq/<name>Request` with `pkg::srv::dds_::Name_Request_`, `rr/<name>Reply` with
+    /// `pkg::srv::dds_::Name_Response_`.
+    pub(crate) fn resolve<S: Service>(
+        node: &Node,
+        name: &str,
+        qos: &Qos,
+    ) -> Result<Self, SetupError> {
+        let name = ServiceName::expand(name, node.name(), node.namespace()).map_err(|source| {
+            SetupError::InvalidName {
+                name: name.to_owned(),
+                source,
+            }
+        })?;
+        let avoid = qos.avoid_ros_namespace_conventions;
+        let mut qos = *qos;
+        if qos.history == horus_ros_rmw::qos::HistoryPolicy::KeepLast {
+            qos.depth = qos.depth.max(MIN_SERVICE_HISTORY_DEPTH);
+        }
+        Ok(Self {
+            request: RawEndpointSpec {
+                dds_topic_name: name.to_dds_request_topic_name(avoid),
+                dds_type_name: S::Request::dds_type_name(),
+                type_hash: S::Request::type_hash(),
+                qos,
+            },
+            reply: RawEndpointSpec {
+                dds_topic_name: name.to_dds_reply_topic_name(avoid),
+                dds_type_name: S::Response::dds_type_name(),
+                type_hash: S::Response::type_hash(),
+                qos,
+            },
+            name,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn default_names_are_snake_case() {
+        assert_eq!(
+            default_service_name::<horus_ros_msgs::example_interfaces::srv::AddTwoInts>(),
+            "/add_two_ints"
+        );
+        assert_eq!(
+            default_service_name::<horus_ros_msgs::std_srvs::srv::SetBool>(),
+            "/set_bool"
+        );
+    }
+}

@@ -1,0 +1,92 @@
+//! Where servers and clients live when the caller names no node: a process-wide default node
+//! (in a context configured from the environment), and one live [`Graph`] per context shared by
+//! every server and client of that context.
+
+use std::collections::HashMap;
+use std::sync::{Arc, Mutex, OnceLock, Weak};
+
+use horus_ros_graph::Graph;
+use horus_ros_rmw::{Context, Gid, Node, WeakNode};
+
+use crate::SetupError;
+
+/// A node and the graph of its context.
+#[derive(Clone)]
+pub(crate) struct Runtime {
+    pub(crate) node: Node,
+    pub(crate) graph: Arc<Graph>,
+}
+
+impl Runtime {
+    /// `node` if given, else the process's default node; and its context's graph.
+    pub(crate) fn for_node(node: Option<&Node>) -> Result<Self, SetupError> {
+        let node = match node {
+            Some(n) => n.clone(),
+            None => default_node()?,
+        };
+        let graph = graph_of(node.context())?;
+        Ok(Self { node, graph })
+    }
+}
+
+/// The default node: created on first use, kept while a server or client uses it, so that the
+/// process leaves the graph cleanly when the last of them is dropped.
+fn default_node() -> Result<Node, SetupError> {
+    static DEFAULT: OnceLock<Mutex<WeakNode>> = OnceLock::new();
+    let slot = DEFAULT.get_or_init(|| Mutex::new(WeakNode::default()));
+    let mut weak = slot.lock().unwrap_or_else(|p| p.into_inner());
+    if let Some(node) = weak.upgrade() {
+        return Ok(node);
+    }
+    let context = Context::from_env()?;
+    let node = context.create_node(&default_node_name(), "/")?;
+    *weak = node.downgrade();
+    Ok(node)
+}
+
+/// `horus_<program>_<pid>`, with characters a node name cannot hold replaced by `_`.
+fn default_node_name() -> String {
+    let program = std::env::args()
+        .next()
+        .and_then(|a| {
+            std::path::Path::new(&a)
+                .file_stem()
+                .map(|s| s.to_string_lossy().into_owned())
+        })
+        .unwrap_or_default();
+    let program: String = program
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '_' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .take(64)
+        .collect();
+    format!("horus_{program}_{}", std::process::id())
+}
+
+/// The graph of `context`, started on first use and shared while anything uses it.
+fn graph_of(context: &Context) -> Result<Arc<Graph>, SetupError> {
+    static GRAPHS: OnceLock<Mutex<HashMap<Gid, Weak<Graph>>>> = OnceLock::new();
+    let graphs = GRAPHS.get_or_init(|| Mutex::new(HashMap::new()));
+    let mut graphs = graphs.lock().unwrap_or_else(|p| p.into_inner());
+    graphs.retain(|_, g| g.strong_count() > 0);
+    if let Some(graph) = graphs.get(&context.gid()).and_then(Weak::upgrade) {
+        return Ok(graph);
+    }
+    let graph = Arc::new(Graph::new(context)?);
+    graphs.insert(context.gid(), Arc::downgrade(&graph));
+    Ok(graph)
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn default_node_name_is_a_valid_node_name() {
+        let name = super::default_node_name();
+        assert!(horus_ros_rmw::names::NodeName::new(&name).is_ok(), "{name}");
+    }
+}
