@@ -9,7 +9,7 @@ use std::sync::{Arc, Condvar, Mutex, MutexGuard};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
-use std::collections::{BTreeMap, BTreeSet, HashMap};
+use std::collections::{BTreeMap, HashMap};
 
 use horus_ros_rmw::{Context, DiscoveryEvent, DiscoveryFeed, DiscoveryFeedError, Gid, VendorId};
 
@@ -56,8 +56,8 @@ struct State {
     cache: GraphCache,
     /// Vendor of each participant seen by SPDP, by GUID prefix (the cache keeps no vendors).
     vendors: BTreeMap<[u8; 12], VendorId>,
-    /// For each of our endpoints, the endpoints it is matched with.
-    matches: HashMap<Gid, BTreeSet<Gid>>,
+    /// For each of our endpoints, the endpoints it is matched with, and since when.
+    matches: HashMap<Gid, BTreeMap<Gid, Instant>>,
     /// Bumped on every change of the cache.
     generation: u64,
 }
@@ -204,13 +204,25 @@ impl Graph {
             .state()
             .matches
             .get(&local)
-            .is_some_and(|m| m.contains(&remote))
+            .is_some_and(|m| m.contains_key(&remote))
+    }
+
+    /// When our endpoint `local` was matched with `remote`, if it is.
+    pub fn matched_since(&self, local: Gid, remote: Gid) -> Option<Instant> {
+        self.shared
+            .state()
+            .matches
+            .get(&local)
+            .and_then(|m| m.get(&remote))
+            .copied()
     }
 
     /// Waits until `local` is matched with `remote`, at most `timeout`.
     pub fn wait_for_match(&self, local: Gid, remote: Gid, timeout: Duration) -> bool {
         self.wait_state(timeout, |s| {
-            s.matches.get(&local).is_some_and(|m| m.contains(&remote))
+            s.matches
+                .get(&local)
+                .is_some_and(|m| m.contains_key(&remote))
         })
     }
 
@@ -253,7 +265,7 @@ fn apply(state: &mut State, event: DiscoveryEvent) -> bool {
             state.vendors.remove(&prefix);
             state.matches.retain(|local, _| local.prefix() != prefix);
             for remotes in state.matches.values_mut() {
-                remotes.retain(|r| r.prefix() != prefix);
+                remotes.retain(|r, _| r.prefix() != prefix);
             }
         }
         DiscoveryEvent::EndpointLost { gid, .. } => {
@@ -263,7 +275,12 @@ fn apply(state: &mut State, event: DiscoveryEvent) -> bool {
             }
         }
         DiscoveryEvent::Matched { local, remote } => {
-            return state.matches.entry(*local).or_default().insert(*remote);
+            let remotes = state.matches.entry(*local).or_default();
+            if remotes.contains_key(remote) {
+                return false;
+            }
+            remotes.insert(*remote, Instant::now());
+            return true;
         }
         _ => {}
     }

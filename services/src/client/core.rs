@@ -21,6 +21,10 @@ use crate::{ServiceError, SetupError};
 /// rmw_cyclonedds numbers requests with one process-wide counter; so do we.
 static NEXT_CYCLONE_SEQ: AtomicI64 = AtomicI64::new(1);
 
+/// How long our reply reader must have been matched with an rmw_cyclonedds server's reply writer
+/// before the first request (see [`ClientCore::ready_server`]).
+const CYCLONE_MATCH_SETTLE: Duration = Duration::from_millis(100);
+
 /// Longest single wait while a call waits for its server to become usable.
 const READY_CHECK_INTERVAL: Duration = Duration::from_millis(10);
 
@@ -151,17 +155,19 @@ impl<S: Service> ClientCore<S> {
     /// the first reply can be lost).
     pub(crate) fn ready_server(&self) -> Option<ReadyServer> {
         let graph = &self.runtime.graph;
-        self.servers()
-            .into_iter()
-            .find(|(reader, writer)| {
-                graph.is_matched(self.request_writer, *reader)
-                    && graph.is_matched(self.reply_reader, *writer)
-            })
-            .map(|(reader, _)| ReadyServer {
-                flavour: self.flavour.unwrap_or_else(|| {
-                    WireFlavour::for_vendor(self.runtime.graph.participant_vendor(reader))
-                }),
-            })
+        self.servers().into_iter().find_map(|(reader, writer)| {
+            graph.matched_since(self.request_writer, reader)?;
+            let reply_match = graph.matched_since(self.reply_reader, writer)?;
+            let flavour = self
+                .flavour
+                .unwrap_or_else(|| WireFlavour::for_vendor(graph.participant_vendor(reader)));
+            // An rmw_cyclonedds server waits for a client's reply reader only when the client
+            // announces `clientid=` in USER_DATA, which rustdds cannot send: give its writer time
+            // to match our reader (it learns of it about when we learn of its writer).
+            let settled =
+                flavour != WireFlavour::CycloneDds || reply_match.elapsed() >= CYCLONE_MATCH_SETTLE;
+            settled.then_some(ReadyServer { flavour })
+        })
     }
 
     /// Waits until a server is ready, at most until `deadline`: `NoServer` if none ever showed
