@@ -75,3 +75,15 @@ pub enum Error {
 
 /// `Result` with [`Error`] as the default error.
 pub type Result<T, E = Error> = std::result::Result<T, E>;
+
+impl From<ContextError> for Error {
+    fn from(e: ContextError) -> Self {
+        Self::Setup(e.into())
+    }
+}
+
+impl From<NodeError> for Error {
+    fn from(e: NodeError) -> Self {
+        Self::Setup(e.into())
+    }
+}
