@@ -27,6 +27,7 @@ mod macros;
 mod client;
 mod error;
 mod naming;
+mod raw_traits;
 mod retry;
 mod runtime;
 mod server;
@@ -35,6 +36,10 @@ mod wire;
 pub use client::{AsyncServiceClient, PendingResponse, ServiceClient, ServiceClientBuilder};
 pub use error::{Error, Result, ServiceError, SetupError};
 pub use naming::default_service_name;
+pub use raw_traits::{
+    DdsServiceClient, DdsServiceClientBuilder, DdsServiceServer, DdsServiceServerBuilder,
+    RosService, ServiceClientTrait, ServiceRequest, ServiceServerTrait, TransportError,
+};
 pub use retry::RetryConfig;
 pub use server::{ServiceServer, ServiceServerBuilder, DEFAULT_POLL_INTERVAL};
 pub use wire::WireFlavour;
