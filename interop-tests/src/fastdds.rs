@@ -134,9 +134,9 @@ pub struct Created {
     pub request_topic: String,
     /// The DDS reply topic (`rr/…Reply`).
     pub reply_topic: String,
-    /// The service server's request reader.
+    /// The service server's request reader (empty when calling: the peer has no server then).
     pub server_request_reader: String,
-    /// The service server's reply writer.
+    /// The service server's reply writer (empty when calling).
     pub server_reply_writer: String,
     /// The client's request writer.
     pub client_request_writer: String,
@@ -159,16 +159,70 @@ impl Created {
                 .map(str::to_owned)
                 .ok_or_else(|| format!("no string at {path:?} in {line:?}"))
         };
+        let has_server = !json["server"].is_null();
+        let server_field = |key: &str| -> Result<String, String> {
+            if has_server {
+                field(&["server", key])
+            } else {
+                Ok(String::new())
+            }
+        };
         Ok(Self {
             participant: field(&["participant"])?,
             vendor: field(&["vendor"])?,
             request_topic: field(&["request_topic"])?,
             reply_topic: field(&["reply_topic"])?,
-            server_request_reader: field(&["server", "request_reader"])?,
-            server_reply_writer: field(&["server", "reply_writer"])?,
+            server_request_reader: server_field("request_reader")?,
+            server_reply_writer: server_field("reply_writer")?,
             client_request_writer: field(&["client", "request_writer"])?,
             client_reply_reader: field(&["client", "reply_reader"])?,
             json,
+        })
+    }
+}
+
+/// A request the serving peer took, as it printed it (`{"served": {...}}`): the request id is
+/// what rmw_fastrtps `__rmw_take_request` computes.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Served {
+    /// The request's `a`.
+    pub a: i64,
+    /// The request's `b`.
+    pub b: i64,
+    /// The sum it answered.
+    pub sum: i64,
+    /// The request id's GUID: the related_sample_identity GUID when given, else the request
+    /// writer's (dotted hex).
+    pub request_id_guid: String,
+    /// The request id's sequence number: the request sample's.
+    pub request_id_sequence_number: i64,
+    /// The request sample's writer (dotted hex).
+    pub sample_writer: String,
+    /// The related_sample_identity GUID the request carried (all zeros when none).
+    pub related_guid: String,
+    /// `YES` (its reply writer matched the client's reply reader in time), `MAYBE` (not in time:
+    /// no reply sent, as rmw_fastrtps), or `UNCHECKED` (the id's GUID is not a reader's).
+    pub client_present: String,
+    /// Whether the reply was written.
+    pub sent: bool,
+}
+
+impl Served {
+    /// Parses a `{"served": {...}}` line; `None` for any other line.
+    pub fn parse(line: &str) -> Option<Self> {
+        let json: Value = serde_json::from_str(line.trim()).ok()?;
+        let s = json.get("served")?;
+        let string = |v: &Value| v.as_str().map(str::to_owned);
+        Some(Self {
+            a: s["a"].as_i64()?,
+            b: s["b"].as_i64()?,
+            sum: s["sum"].as_i64()?,
+            request_id_guid: string(&s["request_id"]["writer_guid"])?,
+            request_id_sequence_number: s["request_id"]["sequence_number"].as_i64()?,
+            sample_writer: string(&s["sample_identity"]["writer_guid"])?,
+            related_guid: string(&s["related_sample_identity"]["writer_guid"])?,
+            client_present: string(&s["client_present"])?,
+            sent: s["sent"].as_bool()?,
         })
     }
 }
@@ -178,12 +232,16 @@ impl Created {
 pub struct FastDdsPeer {
     child: Child,
     lines: Receiver<String>,
+    /// Every stdout line received so far, for failure messages.
+    seen: Vec<String>,
 }
 
 impl FastDdsPeer {
     /// Builds the peer if needed and starts it: a ROS 2 participant in `domain` with node
     /// `namespace`/`node` owning an AddTwoInts server and client for `service` (fully
-    /// qualified), staying up `linger` seconds. Its stderr goes to ours.
+    /// qualified), staying up `linger` seconds. Its server answers as rmw_fastrtps does and
+    /// prints a [`Served`] line per request (read them with [`next_line`](Self::next_line)). Its
+    /// stderr goes to ours.
     pub fn start(
         domain: u32,
         namespace: &str,
@@ -191,15 +249,45 @@ impl FastDdsPeer {
         service: &str,
         linger: Duration,
     ) -> Result<Self, String> {
+        Self::spawn(domain, namespace, node, service, linger, None)
+    }
+
+    /// Like [`start`](Self::start), but calling: the peer's node has only an AddTwoInts client
+    /// of `service`, which waits for a server as rmw_fastrtps does, then makes `count` calls one
+    /// after the other (a = i, b = 10 i for i = 1..=count), printing a line per reply and a
+    /// summary, all within `limit`. It exits 0 iff every reply came with the right sum.
+    pub fn start_calling(
+        domain: u32,
+        namespace: &str,
+        node: &str,
+        service: &str,
+        limit: Duration,
+        count: u32,
+    ) -> Result<Self, String> {
+        Self::spawn(domain, namespace, node, service, limit, Some(count))
+    }
+
+    fn spawn(
+        domain: u32,
+        namespace: &str,
+        node: &str,
+        service: &str,
+        linger: Duration,
+        calls: Option<u32>,
+    ) -> Result<Self, String> {
         let binary = peer_binary()?;
+        let mut args = vec![
+            domain.to_string(),
+            namespace.to_owned(),
+            node.to_owned(),
+            service.to_owned(),
+            format!("{:.3}", linger.as_secs_f64()),
+        ];
+        if let Some(count) = calls {
+            args.extend(["call".to_owned(), count.to_string()]);
+        }
         let mut child = Command::new(&binary)
-            .args([
-                domain.to_string().as_str(),
-                namespace,
-                node,
-                service,
-                &format!("{:.3}", linger.as_secs_f64()),
-            ])
+            .args(&args)
             .stdin(Stdio::null())
             .stdout(Stdio::piped())
             .stderr(Stdio::inherit())
@@ -209,6 +297,7 @@ impl FastDdsPeer {
         Ok(Self {
             child,
             lines: spawn_line_reader(stdout),
+            seen: Vec::new(),
         })
     }
 
@@ -220,7 +309,10 @@ impl FastDdsPeer {
     /// Waits at most `limit` for the line the peer prints once everything is created.
     pub fn created(&mut self, limit: Duration) -> Result<Created, String> {
         match self.lines.recv_timeout(limit) {
-            Ok(line) => Created::parse(&line),
+            Ok(line) => {
+                self.seen.push(line.clone());
+                Created::parse(&line)
+            }
             Err(RecvTimeoutError::Timeout) => Err(format!(
                 "the Fast DDS peer printed nothing within {limit:?}"
             )),
@@ -231,9 +323,35 @@ impl FastDdsPeer {
         }
     }
 
-    /// Waits at most `limit` for the peer to exit; kills it past that. Returns its exit code
-    /// (`None` if it had to be killed or died of a signal).
-    pub fn wait(mut self, limit: Duration) -> std::io::Result<Option<i32>> {
+    /// The next line the peer prints, waiting at most `limit`; `None` past that or once it has
+    /// exited and everything it printed was read.
+    pub fn next_line(&mut self, limit: Duration) -> Option<String> {
+        let line = self.lines.recv_timeout(limit).ok()?;
+        self.seen.push(line.clone());
+        Some(line)
+    }
+
+    /// Every stdout line read so far (through [`created`](Self::created),
+    /// [`next_line`](Self::next_line) or [`finish`](Self::finish)), one per line.
+    pub fn output(&self) -> String {
+        self.seen.join("\n")
+    }
+
+    /// Waits at most `limit` for the peer to exit (killing it past that), then reads the rest
+    /// of its output. Returns its exit code (`None` if killed or died of a signal) and every
+    /// stdout line it printed not yet read.
+    pub fn finish(&mut self, limit: Duration) -> std::io::Result<(Option<i32>, Vec<String>)> {
+        let code = self.wait_exit(limit)?;
+        let mut rest = Vec::new();
+        // The reader thread ends at EOF, shortly after the exit.
+        while let Ok(line) = self.lines.recv_timeout(Duration::from_secs(2)) {
+            self.seen.push(line.clone());
+            rest.push(line);
+        }
+        Ok((code, rest))
+    }
+
+    fn wait_exit(&mut self, limit: Duration) -> std::io::Result<Option<i32>> {
         let deadline = Instant::now() + limit;
         loop {
             if let Some(status) = self.child.try_wait()? {
@@ -246,6 +364,12 @@ impl FastDdsPeer {
             }
             std::thread::sleep(Duration::from_millis(20));
         }
+    }
+
+    /// Waits at most `limit` for the peer to exit; kills it past that. Returns its exit code
+    /// (`None` if it had to be killed or died of a signal).
+    pub fn wait(mut self, limit: Duration) -> std::io::Result<Option<i32>> {
+        self.wait_exit(limit)
     }
 }
 

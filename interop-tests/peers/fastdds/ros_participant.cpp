@@ -15,21 +15,41 @@
 //   representation, USER_DATA `typehash=RIHS01_<hex>;` without a NUL, from rmw_dds_common
 //   `encode_type_hash_for_user_data_qos`), memory policy PREALLOCATED_WITH_REALLOC and data
 //   sharing off (rmw_fastrtps_cpp `rmw_service.cpp`, `rmw_client.cpp`);
-// * the server answers requests as rmw_fastrtps does (`rmw_request.cpp`, `rmw_response.cpp`):
-//   the request id is the request's sample identity with its GUID replaced by the
-//   related_sample_identity GUID when one is given; the reply carries that id as its
-//   related_sample_identity, after waiting for the client's reply reader to match when that
-//   GUID is a reader.
+// * the server answers requests as rmw_fastrtps does (`rmw_request.cpp` `__rmw_take_request`,
+//   `rmw_response.cpp` `__rmw_send_response`): the request id is the request's sample identity
+//   with its GUID replaced by the related_sample_identity GUID when one is given; the reply
+//   carries that id as its related_sample_identity, after waiting (at most the reply writer's
+//   reliability max_blocking_time) for the client's reply reader to match when that GUID is a
+//   reader -- and is not sent at all if it does not match in time (RMW_RET_TIMEOUT there);
+// * the client calls as rmw_fastrtps does: it waits until the server is available the way
+//   `rmw_service_server_is_available.cpp` decides (readers on the request topic and writers on
+//   the reply topic known from discovery, as many of each, and the client's request writer and
+//   reply reader matched with as many endpoints, at least one), writes each request with
+//   WriteParams related_sample_identity = {its reply reader's GUID, SN unknown} and takes the
+//   sequence number Fast DDS assigned the sample as the request's (`__rmw_send_request`), and
+//   accepts a reply iff its related_sample_identity GUID is its reply reader's or request
+//   writer's, reading the request's sequence number from it (`__rmw_take_response`).
 //
-// It prints ONE JSON line on stdout describing what it created, lingers LINGER seconds
-// answering requests, then removes its node (republishing ros_discovery_info) and deletes every
-// entity so that peers see them leave.
+// Serving (the default mode): it prints ONE JSON line on stdout describing what it created,
+// lingers LINGER seconds answering requests -- printing one line `{"served": {...}}` per request
+// taken, with the request id it computed -- then removes its node (republishing
+// ros_discovery_info) and deletes every entity so that peers see them leave.
 //
-// usage: ros_participant DOMAIN NAMESPACE NODE SERVICE LINGER
+// Calling (`call COUNT`): its node has only the client. It prints the same first line (with
+// `"server": null`), waits for a server, sends COUNT requests one after the other (a = i,
+// b = 10 * i for i = 1..COUNT), printing `{"a", "b", "sum", "sequence_number"}` per reply and a
+// final `{"summary": {...}}` line, all within LINGER seconds; then leaves as above. Exit status 0
+// iff all COUNT replies arrived with the right sums, else 1.
+//
+// usage: ros_participant DOMAIN NAMESPACE NODE SERVICE LINGER [call COUNT]
 //   SERVICE is a fully qualified service name (`/add_two_ints`).
 
 #include <chrono>
 #include <cinttypes>
+#include <condition_variable>
+#include <map>
+#include <mutex>
+#include <set>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -42,13 +62,17 @@
 
 #include <fastcdr/Cdr.h>
 #include <fastcdr/FastBuffer.h>
+#include <fastdds/dds/core/status/StatusMask.hpp>
 #include <fastdds/dds/domain/DomainParticipant.hpp>
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
+#include <fastdds/dds/domain/DomainParticipantListener.hpp>
 #include <fastdds/dds/domain/qos/DomainParticipantQos.hpp>
 #include <fastdds/dds/publisher/DataWriter.hpp>
+#include <fastdds/dds/publisher/DataWriterListener.hpp>
 #include <fastdds/dds/publisher/Publisher.hpp>
 #include <fastdds/dds/publisher/qos/DataWriterQos.hpp>
 #include <fastdds/dds/subscriber/DataReader.hpp>
+#include <fastdds/dds/subscriber/DataReaderListener.hpp>
 #include <fastdds/dds/subscriber/SampleInfo.hpp>
 #include <fastdds/dds/subscriber/Subscriber.hpp>
 #include <fastdds/dds/subscriber/qos/DataReaderQos.hpp>
@@ -65,6 +89,7 @@ using eprosima::fastdds::dds::DataWriter;
 using eprosima::fastdds::dds::DataWriterQos;
 using eprosima::fastdds::dds::DomainParticipant;
 using eprosima::fastdds::dds::DomainParticipantFactory;
+using eprosima::fastdds::dds::DomainParticipantListener;
 using eprosima::fastdds::dds::DomainParticipantQos;
 using eprosima::fastdds::dds::Publisher;
 using eprosima::fastdds::dds::SampleInfo;
@@ -74,6 +99,8 @@ using eprosima::fastdds::dds::TopicDataType;
 using eprosima::fastdds::dds::TypeSupport;
 using eprosima::fastrtps::rtps::GUID_t;
 using eprosima::fastrtps::rtps::InstanceHandle_t;
+using eprosima::fastrtps::rtps::SampleIdentity;
+using eprosima::fastrtps::rtps::SequenceNumber_t;
 using eprosima::fastrtps::rtps::SerializedPayload_t;
 using eprosima::fastrtps::rtps::WriteParams;
 using ReturnCode_t = eprosima::fastrtps::types::ReturnCode_t;
@@ -372,22 +399,89 @@ DataWriterQos service_writer_qos(Publisher * publisher, const char * type_hash)
   return qos;
 }
 
-bool writer_matched_reader(DataWriter * writer, const GUID_t & reader)
+// The endpoints a writer or reader is matched with, kept from on_publication_matched /
+// on_subscription_matched the way rmw_fastrtps' listeners keep them (`custom_service_info.hpp`
+// ServicePubListener, `custom_client_info.hpp` ClientListener / ClientPubListener): Fast DDS 2.9
+// does not implement DataWriter::get_matched_subscriptions / DataReader::get_matched_publications
+// (they return RETCODE_UNSUPPORTED).
+class Matches
 {
-  std::vector<InstanceHandle_t> handles;
-  if (writer->get_matched_subscriptions(handles) != ReturnCode_t::RETCODE_OK) {
-    return false;
-  }
-  for (const auto & h : handles) {
-    if (eprosima::fastrtps::rtps::iHandle2GUID(h) == reader) {
-      return true;
+public:
+  void update(const InstanceHandle_t & handle, int32_t change)
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (change == 1) {
+      matched_.insert(eprosima::fastrtps::rtps::iHandle2GUID(handle));
+    } else if (change == -1) {
+      matched_.erase(eprosima::fastrtps::rtps::iHandle2GUID(handle));
+    } else {
+      return;
     }
+    cv_.notify_all();
   }
-  return false;
+
+  size_t count() const
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return matched_.size();
+  }
+
+  // ServicePubListener::wait_for_subscription
+  bool wait_for(const GUID_t & guid, std::chrono::nanoseconds limit)
+  {
+    std::unique_lock<std::mutex> lock(mutex_);
+    return cv_.wait_for(lock, limit, [&]() {return matched_.count(guid) != 0;});
+  }
+
+private:
+  mutable std::mutex mutex_;
+  std::condition_variable cv_;
+  std::set<GUID_t> matched_;
+};
+
+class WriterMatches : public eprosima::fastdds::dds::DataWriterListener, public Matches
+{
+public:
+  void on_publication_matched(
+    DataWriter *, const eprosima::fastdds::dds::PublicationMatchedStatus & status) override
+  {
+    update(status.last_subscription_handle, status.current_count_change);
+  }
+};
+
+class ReaderMatches : public eprosima::fastdds::dds::DataReaderListener, public Matches
+{
+public:
+  void on_subscription_matched(
+    DataReader *, const eprosima::fastdds::dds::SubscriptionMatchedStatus & status) override
+  {
+    update(status.last_publication_handle, status.current_count_change);
+  }
+};
+
+int64_t to_int64(const SequenceNumber_t & sn)
+{
+  // rmw_fastrtps: ((int64_t)high) << 32 | low
+  return (static_cast<int64_t>(sn.high) << 32) | sn.low;
 }
 
-// Answers every waiting request, as rmw_fastrtps `__rmw_take_request` + `__rmw_send_response`.
-void serve(DataReader * requests, DataWriter * replies)
+std::string identity_json(const SampleIdentity & id)
+{
+  std::ostringstream out;
+  out << "{\"writer_guid\": " << json_string(dotted(to_gid(id.writer_guid())))
+      << ", \"sequence_number\": " << to_int64(id.sequence_number()) << "}";
+  return out.str();
+}
+
+void print_line(const std::string & line)
+{
+  std::printf("%s\n", line.c_str());
+  std::fflush(stdout);
+}
+
+// Answers every waiting request, as rmw_fastrtps `__rmw_take_request` + `__rmw_send_response`,
+// printing one line per request taken.
+void serve(DataReader * requests, DataWriter * replies, WriterMatches & reply_matches)
 {
   AddTwoIntsRequest request;
   SampleInfo info;
@@ -395,37 +489,215 @@ void serve(DataReader * requests, DataWriter * replies)
     if (!info.valid_data) {
       continue;
     }
-    eprosima::fastrtps::rtps::SampleIdentity id = info.sample_identity;
+    // __rmw_take_request: the request id is the sample identity, its GUID replaced by the
+    // related_sample_identity GUID (the client's reply reader) when present.
+    SampleIdentity id = info.sample_identity;
     const GUID_t & related = info.related_sample_identity.writer_guid();
     if (related != GUID_t::unknown()) {
       id.writer_guid() = related;
     }
-    // An entity id whose kind has bit 0x04 set is a reader: the client's reply reader. Wait
-    // (bounded) until our reply writer has matched it.
-    if ((id.writer_guid().entityId.value[3] & 0x04) != 0) {
-      auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(1);
-      while (!writer_matched_reader(replies, id.writer_guid()) &&
-        std::chrono::steady_clock::now() < deadline)
-      {
-        std::this_thread::sleep_for(std::chrono::milliseconds(5));
-      }
-    }
     AddTwoIntsResponse response;
     response.sum = request.a + request.b;
-    WriteParams params;
-    params.related_sample_identity(id);
-    if (!replies->write(&response, params)) {
-      std::fprintf(stderr, "ros_participant: could not write a reply\n");
+    // __rmw_send_response: reply with related_sample_identity = the request id. An entity id
+    // whose kind has bit 0x04 set is a reader (the client's reply reader): first wait, at most
+    // the reply writer's reliability max_blocking_time, for our reply writer to match it; if it
+    // does not, rmw_fastrtps returns RMW_RET_TIMEOUT without sending.
+    const char * client_present = "UNCHECKED";
+    bool send = true;
+    if ((id.writer_guid().entityId.value[3] & 0x04) != 0) {
+      const auto & blocking = replies->get_qos().reliability().max_blocking_time;
+      const bool matched = reply_matches.wait_for(
+        id.writer_guid(),
+        std::chrono::seconds(blocking.seconds) + std::chrono::nanoseconds(blocking.nanosec));
+      client_present = matched ? "YES" : "MAYBE";
+      send = matched;
+    }
+    bool sent = false;
+    if (send) {
+      WriteParams params;
+      params.related_sample_identity(id);
+      sent = replies->write(&response, params);
+      if (!sent) {
+        std::fprintf(stderr, "ros_participant: could not write a reply\n");
+      }
+    }
+    std::ostringstream line;
+    line << "{\"served\": {\"a\": " << request.a << ", \"b\": " << request.b
+         << ", \"sum\": " << response.sum
+         << ", \"request_id\": " << identity_json(id)
+         << ", \"sample_identity\": " << identity_json(info.sample_identity)
+         << ", \"related_sample_identity\": " << identity_json(info.related_sample_identity)
+         << ", \"client_present\": \"" << client_present << "\""
+         << ", \"sent\": " << (sent ? "true" : "false") << "}}";
+    print_line(line.str());
+  }
+}
+
+// What rmw_fastrtps' participant listener feeds into its graph cache (custom_participant_info.hpp
+// `process_discovery_info`): the endpoints discovered, by topic.
+class GraphListener : public DomainParticipantListener
+{
+public:
+  void on_subscriber_discovery(
+    DomainParticipant *, eprosima::fastrtps::rtps::ReaderDiscoveryInfo && info) override
+  {
+    using Status = eprosima::fastrtps::rtps::ReaderDiscoveryInfo;
+    if (info.status != Status::CHANGED_QOS_READER) {
+      update(readers_, info.info.topicName().to_string(), info.info.guid(),
+        info.status == Status::DISCOVERED_READER);
     }
   }
+
+  void on_publisher_discovery(
+    DomainParticipant *, eprosima::fastrtps::rtps::WriterDiscoveryInfo && info) override
+  {
+    using Status = eprosima::fastrtps::rtps::WriterDiscoveryInfo;
+    if (info.status != Status::CHANGED_QOS_WRITER) {
+      update(writers_, info.info.topicName().to_string(), info.info.guid(),
+        info.status == Status::DISCOVERED_WRITER);
+    }
+  }
+
+  // graph_cache.get_reader_count / get_writer_count
+  size_t reader_count(const std::string & topic) const {return count(readers_, topic);}
+  size_t writer_count(const std::string & topic) const {return count(writers_, topic);}
+
+private:
+  using ByTopic = std::map<std::string, std::set<GUID_t>>;
+
+  void update(ByTopic & map, const std::string & topic, const GUID_t & guid, bool alive)
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (alive) {
+      map[topic].insert(guid);
+    } else {
+      map[topic].erase(guid);
+    }
+  }
+
+  size_t count(const ByTopic & map, const std::string & topic) const
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    auto it = map.find(topic);
+    return it == map.end() ? 0 : it->second.size();
+  }
+
+  mutable std::mutex mutex_;
+  ByTopic readers_;
+  ByTopic writers_;
+};
+
+// rmw_fastrtps_shared_cpp `__rmw_service_server_is_available` for a client with these endpoints.
+// The matched counts are those rmw's client listeners keep (request_publisher_matched_count_,
+// response_subscriber_matched_count_).
+bool server_is_available(
+  const GraphListener & graph, const std::string & request_topic,
+  const std::string & reply_topic, const Matches & request_matches,
+  const Matches & reply_matches)
+{
+  size_t request_subscribers = graph.reader_count(request_topic);
+  if (request_subscribers == 0) {
+    return false;
+  }
+  size_t response_publishers = graph.writer_count(reply_topic);
+  if (response_publishers == 0 || request_subscribers != response_publishers) {
+    return false;
+  }
+  const size_t matched_request_pubs = request_matches.count();
+  const size_t matched_response_subs = reply_matches.count();
+  return matched_request_pubs != 0 && matched_response_subs != 0 &&
+         matched_request_pubs == matched_response_subs;
+}
+
+// The client side: waits for a server, then calls COUNT times, one after the other, as rclcpp
+// over rmw_fastrtps would (`__rmw_send_request`, `__rmw_take_response`). True iff every reply
+// arrived before `deadline` with the right sum.
+bool call(
+  const GraphListener & graph, const std::string & request_topic,
+  const std::string & reply_topic, DataWriter * request_writer, DataReader * reply_reader,
+  const Matches & request_matches, const Matches & reply_matches, long count,
+  std::chrono::steady_clock::time_point deadline)
+{
+  using Clock = std::chrono::steady_clock;
+  const auto started = Clock::now();
+  bool available = false;
+  while (!(available =
+    server_is_available(graph, request_topic, reply_topic, request_matches, reply_matches)) &&
+    Clock::now() < deadline)
+  {
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  const auto available_ms =
+    std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - started).count();
+  const GUID_t reader_guid = reply_reader->guid();
+  const GUID_t writer_guid = request_writer->guid();
+  long correct = 0;
+  long answered = 0;
+  for (long i = 1; available && i <= count && Clock::now() < deadline; ++i) {
+    AddTwoIntsRequest request;
+    request.a = i;
+    request.b = 10 * i;
+    // __rmw_send_request
+    WriteParams wparams;
+    wparams.related_sample_identity().writer_guid() = reader_guid;
+    if (!request_writer->write(&request, wparams)) {
+      std::fprintf(stderr, "ros_participant: could not write request %ld\n", i);
+      break;
+    }
+    const int64_t sequence_id = to_int64(wparams.sample_identity().sequence_number());
+    // __rmw_take_response, until the reply to this request comes (rclcpp drops replies to
+    // sequence numbers it is not waiting for).
+    bool got = false;
+    AddTwoIntsResponse response;
+    while (!got && Clock::now() < deadline) {
+      reply_reader->wait_for_unread_message(eprosima::fastrtps::Duration_t(0, 20000000));
+      SampleInfo info;
+      while (!got && reply_reader->take_next_sample(&response, &info) == ReturnCode_t::RETCODE_OK) {
+        if (!info.valid_data) {
+          continue;
+        }
+        const SampleIdentity & related = info.related_sample_identity;
+        if (related.writer_guid() != reader_guid && related.writer_guid() != writer_guid) {
+          continue;  // not ours
+        }
+        got = to_int64(related.sequence_number()) == sequence_id;
+      }
+    }
+    if (!got) {
+      std::fprintf(stderr, "ros_participant: no reply to request %ld (sequence number %" PRId64
+        ")\n", i, sequence_id);
+      break;
+    }
+    ++answered;
+    if (response.sum == request.a + request.b) {
+      ++correct;
+    }
+    std::ostringstream line;
+    line << "{\"a\": " << request.a << ", \"b\": " << request.b << ", \"sum\": " << response.sum
+         << ", \"sequence_number\": " << sequence_id << "}";
+    print_line(line.str());
+  }
+  std::ostringstream line;
+  line << "{\"summary\": {\"calls\": " << count << ", \"answered\": " << answered
+       << ", \"correct\": " << correct << ", \"available\": " << (available ? "true" : "false")
+       << ", \"available_after_ms\": " << available_ms << "}}";
+  print_line(line.str());
+  return available && correct == count;
 }
 
 }  // namespace
 
 int main(int argc, char ** argv)
 {
-  if (argc != 6) {
-    std::fprintf(stderr, "usage: %s DOMAIN NAMESPACE NODE SERVICE LINGER\n", argv[0]);
+  const bool calling = argc == 8 && std::strcmp(argv[6], "call") == 0;
+  if (argc != 6 && !calling) {
+    std::fprintf(
+      stderr, "usage: %s DOMAIN NAMESPACE NODE SERVICE LINGER [call COUNT]\n", argv[0]);
+    return 2;
+  }
+  const long count = calling ? std::strtol(argv[7], nullptr, 10) : 0;
+  if (calling && count < 1) {
+    std::fprintf(stderr, "ros_participant: COUNT must be at least 1\n");
     return 2;
   }
   const uint32_t domain = static_cast<uint32_t>(std::strtoul(argv[1], nullptr, 10));
@@ -455,7 +727,11 @@ int main(int argc, char ** argv)
   pqos.wire_protocol().builtin.writerHistoryMemoryPolicy =
     eprosima::fastrtps::rtps::PREALLOCATED_WITH_REALLOC_MEMORY_MODE;
 
-  DomainParticipant * participant = factory->create_participant(domain, pqos);
+  // rmw_fastrtps_shared_cpp `participant.cpp`: a participant listener feeding the graph cache,
+  // with StatusMask::none() (discovery callbacks are not status-masked).
+  GraphListener graph;
+  DomainParticipant * participant = factory->create_participant(
+    domain, pqos, &graph, eprosima::fastdds::dds::StatusMask::none());
   if (participant == nullptr) {
     std::fprintf(stderr, "ros_participant: could not create the participant\n");
     return 1;
@@ -522,26 +798,38 @@ int main(int argc, char ** argv)
     request_topic_name, request_type.get_type_name(), participant->get_default_topic_qos());
   Topic * reply_topic = participant->create_topic(
     reply_topic_name, response_type.get_type_name(), participant->get_default_topic_qos());
-  DataReader * request_reader =
-    subscriber->create_datareader(request_topic, service_reader_qos(subscriber, REQUEST_HASH));
-  DataWriter * reply_writer =
-    publisher->create_datawriter(reply_topic, service_writer_qos(publisher, RESPONSE_HASH));
-  if (request_topic == nullptr || reply_topic == nullptr || request_reader == nullptr ||
-    reply_writer == nullptr)
-  {
-    std::fprintf(stderr, "ros_participant: could not create the service\n");
+  if (request_topic == nullptr || reply_topic == nullptr) {
+    std::fprintf(stderr, "ros_participant: could not create the service topics\n");
     return 1;
   }
-  info.node_entities_info_seq[0].reader_gid_seq.push_back(to_gid(request_reader->guid()));
-  info.node_entities_info_seq[0].writer_gid_seq.push_back(to_gid(reply_writer->guid()));
-  publish_info();
+  DataReader * request_reader = nullptr;
+  DataWriter * reply_writer = nullptr;
+  WriterMatches reply_writer_matches;
+  if (!calling) {
+    request_reader =
+      subscriber->create_datareader(request_topic, service_reader_qos(subscriber, REQUEST_HASH));
+    reply_writer = publisher->create_datawriter(
+      reply_topic, service_writer_qos(publisher, RESPONSE_HASH), &reply_writer_matches,
+      eprosima::fastdds::dds::StatusMask::publication_matched());
+    if (request_reader == nullptr || reply_writer == nullptr) {
+      std::fprintf(stderr, "ros_participant: could not create the service\n");
+      return 1;
+    }
+    info.node_entities_info_seq[0].reader_gid_seq.push_back(to_gid(request_reader->guid()));
+    info.node_entities_info_seq[0].writer_gid_seq.push_back(to_gid(reply_writer->guid()));
+    publish_info();
+  }
 
   // The client: rmw_fastrtps_cpp `rmw_client.cpp` creates the reply reader, then the request
   // writer.
-  DataReader * reply_reader =
-    subscriber->create_datareader(reply_topic, service_reader_qos(subscriber, RESPONSE_HASH));
-  DataWriter * request_writer =
-    publisher->create_datawriter(request_topic, service_writer_qos(publisher, REQUEST_HASH));
+  ReaderMatches reply_reader_matches;
+  WriterMatches request_writer_matches;
+  DataReader * reply_reader = subscriber->create_datareader(
+    reply_topic, service_reader_qos(subscriber, RESPONSE_HASH), &reply_reader_matches,
+    eprosima::fastdds::dds::StatusMask::subscription_matched());
+  DataWriter * request_writer = publisher->create_datawriter(
+    request_topic, service_writer_qos(publisher, REQUEST_HASH), &request_writer_matches,
+    eprosima::fastdds::dds::StatusMask::publication_matched());
   if (reply_reader == nullptr || request_writer == nullptr) {
     std::fprintf(stderr, "ros_participant: could not create the client\n");
     return 1;
@@ -553,29 +841,43 @@ int main(int argc, char ** argv)
   std::ostringstream line;
   line << "{\"participant\": " << json_string(dotted(info.gid))
        << ", \"vendor\": \"010f\""
+       << ", \"mode\": \"" << (calling ? "call" : "serve") << "\""
        << ", \"node\": {\"namespace\": " << json_string(node_namespace)
        << ", \"name\": " << json_string(node_name) << "}"
        << ", \"request_topic\": " << json_string(request_topic_name)
-       << ", \"reply_topic\": " << json_string(reply_topic_name)
-       << ", \"server\": {\"request_reader\": "
-       << json_string(dotted(to_gid(request_reader->guid())))
-       << ", \"reply_writer\": " << json_string(dotted(to_gid(reply_writer->guid()))) << "}"
-       << ", \"client\": {\"request_writer\": "
+       << ", \"reply_topic\": " << json_string(reply_topic_name);
+  if (calling) {
+    line << ", \"server\": null";
+  } else {
+    line << ", \"server\": {\"request_reader\": "
+         << json_string(dotted(to_gid(request_reader->guid())))
+         << ", \"reply_writer\": " << json_string(dotted(to_gid(reply_writer->guid()))) << "}";
+  }
+  line << ", \"client\": {\"request_writer\": "
        << json_string(dotted(to_gid(request_writer->guid())))
        << ", \"reply_reader\": " << json_string(dotted(to_gid(reply_reader->guid()))) << "}"
-       << ", \"qos\": {\"request_reader\": " << qos_json(request_reader->get_qos())
-       << ", \"reply_writer\": " << qos_json(reply_writer->get_qos())
-       << ", \"request_writer\": " << qos_json(request_writer->get_qos())
+       << ", \"qos\": {";
+  if (!calling) {
+    line << "\"request_reader\": " << qos_json(request_reader->get_qos())
+         << ", \"reply_writer\": " << qos_json(reply_writer->get_qos()) << ", ";
+  }
+  line << "\"request_writer\": " << qos_json(request_writer->get_qos())
        << ", \"reply_reader\": " << qos_json(reply_reader->get_qos()) << "}}";
-  std::printf("%s\n", line.str().c_str());
-  std::fflush(stdout);
+  print_line(line.str());
 
-  // Linger, answering requests.
   const auto end = std::chrono::steady_clock::now() +
     std::chrono::microseconds(static_cast<int64_t>(linger * 1e6));
-  while (std::chrono::steady_clock::now() < end) {
-    request_reader->wait_for_unread_message(eprosima::fastrtps::Duration_t(0, 50000000));
-    serve(request_reader, reply_writer);
+  bool ok = true;
+  if (calling) {
+    ok = call(
+      graph, request_topic_name, reply_topic_name, request_writer, reply_reader,
+      request_writer_matches, reply_reader_matches, count, end);
+  } else {
+    // Linger, answering requests.
+    while (std::chrono::steady_clock::now() < end) {
+      request_reader->wait_for_unread_message(eprosima::fastrtps::Duration_t(0, 50000000));
+      serve(request_reader, reply_writer, reply_writer_matches);
+    }
   }
 
   // Leave as rmw does: the node goes (ros_discovery_info republished), then the endpoints and
@@ -585,5 +887,5 @@ int main(int argc, char ** argv)
   info_writer->wait_for_acknowledgments(eprosima::fastrtps::Duration_t(0, 200000000));
   participant->delete_contained_entities();
   factory->delete_participant(participant);
-  return 0;
+  return ok ? 0 : 1;
 }
