@@ -5,7 +5,7 @@
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::{self, Receiver, Sender};
-use std::sync::{Arc, Condvar, Mutex, MutexGuard};
+use std::sync::{Arc, Condvar, Mutex, MutexGuard, OnceLock, Weak};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
@@ -91,7 +91,23 @@ impl std::fmt::Debug for Graph {
 }
 
 impl Graph {
-    /// Starts following `context`'s discovery (one `Graph` per context at a time).
+    /// The graph of `context`, shared: started on first use, then the same one for every caller
+    /// while any of them keeps it (services, the CLI and applications can all look at one graph).
+    pub fn shared(context: &Context) -> Result<Arc<Self>, GraphStartError> {
+        static GRAPHS: OnceLock<Mutex<HashMap<Gid, Weak<Graph>>>> = OnceLock::new();
+        let graphs = GRAPHS.get_or_init(|| Mutex::new(HashMap::new()));
+        let mut graphs = graphs.lock().unwrap_or_else(|p| p.into_inner());
+        graphs.retain(|_, g| g.strong_count() > 0);
+        if let Some(graph) = graphs.get(&context.gid()).and_then(Weak::upgrade) {
+            return Ok(graph);
+        }
+        let graph = Arc::new(Self::new(context)?);
+        graphs.insert(context.gid(), Arc::downgrade(&graph));
+        Ok(graph)
+    }
+
+    /// Starts following `context`'s discovery (one `Graph` per context at a time: see
+    /// [`shared`](Self::shared) to share it).
     pub fn new(context: &Context) -> Result<Self, GraphStartError> {
         let feed = context.discovery_feed()?;
         let mut cache = GraphCache::new();
@@ -224,6 +240,15 @@ impl Graph {
                 .get(&local)
                 .is_some_and(|m| m.contains_key(&remote))
         })
+    }
+
+    /// Records the RIHS01 hash of a service type known to this process (Jazzy peers do not send
+    /// service type hashes), so that servers/clients info can show it.
+    pub fn set_service_type_hash(&self, service_type: &str, hash: horus_ros_msgs::TypeHash) {
+        self.shared
+            .state()
+            .cache
+            .set_service_type_hash(service_type, hash);
     }
 
     /// The DDS vendor of the participant `gid` belongs to (any GID of it: participant or

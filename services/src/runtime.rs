@@ -2,11 +2,10 @@
 //! (in a context configured from the environment), and one live [`Graph`] per context shared by
 //! every server and client of that context.
 
-use std::collections::HashMap;
-use std::sync::{Arc, Mutex, OnceLock, Weak};
+use std::sync::{Arc, Mutex, OnceLock};
 
 use horus_ros_graph::Graph;
-use horus_ros_rmw::{Context, Gid, Node, WeakNode};
+use horus_ros_rmw::{Context, Node, WeakNode};
 
 use crate::SetupError;
 
@@ -18,6 +17,18 @@ pub(crate) struct Runtime {
 }
 
 impl Runtime {
+    /// `node` if given, else the process's default node; and its context's graph, told the hash
+    /// of the service type `S` (which Jazzy peers do not send).
+    pub(crate) fn for_service<S: horus_ros_msgs::Service>(
+        node: Option<&Node>,
+    ) -> Result<Self, SetupError> {
+        let runtime = Self::for_node(node)?;
+        runtime
+            .graph
+            .set_service_type_hash(S::TYPE_NAME, S::type_hash());
+        Ok(runtime)
+    }
+
     /// `node` if given, else the process's default node; and its context's graph.
     pub(crate) fn for_node(node: Option<&Node>) -> Result<Self, SetupError> {
         let node = match node {
@@ -68,18 +79,9 @@ fn default_node_name() -> String {
     format!("horus_{program}_{}", std::process::id())
 }
 
-/// The graph of `context`, started on first use and shared while anything uses it.
+/// The graph of `context`, shared with everything else in the process that looks at it.
 fn graph_of(context: &Context) -> Result<Arc<Graph>, SetupError> {
-    static GRAPHS: OnceLock<Mutex<HashMap<Gid, Weak<Graph>>>> = OnceLock::new();
-    let graphs = GRAPHS.get_or_init(|| Mutex::new(HashMap::new()));
-    let mut graphs = graphs.lock().unwrap_or_else(|p| p.into_inner());
-    graphs.retain(|_, g| g.strong_count() > 0);
-    if let Some(graph) = graphs.get(&context.gid()).and_then(Weak::upgrade) {
-        return Ok(graph);
-    }
-    let graph = Arc::new(Graph::new(context)?);
-    graphs.insert(context.gid(), Arc::downgrade(&graph));
-    Ok(graph)
+    Ok(Graph::shared(context)?)
 }
 
 #[cfg(test)]

@@ -109,7 +109,7 @@ impl<S: Service> ServiceServerBuilder<S> {
     /// Creates the request reader and reply writer and starts serving.
     pub fn build(self) -> Result<ServiceServer<S>, SetupError> {
         let handler = self.handler.ok_or(SetupError::NoHandler)?;
-        let runtime = Runtime::for_node(self.node.as_ref())?;
+        let runtime = Runtime::for_service::<S>(self.node.as_ref())?;
         let name = self.name.unwrap_or_else(default_service_name::<S>);
         let topics = ServiceTopics::resolve::<S>(&runtime.node, &name, &self.qos)?;
         let requests = runtime.node.create_raw_reader(&topics.request)?;

@@ -92,7 +92,7 @@ fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
 
 impl<S: Service> ClientCore<S> {
     pub(crate) fn new(options: ClientOptions) -> Result<Self, SetupError> {
-        let runtime = Runtime::for_node(options.node.as_ref())?;
+        let runtime = Runtime::for_service::<S>(options.node.as_ref())?;
         let name = options.name.unwrap_or_else(default_service_name::<S>);
         let topics = ServiceTopics::resolve::<S>(&runtime.node, &name, &options.qos)?;
         let requests = runtime.node.create_raw_writer(&topics.request)?;

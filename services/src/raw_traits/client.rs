@@ -88,7 +88,7 @@ impl<S: Service> DdsServiceClientBuilder<S> {
 
     /// Creates the request writer and reply reader and starts the reply thread.
     pub fn build(self) -> Result<DdsServiceClient<S>, SetupError> {
-        let runtime = Runtime::for_node(self.options.node.as_ref())?;
+        let runtime = Runtime::for_service::<S>(self.options.node.as_ref())?;
         let name = self.options.name.unwrap_or_else(default_service_name::<S>);
         let topics = ServiceTopics::resolve::<S>(&runtime.node, &name, &self.options.qos)?;
         let writer = runtime.node.create_raw_writer(&topics.request)?;

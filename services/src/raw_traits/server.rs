@@ -91,7 +91,7 @@ impl<S: Service> DdsServiceServerBuilder<S> {
 
     /// Creates the request reader and reply writer and starts the request thread.
     pub fn build(self) -> Result<DdsServiceServer<S>, SetupError> {
-        let runtime = Runtime::for_node(self.node.as_ref())?;
+        let runtime = Runtime::for_service::<S>(self.node.as_ref())?;
         let name = self.name.unwrap_or_else(default_service_name::<S>);
         let topics = ServiceTopics::resolve::<S>(&runtime.node, &name, &self.qos)?;
         let reader = runtime.node.create_raw_reader(&topics.request)?;

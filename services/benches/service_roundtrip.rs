@@ -1,0 +1,663 @@
+//! Service round-trip benchmark (not a test). Opens DDS participants: run it only inside a private
+//! network namespace, e.g. `scripts/bench` or
+//! `scripts/isolated cargo bench -p horus-ros-services --bench service_roundtrip`.
+//! It refuses to run when it can see a network interface other than `lo` up.
+//!
+//! Measures, in one run and interleaved in rounds (so every variant sees the same machine
+//! state), N sequential request/reply round trips after a warm-up each of:
+//! 1. a raw UDP ping-pong on 127.0.0.1 (two threads, blocking receive, 20-byte payload = the
+//!    CDR size of an AddTwoInts request), the floor any transport over loopback UDP sits on;
+//! 2. horus-ros `ServiceClient::call` to a `ServiceServer` (AddTwoInts), server and client in
+//!    two `Context`s (two DDS participants, as two processes would have), and in one `Context`;
+//! 3. ros2-client 0.12's own service API (`ServiceMapping::Enhanced`, two ros2-client contexts,
+//!    `async_send_request` / `async_receive_response` against `async_receive_request` /
+//!    `async_send_response`, each side driven by a minimal thread-parking executor).
+//!
+//! Then prints p50 / p99 / calls per second of each and the goals of issue 4:
+//! p50 horus / UDP ≤ 1.5 and throughput horus / ros2-client ≥ 2.
+//!
+//! Environment: `HORUS_BENCH_CALLS` (measured calls per variant, default 30000),
+//! `HORUS_BENCH_ROUNDS` (default 10), `HORUS_BENCH_ONLY` (comma-separated subset of
+//! `udp,horus2,horus1,ros2`, for profiling one variant; the goal lines need all of them).
+
+use std::future::Future;
+use std::net::UdpSocket;
+use std::pin::pin;
+use std::sync::Arc;
+use std::task::{Poll, Wake, Waker};
+use std::thread::{self, JoinHandle, Thread};
+use std::time::{Duration, Instant};
+
+use horus_ros_services::prelude::*;
+use serde::{Deserialize, Serialize};
+
+const DEFAULT_CALLS: usize = 30_000;
+const DEFAULT_ROUNDS: usize = 10;
+/// Warm-up calls per variant (after discovery), not measured.
+const WARMUP: usize = 500;
+/// Whole-run limit: a stalled variant aborts the bench instead of hanging it.
+const WATCHDOG: Duration = Duration::from_secs(300);
+const CALL_TIMEOUT: Duration = Duration::from_secs(5);
+const DISCOVERY_TIMEOUT: Duration = Duration::from_secs(20);
+/// Domains used (one per DDS variant, so they cannot see each other).
+const DOMAIN_HORUS_TWO: u32 = 61;
+const DOMAIN_HORUS_ONE: u32 = 62;
+const DOMAIN_ROS2_CLIENT: u16 = 63;
+/// The UDP payload: CDR encapsulation (4) + two int64 (16), as an AddTwoInts request.
+const UDP_PAYLOAD: usize = 20;
+/// `a` of the request that tells the ros2-client server thread to stop.
+const STOP: i64 = i64::MIN;
+
+// ---------------------------------------------------------------------------------------------
+// Refuse to run where DDS could reach a real network.
+
+/// Names of interfaces other than `lo` that are up (IFF_UP in `flags`, or operstate `up`).
+fn non_loopback_interfaces_up() -> std::io::Result<Vec<String>> {
+    let mut up = Vec::new();
+    for entry in std::fs::read_dir("/sys/class/net")? {
+        let entry = entry?;
+        let name = entry.file_name().to_string_lossy().into_owned();
+        if name == "lo" {
+            continue;
+        }
+        let read = |file: &str| {
+            std::fs::read_to_string(entry.path().join(file))
+                .map(|s| s.trim().to_owned())
+                .unwrap_or_default()
+        };
+        let flags = u32::from_str_radix(read("flags").trim_start_matches("0x"), 16).unwrap_or(0);
+        if flags & 0x1 != 0 || read("operstate") == "up" {
+            up.push(name);
+        }
+    }
+    Ok(up)
+}
+
+fn refuse_outside_namespace() {
+    let why = match non_loopback_interfaces_up() {
+        Ok(up) if up.is_empty() => return,
+        Ok(up) => format!("network interface(s) up besides lo: {}", up.join(", ")),
+        Err(e) => format!("cannot read /sys/class/net to check the interfaces: {e}"),
+    };
+    eprintln!(
+        "service_roundtrip: REFUSING TO RUN: {why}.\n\
+         This benchmark opens DDS participants, whose discovery traffic must not leave this \
+         machine.\nRun it inside a private network namespace:\n    scripts/bench\nor\n    \
+         scripts/isolated cargo bench -p horus-ros-services --bench service_roundtrip\n\
+         (build it outside first: cargo bench -p horus-ros-services --no-run)"
+    );
+    std::process::exit(2);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Statistics.
+
+struct Stats {
+    name: &'static str,
+    samples: Vec<Duration>,
+    round_p50: Vec<Duration>,
+}
+
+impl Stats {
+    fn new(name: &'static str) -> Self {
+        Self {
+            name,
+            samples: Vec::new(),
+            round_p50: Vec::new(),
+        }
+    }
+
+    fn add_round(&mut self, mut round: Vec<Duration>) {
+        round.sort_unstable();
+        self.round_p50.push(percentile(&round, 50.0));
+        self.samples.extend(round);
+    }
+
+    fn sorted(&self) -> Vec<Duration> {
+        let mut s = self.samples.clone();
+        s.sort_unstable();
+        s
+    }
+
+    fn p50(&self) -> Duration {
+        percentile(&self.sorted(), 50.0)
+    }
+
+    fn p99(&self) -> Duration {
+        percentile(&self.sorted(), 99.0)
+    }
+
+    /// Sequential calls per second over the time the calls took.
+    fn per_second(&self) -> f64 {
+        let total: Duration = self.samples.iter().sum();
+        self.samples.len() as f64 / total.as_secs_f64().max(1e-9)
+    }
+}
+
+/// Nearest-rank percentile of sorted samples.
+fn percentile(sorted: &[Duration], p: f64) -> Duration {
+    if sorted.is_empty() {
+        return Duration::ZERO;
+    }
+    let rank = ((p / 100.0) * sorted.len() as f64).ceil() as usize;
+    sorted[rank.clamp(1, sorted.len()) - 1]
+}
+
+fn micros(d: Duration) -> f64 {
+    d.as_secs_f64() * 1e6
+}
+
+/// Times `calls` sequential calls of `call`.
+fn measure(calls: usize, mut call: impl FnMut(i64)) -> Vec<Duration> {
+    let mut samples = Vec::with_capacity(calls);
+    for i in 0..calls {
+        let start = Instant::now();
+        call(i as i64);
+        samples.push(start.elapsed());
+    }
+    samples
+}
+
+// ---------------------------------------------------------------------------------------------
+// 1. Raw UDP ping-pong on 127.0.0.1.
+
+struct UdpPingPong {
+    socket: UdpSocket,
+    echo: Option<JoinHandle<()>>,
+    buf: [u8; 64],
+}
+
+impl UdpPingPong {
+    fn start() -> std::io::Result<Self> {
+        let server = UdpSocket::bind("127.0.0.1:0")?;
+        let socket = UdpSocket::bind("127.0.0.1:0")?;
+        socket.connect(server.local_addr()?)?;
+        let echo = thread::Builder::new()
+            .name("udp-echo".into())
+            .spawn(move || {
+                let mut buf = [0u8; 64];
+                // Blocking receive; a 1-byte datagram means stop.
+                while let Ok((n, from)) = server.recv_from(&mut buf) {
+                    if n == 1 || server.send_to(&buf[..n], from).is_err() {
+                        break;
+                    }
+                }
+            })?;
+        Ok(Self {
+            socket,
+            echo: Some(echo),
+            buf: [0u8; 64],
+        })
+    }
+
+    fn round_trip(&mut self, i: i64) {
+        let mut payload = [0u8; UDP_PAYLOAD];
+        payload[..4].copy_from_slice(&[0, 1, 0, 0]);
+        payload[4..12].copy_from_slice(&i.to_le_bytes());
+        self.socket.send(&payload).expect("udp send");
+        let n = self.socket.recv(&mut self.buf).expect("udp recv");
+        assert_eq!(n, UDP_PAYLOAD, "udp echo");
+    }
+}
+
+impl Drop for UdpPingPong {
+    fn drop(&mut self) {
+        let _ = self.socket.send(&[0]);
+        if let Some(echo) = self.echo.take() {
+            let _ = echo.join();
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// 2. horus-ros.
+
+struct Horus {
+    client: ServiceClient<AddTwoInts>,
+    // Kept alive for the client; dropped after it.
+    _server: ServiceServer<AddTwoInts>,
+    _nodes: Vec<Node>,
+}
+
+impl Horus {
+    fn start(domain: u32, two_contexts: bool) -> Result<Self, String> {
+        let context = || {
+            Context::builder()
+                .domain_id(domain)
+                .build()
+                .map_err(|e| format!("context: {e}"))
+        };
+        let server_context = context()?;
+        let client_context = if two_contexts {
+            context()?
+        } else {
+            server_context.clone()
+        };
+        let server_node = server_context
+            .create_node("bench_server", "/")
+            .map_err(|e| format!("node: {e}"))?;
+        let client_node = client_context
+            .create_node("bench_client", "/")
+            .map_err(|e| format!("node: {e}"))?;
+        let server = ServiceServerBuilder::<AddTwoInts>::new()
+            .node(&server_node)
+            .name("/bench_add_two_ints")
+            .on_request(|req| {
+                Ok(AddTwoIntsResponse {
+                    sum: req.a.wrapping_add(req.b),
+                })
+            })
+            .build()
+            .map_err(|e| format!("server: {e}"))?;
+        let client = ServiceClient::<AddTwoInts>::builder()
+            .node(&client_node)
+            .name("/bench_add_two_ints")
+            .build()
+            .map_err(|e| format!("client: {e}"))?;
+        if !client.wait_for_service(DISCOVERY_TIMEOUT) {
+            return Err(format!(
+                "no server within {DISCOVERY_TIMEOUT:?} (wait_for_service)"
+            ));
+        }
+        let mut bench = Self {
+            client,
+            _server: server,
+            _nodes: vec![server_node, client_node],
+        };
+        for i in 0..WARMUP {
+            bench.call(i as i64);
+        }
+        Ok(bench)
+    }
+
+    fn call(&mut self, i: i64) {
+        let reply = self
+            .client
+            .call(AddTwoIntsRequest { a: i, b: 1 }, CALL_TIMEOUT)
+            .expect("horus-ros call");
+        assert_eq!(reply.sum, i + 1, "horus-ros reply");
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// 3. ros2-client's own service API.
+
+#[derive(Debug, Clone, Serialize, Deserialize)]
+struct R2Request {
+    a: i64,
+    b: i64,
+}
+impl ros2_client::Message for R2Request {}
+
+#[derive(Debug, Clone, Serialize, Deserialize)]
+struct R2Response {
+    sum: i64,
+}
+impl ros2_client::Message for R2Response {}
+
+/// Wakes the thread blocked in [`block_on`].
+struct ThreadWaker(Thread);
+
+impl Wake for ThreadWaker {
+    fn wake(self: Arc<Self>) {
+        self.0.unpark();
+    }
+}
+
+/// A minimal executor: polls `future` on this thread, parking between wake-ups (what
+/// `futures::executor::block_on` and `smol::block_on` do for one future).
+fn block_on<F: Future>(future: F) -> F::Output {
+    let mut future = pin!(future);
+    let waker = Waker::from(Arc::new(ThreadWaker(thread::current())));
+    let mut cx = std::task::Context::from_waker(&waker);
+    loop {
+        if let Poll::Ready(output) = future.as_mut().poll(&mut cx) {
+            return output;
+        }
+        thread::park();
+    }
+}
+
+struct Ros2Client {
+    client: ros2_client::Client<R2Request, R2Response>,
+    server_thread: Option<JoinHandle<Result<u64, String>>>,
+    // Dropped last (after the client).
+    _client_node: ros2_client::Node,
+    _contexts: Vec<ros2_client::Context>,
+}
+
+impl Ros2Client {
+    fn start() -> Result<Self, String> {
+        use ros2_client::qos::{Durability, History, WhenFull};
+        use ros2_client::{
+            Context, ContextOptions, Name, NodeName, NodeOptions, QosProfile, ServiceMapping,
+            ServiceTypeName,
+        };
+        // rmw `services_default`: reliable, volatile, keep last 10.
+        let qos = QosProfile::publisher_default()
+            .reliability_reliable(WhenFull::DEFAULT)
+            .durability(Durability::Volatile)
+            .history(History::KeepLast { depth: 10 });
+        let name = Name::new("/", "bench_add_two_ints").map_err(|e| format!("name: {e:?}"))?;
+        let type_name = ServiceTypeName::new("example_interfaces", "AddTwoInts");
+        let options = || {
+            NodeOptions::new()
+                .enable_rosout(false)
+                .start_parameter_services(false)
+        };
+        let context = || {
+            Context::with_options(ContextOptions::new().domain_id(DOMAIN_ROS2_CLIENT))
+                .map_err(|e| format!("context: {e:?}"))
+        };
+        let server_context = context()?;
+        let client_context = context()?;
+        let mut server_node = server_context
+            .new_node(
+                NodeName::new("/", "bench_server").map_err(|e| format!("{e:?}"))?,
+                options(),
+            )
+            .map_err(|e| format!("server node: {e:?}"))?;
+        let mut client_node = client_context
+            .new_node(
+                NodeName::new("/", "bench_client").map_err(|e| format!("{e:?}"))?,
+                options(),
+            )
+            .map_err(|e| format!("client node: {e:?}"))?;
+        let server = server_node
+            .create_server::<R2Request, R2Response>(
+                ServiceMapping::Enhanced,
+                &name,
+                &type_name,
+                qos.clone(),
+                qos.clone(),
+            )
+            .map_err(|e| format!("create_server: {e:?}"))?;
+        let client = client_node
+            .create_client::<R2Request, R2Response>(
+                ServiceMapping::Enhanced,
+                &name,
+                &type_name,
+                qos.clone(),
+                qos,
+            )
+            .map_err(|e| format!("create_client: {e:?}"))?;
+        // The server loop: receive, add, reply, until a STOP request (which is answered too).
+        let server_thread = thread::Builder::new()
+            .name("ros2-client-srv".into())
+            .spawn(move || {
+                let _node = server_node;
+                block_on(async {
+                    let mut served = 0u64;
+                    loop {
+                        let (id, req) = server
+                            .async_receive_request()
+                            .await
+                            .map_err(|e| format!("async_receive_request: {e:?}"))?;
+                        let response = R2Response {
+                            sum: req.a.wrapping_add(req.b),
+                        };
+                        server
+                            .async_send_response(id, response)
+                            .await
+                            .map_err(|e| format!("async_send_response: {e:?}"))?;
+                        if req.a == STOP {
+                            return Ok(served);
+                        }
+                        served += 1;
+                    }
+                })
+            })
+            .map_err(|e| format!("spawn: {e}"))?;
+        let mut bench = Self {
+            client,
+            server_thread: Some(server_thread),
+            _client_node: client_node,
+            _contexts: vec![server_context, client_context],
+        };
+        bench.wait_until_answered()?;
+        for i in 0..WARMUP {
+            bench.call(i as i64)?;
+        }
+        Ok(bench)
+    }
+
+    /// No Spinner runs (it would only add graph processing), so `wait_for_service` cannot be
+    /// used: send probes with the non-blocking API until one is answered. Requests written
+    /// before the server's reader matched are lost (volatile), hence the repeats.
+    fn wait_until_answered(&mut self) -> Result<(), String> {
+        let deadline = Instant::now() + DISCOVERY_TIMEOUT;
+        while Instant::now() < deadline {
+            let id = self
+                .client
+                .send_request(R2Request { a: -1, b: 1 })
+                .map_err(|e| format!("send_request: {e:?}"))?;
+            let probe_end = Instant::now() + Duration::from_millis(200);
+            while Instant::now() < probe_end {
+                match self.client.receive_response() {
+                    Ok(Some((rid, _))) if rid == id => return Ok(()),
+                    Ok(_) => thread::sleep(Duration::from_millis(1)),
+                    Err(e) => return Err(format!("receive_response: {e:?}")),
+                }
+            }
+        }
+        Err(format!(
+            "no reply from the ros2-client server within {DISCOVERY_TIMEOUT:?}"
+        ))
+    }
+
+    fn call(&mut self, i: i64) -> Result<(), String> {
+        let client = &self.client;
+        let sum = block_on(async {
+            let id = client
+                .async_send_request(R2Request { a: i, b: 1 })
+                .await
+                .map_err(|e| format!("async_send_request: {e:?}"))?;
+            client
+                .async_receive_response(id)
+                .await
+                .map(|r| r.sum)
+                .map_err(|e| format!("async_receive_response: {e:?}"))
+        })?;
+        if sum != i.wrapping_add(1) {
+            return Err(format!("wrong sum {sum} for {i} + 1"));
+        }
+        Ok(())
+    }
+}
+
+impl Drop for Ros2Client {
+    fn drop(&mut self) {
+        if let Some(thread) = self.server_thread.take() {
+            // Answered like any request, then the server thread ends.
+            let _ = self.call(STOP);
+            match thread.join() {
+                Ok(Ok(_)) => {}
+                Ok(Err(e)) => eprintln!("ros2-client server thread: {e}"),
+                Err(_) => eprintln!("ros2-client server thread panicked"),
+            }
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+
+fn env_usize(name: &str, default: usize) -> usize {
+    std::env::var(name)
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .filter(|&v| v > 0)
+        .unwrap_or(default)
+}
+
+fn loadavg() -> String {
+    std::fs::read_to_string("/proc/loadavg")
+        .map(|s| s.split_whitespace().take(3).collect::<Vec<_>>().join(" "))
+        .unwrap_or_else(|_| "unknown".to_owned())
+}
+
+fn verdict(met: bool) -> &'static str {
+    if met {
+        "MET"
+    } else {
+        "NOT MET"
+    }
+}
+
+fn main() {
+    refuse_outside_namespace();
+    thread::spawn(|| {
+        thread::sleep(WATCHDOG);
+        eprintln!("service_roundtrip: stalled for {WATCHDOG:?}; aborting");
+        std::process::exit(3);
+    });
+
+    let calls = env_usize("HORUS_BENCH_CALLS", DEFAULT_CALLS);
+    let rounds = env_usize("HORUS_BENCH_ROUNDS", DEFAULT_ROUNDS).min(calls);
+    let per_round = calls / rounds;
+    let calls = per_round * rounds;
+    let cpus = thread::available_parallelism().map_or(0, |n| n.get());
+    println!("service_roundtrip: sequential AddTwoInts round trips over loopback");
+    println!(
+        "  {calls} measured calls per variant ({rounds} interleaved rounds of {per_round}), \
+         {WARMUP} warm-up calls each after discovery"
+    );
+    println!(
+        "  CPUs: {cpus}; load average at start: {}; whether the machine was otherwise idle is \
+         unknown (other processes may share these CPUs)",
+        loadavg()
+    );
+
+    let setup_start = Instant::now();
+    let only = std::env::var("HORUS_BENCH_ONLY").unwrap_or_default();
+    let wanted = |v: &str| only.is_empty() || only.split(',').any(|o| o.trim() == v);
+    let mut udp = wanted("udp").then(|| {
+        let mut udp = UdpPingPong::start().expect("UDP ping-pong on 127.0.0.1");
+        for i in 0..WARMUP {
+            udp.round_trip(i as i64);
+        }
+        udp
+    });
+    let mut horus_two = wanted("horus2")
+        .then(|| Horus::start(DOMAIN_HORUS_TWO, true).expect("horus-ros, two contexts"));
+    let mut horus_one = wanted("horus1")
+        .then(|| Horus::start(DOMAIN_HORUS_ONE, false).expect("horus-ros, one context"));
+    let mut ros2 = if wanted("ros2") {
+        match Ros2Client::start() {
+            Ok(r) => Some(r),
+            Err(e) => {
+                println!("  ros2-client could not be benchmarked: {e}");
+                None
+            }
+        }
+    } else {
+        None
+    };
+    println!(
+        "  setup (discovery + warm-up of all variants): {:.2} s",
+        setup_start.elapsed().as_secs_f64()
+    );
+
+    let mut udp_stats = Stats::new("raw UDP ping-pong 127.0.0.1");
+    let mut two_stats = Stats::new("horus-ros, 2 contexts");
+    let mut one_stats = Stats::new("horus-ros, 1 context");
+    let mut ros2_stats = Stats::new("ros2-client Enhanced, 2 ctx");
+    let mut ros2_error = None;
+    let run_start = Instant::now();
+    for _ in 0..rounds {
+        if let Some(u) = udp.as_mut() {
+            udp_stats.add_round(measure(per_round, |i| u.round_trip(i)));
+        }
+        if let Some(h) = horus_two.as_mut() {
+            two_stats.add_round(measure(per_round, |i| h.call(i)));
+        }
+        if let Some(h) = horus_one.as_mut() {
+            one_stats.add_round(measure(per_round, |i| h.call(i)));
+        }
+        if let Some(r) = ros2.as_mut() {
+            let mut failed = None;
+            let samples = measure(per_round, |i| {
+                if failed.is_none() {
+                    failed = r.call(i).err();
+                }
+            });
+            match failed {
+                None => ros2_stats.add_round(samples),
+                Some(e) => {
+                    ros2_error = Some(e);
+                    ros2 = None;
+                }
+            }
+        }
+    }
+    let run_time = run_start.elapsed();
+    drop(ros2);
+    drop(horus_one);
+    drop(horus_two);
+    drop(udp);
+
+    println!(
+        "  measured part: {:.2} s; load average at end: {}",
+        run_time.as_secs_f64(),
+        loadavg()
+    );
+    println!();
+    println!(
+        "  {:<30} {:>10} {:>10} {:>12}   p50 per round (µs)",
+        "variant", "p50 µs", "p99 µs", "calls/s"
+    );
+    let all = [&udp_stats, &two_stats, &one_stats, &ros2_stats];
+    for s in all {
+        if s.samples.is_empty() {
+            println!("  {:<30} {:>10}", s.name, "n/a");
+            continue;
+        }
+        let rounds: Vec<String> = s
+            .round_p50
+            .iter()
+            .map(|d| format!("{:.0}", micros(*d)))
+            .collect();
+        println!(
+            "  {:<30} {:>10.1} {:>10.1} {:>12.0}   {}",
+            s.name,
+            micros(s.p50()),
+            micros(s.p99()),
+            s.per_second(),
+            rounds.join(" ")
+        );
+    }
+    if let Some(e) = &ros2_error {
+        println!("  ros2-client failed during the run: {e}");
+    }
+    println!();
+
+    for s in [&two_stats, &one_stats] {
+        if s.samples.is_empty() || udp_stats.samples.is_empty() {
+            println!(
+                "  p50 ratio horus/udp = n/a (goal ≤ 1.5) NOT MEASURED   [{}]",
+                s.name
+            );
+            continue;
+        }
+        let ratio = micros(s.p50()) / micros(udp_stats.p50());
+        println!(
+            "  p50 ratio horus/udp = {ratio:.2} (goal ≤ 1.5) {}   [{}]",
+            verdict(ratio <= 1.5),
+            s.name
+        );
+    }
+    for s in [&two_stats, &one_stats] {
+        if s.samples.is_empty() || ros2_stats.samples.is_empty() {
+            println!(
+                "  throughput ratio horus/ros2-client = n/a (goal ≥ 2) NOT MEASURED   [{}]",
+                s.name
+            );
+            continue;
+        }
+        let ratio = s.per_second() / ros2_stats.per_second();
+        println!(
+            "  throughput ratio horus/ros2-client = {ratio:.2} (goal ≥ 2) {}   [{}]",
+            verdict(ratio >= 2.0),
+            s.name
+        );
+    }
+}
