@@ -5,7 +5,7 @@ use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::Arc;
 use std::thread::JoinHandle;
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use horus_ros_graph::Graph;
 use horus_ros_msgs::Service;
@@ -122,6 +122,7 @@ impl<S: Service> ServiceServerBuilder<S> {
             replies,
             graph: Arc::clone(&runtime.graph),
             service: topics.name.clone(),
+            reply_topic: topics.reply.dds_topic_name.clone(),
             handler,
             flavour: self.flavour,
             poll_interval: self.poll_interval,
@@ -211,6 +212,8 @@ struct ServerLoop<S: Service> {
     replies: RawWriter,
     graph: Arc<Graph>,
     service: ServiceName,
+    /// The DDS reply topic (`rr/…Reply`).
+    reply_topic: String,
     handler: Handler<S>,
     flavour: Option<WireFlavour>,
     poll_interval: Duration,
@@ -335,17 +338,23 @@ impl<S: Service> ServerLoop<S> {
     /// reader(s) of the requesting participant on our reply topic, as far as the graph shows them.
     fn wait_for_client_reader_of(&mut self, request_writer: Gid) {
         let prefix = request_writer.prefix();
-        let readers: Vec<Gid> = self
-            .graph
-            .read(|c| c.clients_info_by_service(self.service.as_str(), false))
-            .unwrap_or_default()
-            .into_iter()
-            .filter_map(|client| client.endpoint_gids.first().copied())
-            .filter(|gid| gid.prefix() == prefix)
-            .collect();
-        for reader in readers {
+        let writer = self.replies.gid();
+        let deadline = Instant::now() + REPLY_MATCH_WAIT;
+        loop {
+            // Readers of our reply topic in the requesting participant (its node may not be
+            // known yet: look at the DDS topic, not at clients by node).
+            let matched = self
+                .graph
+                .read(|c| c.subscriptions_info_by_topic(&self.reply_topic, true))
+                .iter()
+                .filter(|r| r.endpoint_gid.prefix() == prefix)
+                .any(|r| self.graph.is_matched(writer, r.endpoint_gid));
+            let now = Instant::now();
+            if matched || now >= deadline {
+                return;
+            }
             self.graph
-                .wait_for_match(self.replies.gid(), reader, REPLY_MATCH_WAIT);
+                .wait_for_graph_change((deadline - now).min(Duration::from_millis(10)));
         }
     }
 }
