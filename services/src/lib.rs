@@ -33,7 +33,10 @@ mod runtime;
 mod server;
 mod wire;
 
-pub use client::{AsyncServiceClient, PendingResponse, ServiceClient, ServiceClientBuilder};
+pub use client::{
+    AsyncServiceClient, DynamicPart, DynamicServiceClient, DynamicServiceClientBuilder,
+    PendingResponse, RawReply, ServiceClient, ServiceClientBuilder,
+};
 pub use error::{Error, Result, ServiceError, SetupError};
 pub use naming::default_service_name;
 pub use raw_traits::{

@@ -1,6 +1,6 @@
 //! Service names and the DDS topics and types behind them.
 
-use horus_ros_msgs::{Message, Service};
+use horus_ros_msgs::{Message, Service, TypeHash};
 use horus_ros_rmw::names::ServiceName;
 use horus_ros_rmw::qos::Qos;
 use horus_ros_rmw::{Node, RawEndpointSpec};
@@ -47,6 +47,24 @@ impl ServiceTopics {
         name: &str,
         qos: &Qos,
     ) -> Result<Self, SetupError> {
+        Self::resolve_parts(
+            node,
+            name,
+            qos,
+            (S::Request::dds_type_name(), S::Request::type_hash()),
+            (S::Response::dds_type_name(), S::Response::type_hash()),
+        )
+    }
+
+    /// Like [`resolve`](Self::resolve), with the request and response types given as DDS type
+    /// names and hashes.
+    pub(crate) fn resolve_parts(
+        node: &Node,
+        name: &str,
+        qos: &Qos,
+        request: (String, TypeHash),
+        response: (String, TypeHash),
+    ) -> Result<Self, SetupError> {
         let name = ServiceName::expand(name, node.name(), node.namespace()).map_err(|source| {
             SetupError::InvalidName {
                 name: name.to_owned(),
@@ -61,14 +79,14 @@ impl ServiceTopics {
         Ok(Self {
             request: RawEndpointSpec {
                 dds_topic_name: name.to_dds_request_topic_name(avoid),
-                dds_type_name: S::Request::dds_type_name(),
-                type_hash: S::Request::type_hash(),
+                dds_type_name: request.0,
+                type_hash: request.1,
                 qos,
             },
             reply: RawEndpointSpec {
                 dds_topic_name: name.to_dds_reply_topic_name(avoid),
-                dds_type_name: S::Response::dds_type_name(),
-                type_hash: S::Response::type_hash(),
+                dds_type_name: response.0,
+                type_hash: response.1,
                 qos,
             },
             name,

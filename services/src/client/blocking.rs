@@ -8,6 +8,7 @@ use horus_ros_rmw::names::ServiceName;
 use horus_ros_rmw::qos::Qos;
 use horus_ros_rmw::{Gid, Node};
 
+use super::codec::Typed;
 use super::core::{ClientCore, ClientOptions};
 use super::pending::AsyncServiceClient;
 use crate::wire::WireFlavour;
@@ -75,7 +76,7 @@ impl<S: Service> ServiceClientBuilder<S> {
 
 /// Calls a service and waits for the reply.
 pub struct ServiceClient<S: Service> {
-    core: Arc<ClientCore<S>>,
+    core: Arc<ClientCore<Typed<S>>>,
 }
 
 impl<S: Service> std::fmt::Debug for ServiceClient<S> {
@@ -133,22 +134,7 @@ impl<S: Service> ServiceClient<S> {
         request: S::Request,
         timeout: Duration,
     ) -> Result<S::Response, ServiceError> {
-        let deadline = Instant::now() + timeout;
-        let server = self.core.wait_ready(deadline)?;
-        let key = self.core.send(&request, server, deadline)?;
-        loop {
-            self.core.drain_replies();
-            if let Some(result) = self.core.take_result(key) {
-                return result;
-            }
-            let now = Instant::now();
-            if now >= deadline {
-                self.core.forget(key);
-                return Err(ServiceError::Timeout);
-            }
-            self.core
-                .wait_for_replies((deadline - now).min(self.core.poll_interval));
-        }
+        self.core.call_blocking(&request, timeout)
     }
 
     /// Calls with retries on Timeout and Transport: 3 retries, backoff 10, 20, 40 ms; each

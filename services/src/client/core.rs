@@ -2,7 +2,6 @@
 //! wire convention, and routing replies to the calls waiting for them.
 
 use std::collections::HashMap;
-use std::marker::PhantomData;
 use std::sync::atomic::{AtomicI64, Ordering};
 use std::sync::{Condvar, Mutex, MutexGuard};
 use std::task::Waker;
@@ -13,9 +12,10 @@ use horus_ros_rmw::names::ServiceName;
 use horus_ros_rmw::qos::Qos;
 use horus_ros_rmw::{Gid, Node, RawReader, RawSample, RawWriter, SampleId};
 
+use super::codec::{Codec, Typed};
 use crate::naming::{default_service_name, ServiceTopics};
 use crate::runtime::Runtime;
-use crate::wire::{client_id, decode, encode, CycloneHeader, WireFlavour, HORUS_CLIENT_MARKER};
+use crate::wire::{client_id, decode, CycloneHeader, WireFlavour, HORUS_CLIENT_MARKER};
 use crate::{ServiceError, SetupError};
 
 /// rmw_cyclonedds numbers requests with one process-wide counter; so do we.
@@ -70,7 +70,8 @@ impl Default for ClientOptions {
     }
 }
 
-pub(crate) struct ClientCore<S: Service> {
+pub(crate) struct ClientCore<C: Codec> {
+    codec: C,
     runtime: Runtime,
     name: ServiceName,
     requests: Mutex<RawWriter>,
@@ -80,24 +81,40 @@ pub(crate) struct ClientCore<S: Service> {
     client_id: u64,
     flavour: Option<WireFlavour>,
     pub(crate) poll_interval: Duration,
-    pending: Mutex<HashMap<RequestKey, Slot<S::Response>>>,
+    pending: Mutex<HashMap<RequestKey, Slot<C::Response>>>,
     unsent_wakers: Mutex<Vec<Waker>>,
     pub(crate) completed: Condvar,
-    _service: PhantomData<fn() -> S>,
 }
 
 fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
     m.lock().unwrap_or_else(|p| p.into_inner())
 }
 
-impl<S: Service> ClientCore<S> {
+impl<S: Service> ClientCore<Typed<S>> {
+    /// A client of the compiled service type `S`.
     pub(crate) fn new(options: ClientOptions) -> Result<Self, SetupError> {
         let runtime = Runtime::for_service::<S>(options.node.as_ref())?;
-        let name = options.name.unwrap_or_else(default_service_name::<S>);
+        let name = options
+            .name
+            .clone()
+            .unwrap_or_else(default_service_name::<S>);
         let topics = ServiceTopics::resolve::<S>(&runtime.node, &name, &options.qos)?;
+        Self::with_codec(runtime, topics, Typed::default(), &options)
+    }
+}
+
+impl<C: Codec> ClientCore<C> {
+    /// A client on `topics` using `codec`.
+    pub(crate) fn with_codec(
+        runtime: Runtime,
+        topics: ServiceTopics,
+        codec: C,
+        options: &ClientOptions,
+    ) -> Result<Self, SetupError> {
         let requests = runtime.node.create_raw_writer(&topics.request)?;
         let replies = runtime.node.create_raw_reader(&topics.reply)?;
         Ok(Self {
+            codec,
             request_writer: requests.gid(),
             reply_reader: replies.gid(),
             client_id: client_id(requests.gid()),
@@ -110,8 +127,31 @@ impl<S: Service> ClientCore<S> {
             pending: Mutex::new(HashMap::new()),
             unsent_wakers: Mutex::new(Vec::new()),
             completed: Condvar::new(),
-            _service: PhantomData,
         })
+    }
+
+    /// Calls once, blocking: waits (within `timeout`) for a server, sends, waits for the reply,
+    /// taking replies off the reader itself.
+    pub(crate) fn call_blocking(
+        &self,
+        request: &C::Request,
+        timeout: Duration,
+    ) -> Result<C::Response, ServiceError> {
+        let deadline = Instant::now() + timeout;
+        let server = self.wait_ready(deadline)?;
+        let key = self.send(request, server, deadline)?;
+        loop {
+            self.drain_replies();
+            if let Some(result) = self.take_result(key) {
+                return result;
+            }
+            let now = Instant::now();
+            if now >= deadline {
+                self.forget(key);
+                return Err(ServiceError::Timeout);
+            }
+            self.wait_for_replies((deadline - now).min(self.poll_interval));
+        }
     }
 
     pub(crate) fn name(&self) -> &ServiceName {
@@ -130,7 +170,7 @@ impl<S: Service> ClientCore<S> {
             .read(|c| c.servers_info_by_service(self.name.as_str(), false))
             .unwrap_or_default()
             .into_iter()
-            .filter(|s| s.service_type == S::TYPE_NAME && s.endpoint_gids.len() == 2)
+            .filter(|s| s.service_type == self.codec.service_type() && s.endpoint_gids.len() == 2)
             .map(|s| (s.endpoint_gids[0], s.endpoint_gids[1]))
             .collect()
     }
@@ -140,7 +180,7 @@ impl<S: Service> ClientCore<S> {
         self.runtime.graph.read(|c| {
             c.service_names_and_types(true)
                 .get(self.name.as_str())
-                .is_some_and(|types| types.contains(S::TYPE_NAME))
+                .is_some_and(|types| types.contains(self.codec.service_type()))
                 && c.count_services(self.name.as_str()) > 0
         })
     }
@@ -200,11 +240,11 @@ impl<S: Service> ClientCore<S> {
     /// Sends `request` in the server's convention and registers the slot its reply goes to.
     pub(crate) fn send(
         &self,
-        request: &S::Request,
+        request: &C::Request,
         server: ReadyServer,
         deadline: Instant,
     ) -> Result<RequestKey, ServiceError> {
-        let body = encode(request)?;
+        let body = self.codec.encode(request)?;
         // The pending lock is held while writing, so a reply cannot be routed before its slot exists.
         let mut pending = lock(&self.pending);
         let requests = lock(&self.requests);
@@ -292,7 +332,7 @@ impl<S: Service> ClientCore<S> {
                         flavour: WireFlavour::FastRtps,
                         sequence: related.sequence_number,
                     };
-                    (key, decode::<S::Response>(&sample.body, sample.big_endian))
+                    (key, self.codec.decode(&sample.body, sample.big_endian))
                 }
             }
             None => {
@@ -308,7 +348,7 @@ impl<S: Service> ClientCore<S> {
                     flavour: WireFlavour::CycloneDds,
                     sequence: header.seq,
                 };
-                (key, decode::<S::Response>(message, sample.big_endian))
+                (key, self.codec.decode(message, sample.big_endian))
             }
         };
         let mut pending = lock(&self.pending);
@@ -325,7 +365,7 @@ impl<S: Service> ClientCore<S> {
     }
 
     /// The result of `key` if it is in, removing its slot.
-    pub(crate) fn take_result(&self, key: RequestKey) -> Option<Result<S::Response, ServiceError>> {
+    pub(crate) fn take_result(&self, key: RequestKey) -> Option<Result<C::Response, ServiceError>> {
         let mut pending = lock(&self.pending);
         let done = pending.get(&key).is_some_and(|s| s.result.is_some());
         if done {

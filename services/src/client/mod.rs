@@ -2,8 +2,12 @@
 //! [`PendingResponse`] futures).
 
 mod blocking;
+mod codec;
 pub(crate) mod core;
+mod dynamic;
 mod pending;
 
 pub use blocking::{ServiceClient, ServiceClientBuilder};
+pub use codec::RawReply;
+pub use dynamic::{DynamicPart, DynamicServiceClient, DynamicServiceClientBuilder};
 pub use pending::{AsyncServiceClient, PendingResponse};

@@ -11,6 +11,7 @@ use std::time::{Duration, Instant};
 use horus_ros_msgs::Service;
 use horus_ros_rmw::names::ServiceName;
 
+use super::codec::Typed;
 use super::core::{ClientCore, RequestKey};
 use super::ServiceClientBuilder;
 use crate::{ServiceError, SetupError};
@@ -21,7 +22,7 @@ const TICK: Duration = Duration::from_millis(10);
 /// Calls a service without blocking: each call returns a [`PendingResponse`] to check, wait on,
 /// or `.await`. A background thread receives the replies.
 pub struct AsyncServiceClient<S: Service> {
-    core: Arc<ClientCore<S>>,
+    core: Arc<ClientCore<Typed<S>>>,
     stop: Arc<AtomicBool>,
     pump: Option<JoinHandle<()>>,
 }
@@ -45,7 +46,7 @@ impl<S: Service> AsyncServiceClient<S> {
         ServiceClientBuilder::default()
     }
 
-    pub(crate) fn from_core(core: ClientCore<S>) -> Result<Self, SetupError> {
+    pub(crate) fn from_core(core: ClientCore<Typed<S>>) -> Result<Self, SetupError> {
         let core = Arc::new(core);
         let stop = Arc::new(AtomicBool::new(false));
         let pump = {
@@ -106,7 +107,7 @@ enum State<S: Service> {
 /// One call of an [`AsyncServiceClient`]: check it, wait for it, or `.await` it (any executor).
 /// Dropping it abandons the call; a late reply is then dropped.
 pub struct PendingResponse<S: Service> {
-    core: Arc<ClientCore<S>>,
+    core: Arc<ClientCore<Typed<S>>>,
     deadline: Instant,
     state: State<S>,
 }
