@@ -1,27 +1,77 @@
-//! `horus-ros`: the ROS 2 graph from the shell.
+//! `horus-ros`: the ROS 2 graph from the shell — ros2cli's service, node and topic verbs with
+//! the same output, plus what ros2cli lacks (`service info -v` on Jazzy graphs, `graph --watch`,
+//! `--json` everywhere, service calls without the package installed).
 
+mod dynamic;
+mod error;
+mod session;
 mod verb;
 
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
+use error::CliError;
+
+const EXAMPLES: &str = "\
+Examples:
+  horus-ros service list -t
+  horus-ros service info /add_two_ints -v
+  horus-ros service call /add_two_ints example_interfaces/srv/AddTwoInts '{a: 2, b: 3}'
+  horus-ros node list
+  horus-ros node info /talker
+  horus-ros topic info /chatter -v
+  horus-ros graph --watch
+  horus-ros --json service list
+
+Every command joins the DDS domain (ROS_DOMAIN_ID, or --domain-id) as a hidden node and waits up
+to --spin-time seconds for discovery. Logs: RUST_LOG=debug.";
+
 /// horus-ros: join a ROS 2 (Jazzy) graph over DDS and work with it from the shell.
 #[derive(Debug, Parser)]
-#[command(name = "horus-ros", version, about, long_about = None)]
-struct Cli {
-    /// DDS domain to join (default: ROS_DOMAIN_ID, else 0).
-    #[arg(long, global = true, value_name = "ID")]
-    domain_id: Option<u32>,
+#[command(name = "horus-ros", version, about, after_help = EXAMPLES)]
+pub struct Cli {
+    #[command(flatten)]
+    global: Global,
 
     #[command(subcommand)]
     command: Command,
 }
 
+/// Options every command takes.
+#[derive(Debug, Clone, clap::Args)]
+pub struct Global {
+    /// DDS domain to join (default: ROS_DOMAIN_ID, else 0).
+    #[arg(long, global = true, value_name = "ID")]
+    pub domain_id: Option<u32>,
+
+    /// Longest wait for discovery, in seconds (as ros2cli's --spin-time; we stop earlier once
+    /// the graph is quiet).
+    #[arg(long, global = true, value_name = "SECONDS", default_value_t = 0.5)]
+    pub spin_time: f64,
+
+    /// Print the result as JSON (query commands).
+    #[arg(long, global = true)]
+    pub json: bool,
+}
+
 #[derive(Debug, Subcommand)]
 enum Command {
-    /// Start a node, show what it announces on ros_discovery_info, and exit.
+    /// Inspect and call services.
+    #[command(subcommand)]
+    Service(verb::service::ServiceCommand),
+    /// Inspect nodes.
+    #[command(subcommand)]
+    Node(verb::node::NodeCommand),
+    /// Inspect topics.
+    #[command(subcommand)]
+    Topic(verb::topic::TopicCommand),
+    /// The whole graph in one document, or a live diff of it.
+    Graph(verb::graph::GraphArgs),
+    /// Start an add_two_ints server node, show `service info -v` for it and call it once.
     Demo(verb::demo::DemoArgs),
+    /// Print a shell completion script.
+    Completions(verb::completions::CompletionsArgs),
 }
 
 fn main() -> ExitCode {
@@ -34,13 +84,20 @@ fn main() -> ExitCode {
         .init();
     let cli = Cli::parse();
     let result = match cli.command {
-        Command::Demo(args) => verb::demo::run(cli.domain_id, &args),
+        Command::Service(c) => verb::service::run(&cli.global, c),
+        Command::Node(c) => verb::node::run(&cli.global, c),
+        Command::Topic(c) => verb::topic::run(&cli.global, c),
+        Command::Graph(args) => verb::graph::run(&cli.global, &args),
+        Command::Demo(args) => verb::demo::run(&cli.global, &args),
+        Command::Completions(args) => verb::completions::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
-        Err(message) => {
-            eprintln!("{message}");
-            ExitCode::FAILURE
+        Err(e) => {
+            if !e.message.is_empty() {
+                eprintln!("{}", e.message);
+            }
+            ExitCode::from(e.code)
         }
     }
 }

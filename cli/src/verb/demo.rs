@@ -1,68 +1,66 @@
-//! `horus-ros demo`: the README's main job.
+//! `horus-ros demo`: the README's main job — an add_two_ints server node started in this
+//! process, what `service info -v` shows for it, and one call, as a newcomer would try by hand.
 
-use horus_ros_msgs::builtin_interfaces::msg::Time;
-use horus_ros_msgs::Message;
-use horus_ros_rmw::{qos::Qos, Context};
+use std::time::Duration;
+
+use horus_ros_services::prelude::*;
+
+use crate::session::Session;
+use crate::verb::service::info;
+use crate::{CliError, Global};
 
 /// Arguments of `horus-ros demo`.
 #[derive(Debug, clap::Args)]
 pub struct DemoArgs {
-    /// Name of the node to start.
-    #[arg(long, default_value = "horus_demo")]
-    pub node_name: String,
-    /// Namespace of the node.
-    #[arg(long, default_value = "/")]
-    pub namespace: String,
-    /// How long to stay on the graph after printing, so peers can discover the node (ms).
-    #[arg(long, default_value_t = 500)]
-    pub linger_ms: u64,
+    /// First addend.
+    #[arg(default_value_t = 2, allow_negative_numbers = true)]
+    pub a: i64,
+    /// Second addend.
+    #[arg(default_value_t = 3, allow_negative_numbers = true)]
+    pub b: i64,
 }
 
-/// Starts a node with a publisher and a subscription, prints what its participant announces on
-/// `ros_discovery_info`, and exits.
-pub fn run(domain_id: Option<u32>, args: &DemoArgs) -> Result<(), String> {
-    let mut builder = Context::builder();
-    if let Some(d) = domain_id {
-        builder = builder.domain_id(d);
+/// Starts the server, shows it, calls it.
+pub fn run(global: &Global, args: &DemoArgs) -> Result<(), CliError> {
+    let session = Session::join(global)?;
+    let server_node = session.context.create_node("add_two_ints_server", "/")?;
+    let _server = ServiceServerBuilder::<AddTwoInts>::new()
+        .node(&server_node)
+        .name("add_two_ints")
+        .on_request(|req| Ok(AddTwoIntsResponse { sum: req.a + req.b }))
+        .build()?;
+    let client_node = session.context.create_node("add_two_ints_client", "/")?;
+    let mut client = ServiceClient::<AddTwoInts>::builder()
+        .node(&client_node)
+        .name("add_two_ints")
+        .build()?;
+    if !client.wait_for_service(Duration::from_secs(10)) {
+        return Err(CliError::new(
+            "the demo's add_two_ints server did not come up within 10 s",
+        ));
     }
-    let context = builder.build().map_err(|e| e.to_string())?;
-    let node = context
-        .create_node(&args.node_name, &args.namespace)
-        .map_err(|e| e.to_string())?;
-    let qos = Qos::default();
-    let publisher = node
-        .create_publisher::<Time>("~/clock", &qos)
-        .map_err(|e| e.to_string())?;
-    let subscription = node
-        .create_subscription::<Time>("~/clock", &qos)
-        .map_err(|e| e.to_string())?;
-    let info = context.announced_entities();
-    println!("domain: {}", context.domain_id());
-    println!("discovery range: {}", context.discovery_options().range);
-    println!("node: {}", node.fully_qualified_name());
+    println!("$ horus-ros service info /add_two_ints -v");
+    print!("{}", info::render(&session, "/add_two_ints", true)?);
+    println!();
+    println!("$ horus-ros service call /add_two_ints example_interfaces/srv/AddTwoInts '{{a: {}, b: {}}}'", args.a, args.b);
     println!(
-        "publisher:    {} [{}] gid {}",
-        publisher.topic_name(),
-        Time::TYPE_NAME,
-        publisher.gid()
+        "requester: making request: example_interfaces.srv.AddTwoInts_Request(a={}, b={})",
+        args.a, args.b
     );
+    println!();
+    let reply = client
+        .call(
+            AddTwoIntsRequest {
+                a: args.a,
+                b: args.b,
+            },
+            Duration::from_secs(5),
+        )
+        .map_err(|e| CliError::new(format!("the demo call failed: {e}")))?;
+    println!("response:");
     println!(
-        "subscription: {} [{}] gid {}",
-        subscription.topic_name(),
-        Time::TYPE_NAME,
-        subscription.gid()
+        "example_interfaces.srv.AddTwoInts_Response(sum={})",
+        reply.sum
     );
-    println!("type hash of {}: {}", Time::TYPE_NAME, Time::type_hash());
-    println!("ros_discovery_info from participant {}:", info.gid);
-    for n in &info.node_entities_info_seq {
-        println!("  node {} in namespace {}", n.node_name, n.node_namespace);
-        for g in &n.reader_gid_seq {
-            println!("    reader {g}");
-        }
-        for g in &n.writer_gid_seq {
-            println!("    writer {g}");
-        }
-    }
-    std::thread::sleep(std::time::Duration::from_millis(args.linger_ms));
     Ok(())
 }

@@ -1,3 +1,9 @@
 //! One module per verb, as ros2cli keeps one file per verb.
 
+pub mod completions;
 pub mod demo;
+pub mod graph;
+pub mod names;
+pub mod node;
+pub mod service;
+pub mod topic;

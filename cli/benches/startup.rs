@@ -1,0 +1,319 @@
+//! Startup-to-answer time of `horus-ros service list` on a warm graph, against ros2cli's
+//! documented default (`--spin-time 0.5` s of discovery wait, plus starting Python).
+//!
+//! Joins DDS domain 139, so it must run inside the private network namespace:
+//!
+//! ```text
+//! cargo bench -p horus-ros-cli --bench startup --no-run
+//! scripts/isolated cargo bench -p horus-ros-cli --bench startup
+//! ```
+//!
+//! It refuses to run where a network interface other than loopback is up. The warm graph is
+//! a child process (this bench re-run): one context with four nodes (three AddTwoInts servers
+//! and a publisher). Each
+//! run is timed end to end, from spawning the release binary to its exit, and its stdout is
+//! checked against the services the graph has. `HORUS_ROS_BENCH_RUNS` sets the number of runs
+//! (default 30); `HORUS_ROS_BENCH_DEBUG=1` prints the first wrong answer of each series.
+//!
+//! The warm graph is deliberately another process: held in this process (which spawns the CLI
+//! runs), the CLI's participants were, in most bench runs, not discovered at all (empty
+//! answers after 190 ms) — an anomaly of that setup, not what a user meets.
+
+use std::io::{BufRead, BufReader, Read, Write};
+use std::path::Path;
+use std::process::{Child, Command, ExitCode, Stdio};
+use std::time::{Duration, Instant};
+
+use horus_ros_msgs::builtin_interfaces::msg::Time;
+use horus_ros_rmw::qos::Qos;
+use horus_ros_services::prelude::*;
+
+const DOMAIN: u32 = 139;
+const SERVICES: [&str; 3] = ["/bench/add_a", "/bench/add_b", "/bench/add_c"];
+/// ros2cli's documented default `--spin-time` (ros2cli `node/strategy.py`, `DirectNode`).
+const ROS2CLI_SPIN_TIME: Duration = Duration::from_millis(500);
+/// The issue's goal for `service list`'s startup-to-answer time on a warm graph.
+const GOAL: Duration = Duration::from_millis(300);
+
+/// Network interfaces other than `lo` that are up: none inside `scripts/isolated`'s namespace.
+fn interfaces_up() -> Vec<String> {
+    let Ok(entries) = std::fs::read_dir("/sys/class/net") else {
+        // No sysfs view of the network: cannot tell, so refuse.
+        return vec!["(cannot read /sys/class/net)".to_owned()];
+    };
+    let mut up = Vec::new();
+    for entry in entries.flatten() {
+        let name = entry.file_name().to_string_lossy().into_owned();
+        if name == "lo" {
+            continue;
+        }
+        let flags = std::fs::read_to_string(entry.path().join("flags")).unwrap_or_default();
+        let flags = u32::from_str_radix(flags.trim().trim_start_matches("0x"), 16).unwrap_or(1);
+        // IFF_UP
+        if flags & 0x1 != 0 {
+            up.push(name);
+        }
+    }
+    up
+}
+
+/// Times in a sorted list.
+struct Stats(Vec<Duration>);
+
+impl Stats {
+    fn new(mut times: Vec<Duration>) -> Self {
+        times.sort();
+        Self(times)
+    }
+
+    /// The nearest-rank percentile `p` (0-100).
+    fn percentile(&self, p: usize) -> Duration {
+        if self.0.is_empty() {
+            return Duration::ZERO;
+        }
+        let rank = (p * self.0.len()).div_ceil(100).max(1);
+        self.0[rank - 1]
+    }
+
+    fn median(&self) -> Duration {
+        self.percentile(50)
+    }
+
+    fn line(&self) -> String {
+        format!(
+            "median {:>6.1} ms  p90 {:>6.1} ms  min {:>6.1} ms  max {:>6.1} ms",
+            ms(self.median()),
+            ms(self.percentile(90)),
+            ms(self.0.first().copied().unwrap_or_default()),
+            ms(self.0.last().copied().unwrap_or_default()),
+        )
+    }
+}
+
+fn ms(d: Duration) -> f64 {
+    d.as_secs_f64() * 1000.0
+}
+
+/// Runs `program args` `runs` times; the time of each run and how many printed `expected`
+/// (any output counts when `expected` is `None`) and exited 0.
+fn time_runs(program: &Path, args: &[&str], runs: usize, expected: Option<&str>) -> (Stats, usize) {
+    let mut times = Vec::with_capacity(runs);
+    let mut correct = 0;
+    for _ in 0..runs {
+        let start = Instant::now();
+        let out = Command::new(program)
+            .args(args)
+            .stdin(Stdio::null())
+            .stderr(Stdio::null())
+            .output();
+        times.push(start.elapsed());
+        if let Ok(out) = out {
+            let stdout = String::from_utf8_lossy(&out.stdout);
+            let ok = out.status.success() && expected.is_none_or(|e| stdout == e);
+            if !ok && correct == 0 && std::env::var_os("HORUS_ROS_BENCH_DEBUG").is_some() {
+                eprintln!("wrong answer ({}): {stdout:?}", out.status);
+            }
+            correct += usize::from(ok);
+        }
+    }
+    (Stats::new(times), correct)
+}
+
+/// Set in the environment of the bench's own child process that holds the warm graph.
+const WARM_GRAPH_ENV: &str = "HORUS_ROS_BENCH_WARM_GRAPH";
+
+/// The warm graph's process: the bench binary itself, re-run with [`WARM_GRAPH_ENV`].
+struct WarmGraph {
+    child: Child,
+}
+
+impl WarmGraph {
+    /// Starts it and waits until its nodes, servers and publisher exist.
+    fn start() -> std::io::Result<Self> {
+        let mut child = Command::new(std::env::current_exe()?)
+            .env(WARM_GRAPH_ENV, "1")
+            .stdin(Stdio::piped())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::inherit())
+            .spawn()?;
+        let mut line = String::new();
+        if let Some(stdout) = child.stdout.take() {
+            BufReader::new(stdout).read_line(&mut line)?;
+        }
+        if line.trim() != "ready" {
+            let _ = child.kill();
+            let _ = child.wait();
+            return Err(std::io::Error::other(
+                "the warm graph process did not start",
+            ));
+        }
+        Ok(Self { child })
+    }
+
+    /// Closes its stdin (it leaves cleanly) and waits for it.
+    fn stop(&mut self) {
+        drop(self.child.stdin.take());
+        let _ = self.child.wait();
+    }
+
+    /// The child's side: one context with four nodes (three AddTwoInts servers and a publisher),
+    /// kept until stdin closes.
+    fn serve() -> ExitCode {
+        let context = match Context::builder().domain_id(DOMAIN).build() {
+            Ok(c) => c,
+            Err(e) => {
+                eprintln!("startup bench: no context: {e}");
+                return ExitCode::FAILURE;
+            }
+        };
+        let mut servers = Vec::new();
+        let mut nodes = Vec::new();
+        for (i, service) in SERVICES.iter().enumerate() {
+            let node = context
+                .create_node(&format!("bench_server_{i}"), "/bench")
+                .expect("node");
+            let server = ServiceServerBuilder::<AddTwoInts>::new()
+                .node(&node)
+                .name(*service)
+                .on_request(|r| Ok(AddTwoIntsResponse { sum: r.a + r.b }))
+                .build()
+                .expect("server");
+            servers.push(server);
+            nodes.push(node);
+        }
+        let talker = context.create_node("bench_talker", "/bench").expect("node");
+        let _publisher = talker
+            .create_publisher::<Time>("chatter", &Qos::default())
+            .expect("publisher");
+        println!("ready");
+        let _ = std::io::stdout().flush();
+        let _ = std::io::stdin().read_to_end(&mut Vec::new());
+        drop(servers);
+        ExitCode::SUCCESS
+    }
+}
+
+impl Drop for WarmGraph {
+    fn drop(&mut self) {
+        if matches!(self.child.try_wait(), Ok(None)) {
+            let _ = self.child.kill();
+            let _ = self.child.wait();
+        }
+    }
+}
+
+fn main() -> ExitCode {
+    if std::env::var_os(WARM_GRAPH_ENV).is_some() {
+        return WarmGraph::serve();
+    }
+    let up = interfaces_up();
+    if !up.is_empty() {
+        eprintln!(
+            "startup bench: refusing to join DDS with network interfaces up ({}). Run it inside \
+             the private namespace:\n  cargo bench -p horus-ros-cli --bench startup --no-run\n  \
+             scripts/isolated cargo bench -p horus-ros-cli --bench startup",
+            up.join(", ")
+        );
+        return ExitCode::from(2);
+    }
+    let runs: usize = std::env::var("HORUS_ROS_BENCH_RUNS")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(30)
+        .max(1);
+    let bin = Path::new(env!("CARGO_BIN_EXE_horus-ros"));
+
+    // The warm graph, up before the first run.
+    let mut warm = match WarmGraph::start() {
+        Ok(w) => w,
+        Err(e) => {
+            eprintln!("startup bench: could not start the warm graph: {e}");
+            return ExitCode::FAILURE;
+        }
+    };
+    let expected: String = SERVICES.iter().map(|s| format!("{s}\n")).collect();
+    let domain = DOMAIN.to_string();
+    let list = ["--domain-id", domain.as_str(), "service", "list"];
+
+    // Warm: wait until a run sees the whole graph (at most 20 s).
+    let deadline = Instant::now() + Duration::from_secs(20);
+    loop {
+        if time_runs(bin, &list, 1, Some(&expected)).1 == 1 {
+            break;
+        }
+        if Instant::now() >= deadline {
+            eprintln!("startup bench: `horus-ros service list` never showed the warm graph");
+            return ExitCode::FAILURE;
+        }
+    }
+
+    println!(
+        "startup bench: `horus-ros service list` on a warm graph (domain {DOMAIN}: 4 nodes, \
+         3 services, 1 topic), {runs} runs each, release build, end to end (spawn → exit)"
+    );
+    let (start_only, _) = time_runs(bin, &["--version"], runs, None);
+    println!(
+        "  process start only   (`horus-ros --version`):            {}",
+        start_only.line()
+    );
+    let no_wait_args = [
+        "--domain-id",
+        domain.as_str(),
+        "--spin-time",
+        "0",
+        "service",
+        "list",
+    ];
+    let (no_wait, no_wait_ok) = time_runs(bin, &no_wait_args, runs, Some(&expected));
+    println!(
+        "  join, no wait        (`service list --spin-time 0`):     {}  complete answers {no_wait_ok}/{runs}",
+        no_wait.line()
+    );
+    let (list_stats, list_ok) = time_runs(bin, &list, runs, Some(&expected));
+    println!(
+        "  service list         (default --spin-time 0.5):          {}  correct answers {list_ok}/{runs}",
+        list_stats.line()
+    );
+    let python = time_runs(Path::new("python3"), &["-c", "import sys"], runs, None);
+    let python_median = if python.1 == runs {
+        println!(
+            "  bare Python start    (`python3 -c 'import sys'`):        {}",
+            python.0.line()
+        );
+        Some(python.0.median())
+    } else {
+        println!(
+            "  bare Python start: python3 did not run ({}/{runs} runs ok)",
+            python.1
+        );
+        None
+    };
+
+    let median = list_stats.median();
+    println!(
+        "  of which discovery wait (median service list − median --spin-time 0): {:.1} ms",
+        ms(median.saturating_sub(no_wait.median()))
+    );
+    match python_median {
+        Some(p) => println!(
+            "ros2cli reference (`ros2 service list`, no daemon): documented --spin-time 0.5 s + \
+             bare Python start {:.1} ms = {:.1} ms — a lower bound: its rclpy/ros2cli imports \
+             and node creation come on top and are not measured here (no ROS 2 on this machine)",
+            ms(p),
+            ms(ROS2CLI_SPIN_TIME + p)
+        ),
+        None => println!(
+            "ros2cli reference (`ros2 service list`, no daemon): documented --spin-time 0.5 s \
+             + Python start (not measured: no python3)"
+        ),
+    }
+    let met = median < GOAL && list_ok == runs;
+    println!(
+        "goal: < 300 ms — {} (median {:.1} ms, p90 {:.1} ms, {list_ok}/{runs} answers correct)",
+        if met { "MET" } else { "NOT MET" },
+        ms(median),
+        ms(list_stats.percentile(90)),
+    );
+    warm.stop();
+    ExitCode::SUCCESS
+}

@@ -1,0 +1,385 @@
+//! Plain CDR (XCDR1) bodies of dynamic values, as rmw_fastrtps_cpp and rmw_cyclonedds_cpp write
+//! them: primitives aligned to their size relative to the body start, `bool`/`byte`/`char` one
+//! byte, strings as `uint32` length (with the NUL) + bytes + NUL, sequences as `uint32` count +
+//! elements, arrays as their elements, nested structs inline. `wchar` / `wstring` follow
+//! rmw_cyclonedds (16-bit units; `wstring` length in units, no terminator).
+
+use super::{Container, Elem, Schema, Value};
+
+/// Encodes a struct value of type `type_name` as a little-endian body.
+pub fn encode(schema: &Schema, type_name: &str, value: &Value) -> Result<Vec<u8>, String> {
+    let mut w = Writer { out: Vec::new() };
+    w.strukt(schema, type_name, value)?;
+    Ok(w.out)
+}
+
+/// Decodes a body (in either byte order) as a struct of type `type_name`. Trailing bytes
+/// (padding) are ignored.
+pub fn decode(
+    schema: &Schema,
+    type_name: &str,
+    body: &[u8],
+    big_endian: bool,
+) -> Result<Value, String> {
+    let mut r = Reader {
+        body,
+        pos: 0,
+        big_endian,
+    };
+    r.strukt(schema, type_name)
+}
+
+struct Writer {
+    out: Vec<u8>,
+}
+
+fn mismatch(what: &str) -> String {
+    format!("value does not fit its field type ({what})")
+}
+
+impl Writer {
+    fn align(&mut self, n: usize) {
+        while !self.out.len().is_multiple_of(n) {
+            self.out.push(0);
+        }
+    }
+
+    fn put(&mut self, bytes: &[u8]) {
+        self.align(bytes.len().min(8));
+        self.out.extend_from_slice(bytes);
+    }
+
+    fn strukt(&mut self, schema: &Schema, name: &str, v: &Value) -> Result<(), String> {
+        let s = schema.get(name).map_err(|e| e.to_string())?;
+        let Value::Struct(fields) = v else {
+            return Err(mismatch(name));
+        };
+        if fields.len() != s.members.len() {
+            return Err(mismatch(name));
+        }
+        for (m, f) in s.members.iter().zip(fields) {
+            match m.ty.container {
+                Container::Single => self.elem(schema, &m.ty.elem, f)?,
+                Container::Array(n) => {
+                    let Value::List(items) = f else {
+                        return Err(mismatch(&m.name));
+                    };
+                    if items.len() != n {
+                        return Err(mismatch(&m.name));
+                    }
+                    for i in items {
+                        self.elem(schema, &m.ty.elem, i)?;
+                    }
+                }
+                Container::Sequence(bound) => {
+                    let Value::List(items) = f else {
+                        return Err(mismatch(&m.name));
+                    };
+                    if bound.is_some_and(|b| items.len() > b) {
+                        return Err(mismatch(&m.name));
+                    }
+                    let n = u32::try_from(items.len()).map_err(|_| mismatch(&m.name))?;
+                    self.put(&n.to_le_bytes());
+                    for i in items {
+                        self.elem(schema, &m.ty.elem, i)?;
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+
+    fn elem(&mut self, schema: &Schema, e: &Elem, v: &Value) -> Result<(), String> {
+        match (e, v) {
+            (Elem::Nested(n), v) => self.strukt(schema, n, v)?,
+            (Elem::Bool, Value::Bool(b)) => self.out.push(u8::from(*b)),
+            (Elem::Byte, Value::Byte(b)) => self.out.push(*b),
+            (Elem::Char, Value::Str(s)) => {
+                let c = s.chars().next().map_or(0, u32::from);
+                self.out
+                    .push(u8::try_from(c).map_err(|_| mismatch("char"))?);
+            }
+            (Elem::WChar, Value::Str(s)) => {
+                let c = s.encode_utf16().next().unwrap_or(0);
+                self.put(&c.to_le_bytes());
+            }
+            (Elem::Int { bits, signed }, Value::Int(i)) => {
+                let bytes = (*i).to_le_bytes();
+                let n = (*bits / 8) as usize;
+                let (lo, hi) = if *signed {
+                    (-(1i128 << (bits - 1)), (1i128 << (bits - 1)) - 1)
+                } else {
+                    (0, (1i128 << bits) - 1)
+                };
+                if *i < lo || *i > hi {
+                    return Err(mismatch("integer out of range"));
+                }
+                self.put(&bytes[..n]);
+            }
+            (Elem::F32, Value::Float(f)) => self.put(&(*f as f32).to_le_bytes()),
+            (Elem::F64, Value::Float(f)) => self.put(&f.to_le_bytes()),
+            (Elem::LongDouble, _) => return Err("long double fields are not supported".to_owned()),
+            (Elem::Str(_), Value::Str(s)) => {
+                if s.contains('\0') {
+                    return Err(mismatch("string with a NUL"));
+                }
+                let n = u32::try_from(s.len() + 1).map_err(|_| mismatch("string"))?;
+                self.put(&n.to_le_bytes());
+                self.out.extend_from_slice(s.as_bytes());
+                self.out.push(0);
+            }
+            (Elem::WStr(_), Value::Str(s)) => {
+                let units: Vec<u16> = s.encode_utf16().collect();
+                let n = u32::try_from(units.len()).map_err(|_| mismatch("wstring"))?;
+                self.put(&n.to_le_bytes());
+                for u in units {
+                    self.out.extend_from_slice(&u.to_le_bytes());
+                }
+            }
+            (e, _) => return Err(mismatch(&format!("{e:?}"))),
+        }
+        Ok(())
+    }
+}
+
+struct Reader<'a> {
+    body: &'a [u8],
+    pos: usize,
+    big_endian: bool,
+}
+
+impl Reader<'_> {
+    fn take<const N: usize>(&mut self) -> Result<[u8; N], String> {
+        let align = N.min(8);
+        let start = self.pos.div_ceil(align) * align;
+        let end = start + N;
+        let bytes = self
+            .body
+            .get(start..end)
+            .ok_or_else(|| format!("reply body truncated at byte {start}"))?;
+        self.pos = end;
+        let mut out = [0u8; N];
+        out.copy_from_slice(bytes);
+        if self.big_endian {
+            out.reverse();
+        }
+        Ok(out)
+    }
+
+    fn u32(&mut self) -> Result<u32, String> {
+        Ok(u32::from_le_bytes(self.take::<4>()?))
+    }
+
+    fn raw(&mut self, n: usize) -> Result<&[u8], String> {
+        let end = self
+            .pos
+            .checked_add(n)
+            .filter(|e| *e <= self.body.len())
+            .ok_or_else(|| format!("reply body truncated at byte {}", self.pos))?;
+        let s = &self.body[self.pos..end];
+        self.pos = end;
+        Ok(s)
+    }
+
+    fn strukt(&mut self, schema: &Schema, name: &str) -> Result<Value, String> {
+        let s = schema.get(name).map_err(|e| e.to_string())?;
+        let mut fields = Vec::with_capacity(s.members.len());
+        for m in &s.members {
+            let v = match m.ty.container {
+                Container::Single => self.elem(schema, &m.ty.elem)?,
+                Container::Array(n) => Value::List(
+                    (0..n)
+                        .map(|_| self.elem(schema, &m.ty.elem))
+                        .collect::<Result<_, _>>()?,
+                ),
+                Container::Sequence(bound) => {
+                    let n = self.u32()? as usize;
+                    if bound.is_some_and(|b| n > b) || n > self.body.len() {
+                        return Err(format!("field '{}': sequence of {n} elements", m.name));
+                    }
+                    Value::List(
+                        (0..n)
+                            .map(|_| self.elem(schema, &m.ty.elem))
+                            .collect::<Result<_, _>>()?,
+                    )
+                }
+            };
+            fields.push(v);
+        }
+        Ok(Value::Struct(fields))
+    }
+
+    fn elem(&mut self, schema: &Schema, e: &Elem) -> Result<Value, String> {
+        Ok(match e {
+            Elem::Nested(n) => self.strukt(schema, n)?,
+            Elem::Bool => Value::Bool(self.take::<1>()?[0] != 0),
+            Elem::Byte => Value::Byte(self.take::<1>()?[0]),
+            Elem::Char => Value::Str(char::from(self.take::<1>()?[0]).to_string()),
+            Elem::WChar => {
+                let u = u16::from_le_bytes(self.take::<2>()?);
+                Value::Str(String::from_utf16_lossy(&[u]))
+            }
+            Elem::Int { bits, signed } => {
+                let i: i128 = match (bits, signed) {
+                    (8, true) => i128::from(i8::from_le_bytes(self.take::<1>()?)),
+                    (8, false) => i128::from(self.take::<1>()?[0]),
+                    (16, true) => i128::from(i16::from_le_bytes(self.take::<2>()?)),
+                    (16, false) => i128::from(u16::from_le_bytes(self.take::<2>()?)),
+                    (32, true) => i128::from(i32::from_le_bytes(self.take::<4>()?)),
+                    (32, false) => i128::from(u32::from_le_bytes(self.take::<4>()?)),
+                    (64, true) => i128::from(i64::from_le_bytes(self.take::<8>()?)),
+                    _ => i128::from(u64::from_le_bytes(self.take::<8>()?)),
+                };
+                Value::Int(i)
+            }
+            Elem::F32 => Value::Float(f64::from(f32::from_le_bytes(self.take::<4>()?))),
+            Elem::F64 => Value::Float(f64::from_le_bytes(self.take::<8>()?)),
+            Elem::LongDouble => return Err("long double fields are not supported".to_owned()),
+            Elem::Str(_) => {
+                let n = self.u32()? as usize;
+                let bytes = self.raw(n)?;
+                let bytes = bytes.strip_suffix(&[0]).unwrap_or(bytes);
+                Value::Str(String::from_utf8_lossy(bytes).into_owned())
+            }
+            Elem::WStr(_) => {
+                let n = self.u32()? as usize;
+                let units = (0..n)
+                    .map(|_| self.take::<2>().map(u16::from_le_bytes))
+                    .collect::<Result<Vec<u16>, _>>()?;
+                Value::Str(String::from_utf16_lossy(&units))
+            }
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::yaml::fill_from_yaml;
+    use super::*;
+    use horus_ros_msgs::cdr::{from_cdr_body, to_cdr_body};
+    use horus_ros_msgs::example_interfaces::srv::{AddTwoInts, AddTwoIntsRequest};
+    use horus_ros_msgs::rcl_interfaces::msg::{Parameter, ParameterValue};
+    use horus_ros_msgs::rcl_interfaces::srv::{SetParameters, SetParametersRequest};
+    use horus_ros_msgs::std_srvs::srv::{SetBool, SetBoolRequest, SetBoolResponse};
+    use horus_ros_msgs::type_description_interfaces::srv::{
+        GetTypeDescription, GetTypeDescriptionResponse,
+    };
+    use horus_ros_msgs::{Byte, Message, Service};
+
+    fn schema_of<S: Service>() -> Schema {
+        Schema::from_description(&S::type_description()).expect("schema")
+    }
+
+    #[test]
+    fn add_two_ints_encodes_like_serde() {
+        let schema = schema_of::<AddTwoInts>();
+        let v =
+            fill_from_yaml(&schema, AddTwoIntsRequest::TYPE_NAME, "{a: 2, b: -3}").expect("fill");
+        let ours = encode(&schema, AddTwoIntsRequest::TYPE_NAME, &v).expect("encode");
+        let serde = to_cdr_body(&AddTwoIntsRequest { a: 2, b: -3 }).expect("serde");
+        assert_eq!(ours, serde);
+        assert_eq!(
+            decode(&schema, AddTwoIntsRequest::TYPE_NAME, &ours, false).expect("decode"),
+            v
+        );
+    }
+
+    #[test]
+    fn set_bool_encodes_like_serde_and_decodes_its_response() {
+        let schema = schema_of::<SetBool>();
+        let v = fill_from_yaml(&schema, SetBoolRequest::TYPE_NAME, "data: true").expect("fill");
+        let ours = encode(&schema, SetBoolRequest::TYPE_NAME, &v).expect("encode");
+        assert_eq!(
+            ours,
+            to_cdr_body(&SetBoolRequest { data: true }).expect("serde")
+        );
+        let resp = to_cdr_body(&SetBoolResponse {
+            success: true,
+            message: "héllo".into(),
+        })
+        .expect("serde");
+        let d = decode(&schema, SetBoolResponse::TYPE_NAME, &resp, false).expect("decode");
+        assert_eq!(
+            d,
+            Value::Struct(vec![Value::Bool(true), Value::Str("héllo".into())])
+        );
+        let round = encode(&schema, SetBoolResponse::TYPE_NAME, &d).expect("encode");
+        assert_eq!(round, resp);
+    }
+
+    #[test]
+    fn set_parameters_with_nested_sequences_and_strings_encodes_like_serde() {
+        let schema = schema_of::<SetParameters>();
+        let yaml = "parameters:\n  - name: a\n    value: {type: 2, integer_value: 7}\n  - name: \
+                    bcd\n    value:\n      type: 9\n      byte_array_value: [1, 255]\n      \
+                    double_array_value: [1.5, -2]\n      string_array_value: ['x', yz]\n      \
+                    bool_array_value: [true, false, true]\n";
+        let v = fill_from_yaml(&schema, SetParametersRequest::TYPE_NAME, yaml).expect("fill");
+        let typed = SetParametersRequest {
+            parameters: vec![
+                Parameter {
+                    name: "a".into(),
+                    value: ParameterValue {
+                        r#type: 2,
+                        integer_value: 7,
+                        ..Default::default()
+                    },
+                },
+                Parameter {
+                    name: "bcd".into(),
+                    value: ParameterValue {
+                        r#type: 9,
+                        byte_array_value: vec![Byte(1), Byte(255)],
+                        double_array_value: vec![1.5, -2.0],
+                        string_array_value: vec!["x".into(), "yz".into()],
+                        bool_array_value: vec![true, false, true],
+                        ..Default::default()
+                    },
+                },
+            ],
+        };
+        let ours = encode(&schema, SetParametersRequest::TYPE_NAME, &v).expect("encode");
+        assert_eq!(ours, to_cdr_body(&typed).expect("serde"));
+        let back: SetParametersRequest =
+            from_cdr_body::<_, byteorder::LittleEndian>(&ours).expect("serde decode");
+        assert_eq!(back, typed);
+        assert_eq!(
+            decode(&schema, SetParametersRequest::TYPE_NAME, &ours, false).expect("decode"),
+            v
+        );
+    }
+
+    #[test]
+    fn type_description_responses_round_trip() {
+        // Bounded strings, u64 after u8, sequences of nested structs holding sequences.
+        let schema = schema_of::<GetTypeDescription>();
+        let typed = GetTypeDescriptionResponse {
+            successful: true,
+            failure_reason: String::new(),
+            type_description: SetParameters::type_description(),
+            type_sources: Vec::new(),
+            extra_information: Vec::new(),
+        };
+        let body = to_cdr_body(&typed).expect("serde");
+        let v =
+            decode(&schema, GetTypeDescriptionResponse::TYPE_NAME, &body, false).expect("decode");
+        let again = encode(&schema, GetTypeDescriptionResponse::TYPE_NAME, &v).expect("encode");
+        assert_eq!(again, body);
+    }
+
+    #[test]
+    fn big_endian_bodies_decode() {
+        let schema = schema_of::<AddTwoInts>();
+        let mut body = Vec::new();
+        body.extend_from_slice(&5i64.to_be_bytes());
+        body.extend_from_slice(&(-1i64).to_be_bytes());
+        let v = decode(&schema, AddTwoIntsRequest::TYPE_NAME, &body, true).expect("decode");
+        assert_eq!(v, Value::Struct(vec![Value::Int(5), Value::Int(-1)]));
+    }
+
+    #[test]
+    fn truncated_bodies_are_errors() {
+        let schema = schema_of::<AddTwoInts>();
+        assert!(decode(&schema, AddTwoIntsRequest::TYPE_NAME, &[0; 12], false).is_err());
+    }
+}

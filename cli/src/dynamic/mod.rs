@@ -1,0 +1,386 @@
+//! Dynamic ROS types: messages known only through a `type_description_interfaces`
+//! [`TypeDescription`] (from a node's `~/get_type_description`, or a compiled type's own
+//! description), filled from ros2cli's YAML, encoded to and decoded from CDR (XCDR1), and printed
+//! as rclpy prints messages (`__repr__` of rosidl_generator_py).
+//!
+//! - [`Schema`]: the structs of one description, resolved by name.
+//! - [`yaml`]: `rosidl_runtime_py.set_message_fields` on a YAML document.
+//! - [`cdr`]: encode / decode bodies.
+//! - [`repr`]: Python `repr()` of a message.
+
+pub mod cdr;
+pub mod repr;
+pub mod yaml;
+
+use std::collections::HashMap;
+
+use horus_ros_msgs::description::EMPTY_STRUCTURE_MEMBER;
+use horus_ros_msgs::{FieldType, IndividualTypeDescription, TypeDescription};
+
+/// The element type of a field (what a single value, array element or sequence element is).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Elem {
+    /// `bool`.
+    Bool,
+    /// `byte` (IDL `octet`): a Python `bytes` of length 1.
+    Byte,
+    /// IDL `char`: a Python `str` of length 1.
+    Char,
+    /// IDL `wchar` (16 bits on the wire).
+    WChar,
+    /// An integer: bits and signedness.
+    Int {
+        /// 8, 16, 32 or 64.
+        bits: u32,
+        /// Signed?
+        signed: bool,
+    },
+    /// `float32`.
+    F32,
+    /// `float64`.
+    F64,
+    /// `long double` (not encodable: no ROS interface uses it).
+    LongDouble,
+    /// `string` / `string<=N`.
+    Str(Option<u64>),
+    /// `wstring` / `wstring<=N`.
+    WStr(Option<u64>),
+    /// A nested message, by type name.
+    Nested(String),
+}
+
+/// Single value, fixed array or sequence.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Container {
+    /// One value.
+    Single,
+    /// `T[N]`.
+    Array(usize),
+    /// `T[]` (`None`) or `T[<=N]`.
+    Sequence(Option<usize>),
+}
+
+/// A field's type.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct FieldTy {
+    /// The element.
+    pub elem: Elem,
+    /// The container.
+    pub container: Container,
+}
+
+/// One field of a struct.
+#[derive(Clone, Debug)]
+pub struct Member {
+    /// Field name.
+    pub name: String,
+    /// Field type.
+    pub ty: FieldTy,
+    /// The `.msg` default as rosidl writes it into descriptions (empty if none).
+    pub default: String,
+}
+
+/// A struct type.
+#[derive(Clone, Debug)]
+pub struct Struct {
+    /// `pkg/msg/Name`.
+    pub name: String,
+    /// Fields in order.
+    pub members: Vec<Member>,
+}
+
+impl Struct {
+    /// Whether this is rosidl's placeholder-only empty struct (Python hides the member).
+    pub fn is_empty_placeholder(&self) -> bool {
+        self.members.len() == 1 && self.members[0].name == EMPTY_STRUCTURE_MEMBER
+    }
+
+    /// The class name Python shows: the last part of the type name.
+    pub fn short_name(&self) -> &str {
+        self.name.rsplit('/').next().unwrap_or(&self.name)
+    }
+}
+
+/// A dynamic value. Structs hold their fields in member order.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Value {
+    /// `bool`.
+    Bool(bool),
+    /// Any integer type (range-checked against the field).
+    Int(i128),
+    /// `float32` / `float64`.
+    Float(f64),
+    /// `string`, `wstring`, `char`, `wchar`.
+    Str(String),
+    /// `byte`.
+    Byte(u8),
+    /// An array or a sequence.
+    List(Vec<Value>),
+    /// A nested message.
+    Struct(Vec<Value>),
+}
+
+/// Errors of schema building.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct SchemaError(pub String);
+
+impl std::fmt::Display for SchemaError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for SchemaError {}
+
+/// The struct types of one or more descriptions, by name.
+#[derive(Clone, Debug, Default)]
+pub struct Schema {
+    structs: HashMap<String, Struct>,
+}
+
+impl Schema {
+    /// The main type and every referenced type of `description`.
+    pub fn from_description(description: &TypeDescription) -> Result<Self, SchemaError> {
+        let mut schema = Self::default();
+        schema.add(description)?;
+        Ok(schema)
+    }
+
+    /// Adds the types of another description.
+    pub fn add(&mut self, description: &TypeDescription) -> Result<(), SchemaError> {
+        for t in std::iter::once(&description.type_description)
+            .chain(&description.referenced_type_descriptions)
+        {
+            let s = convert_struct(t)?;
+            self.structs.insert(s.name.clone(), s);
+        }
+        Ok(())
+    }
+
+    /// A struct by name.
+    pub fn get(&self, name: &str) -> Result<&Struct, SchemaError> {
+        self.structs
+            .get(name)
+            .ok_or_else(|| SchemaError(format!("the type description lacks type '{name}'")))
+    }
+
+    /// Checks that every nested type `root` uses (recursively) is known and none contains itself.
+    pub fn check(&self, root: &str) -> Result<(), SchemaError> {
+        fn walk<'a>(
+            schema: &'a Schema,
+            name: &'a str,
+            path: &mut Vec<&'a str>,
+        ) -> Result<(), SchemaError> {
+            if path.contains(&name) {
+                return Err(SchemaError(format!("type '{name}' contains itself")));
+            }
+            let s = schema.get(name)?;
+            path.push(name);
+            for m in &s.members {
+                if let Elem::Nested(n) = &m.ty.elem {
+                    walk(schema, n, path)?;
+                }
+            }
+            path.pop();
+            Ok(())
+        }
+        walk(self, root, &mut Vec::new())
+    }
+
+    /// The default value of struct `name`: each field's `.msg` default, else zero / empty.
+    pub fn default_value(&self, name: &str) -> Result<Value, SchemaError> {
+        let s = self.get(name)?;
+        let mut fields = Vec::with_capacity(s.members.len());
+        for m in &s.members {
+            fields.push(self.member_default(m)?);
+        }
+        Ok(Value::Struct(fields))
+    }
+
+    /// A member's default value.
+    pub fn member_default(&self, m: &Member) -> Result<Value, SchemaError> {
+        if !m.default.is_empty() {
+            if let Some(v) = yaml::parse_default(self, m) {
+                return Ok(v);
+            }
+        }
+        match m.ty.container {
+            Container::Single => self.elem_default(&m.ty.elem),
+            Container::Array(n) => {
+                let e = self.elem_default(&m.ty.elem)?;
+                Ok(Value::List(vec![e; n]))
+            }
+            Container::Sequence(_) => Ok(Value::List(Vec::new())),
+        }
+    }
+
+    /// The zero value of an element.
+    pub fn elem_default(&self, e: &Elem) -> Result<Value, SchemaError> {
+        Ok(match e {
+            Elem::Bool => Value::Bool(false),
+            Elem::Byte => Value::Byte(0),
+            Elem::Char | Elem::WChar => Value::Str("\0".to_owned()),
+            Elem::Int { .. } => Value::Int(0),
+            Elem::F32 | Elem::F64 | Elem::LongDouble => Value::Float(0.0),
+            Elem::Str(_) | Elem::WStr(_) => Value::Str(String::new()),
+            Elem::Nested(n) => self.default_value(n)?,
+        })
+    }
+}
+
+/// The sub-description of `type_name` out of `description`'s referenced types: that type plus
+/// everything it references (recursively), sorted by name — what its own RIHS01 hash covers.
+pub fn sub_description(
+    description: &TypeDescription,
+    type_name: &str,
+) -> Result<TypeDescription, SchemaError> {
+    let all: HashMap<&str, &IndividualTypeDescription> =
+        std::iter::once(&description.type_description)
+            .chain(&description.referenced_type_descriptions)
+            .map(|t| (t.type_name.as_str(), t))
+            .collect();
+    let main = *all
+        .get(type_name)
+        .ok_or_else(|| SchemaError(format!("the type description lacks type '{type_name}'")))?;
+    let mut seen: Vec<String> = Vec::new();
+    let mut stack: Vec<&IndividualTypeDescription> = vec![main];
+    while let Some(t) = stack.pop() {
+        for f in &t.fields {
+            let n = &f.r#type.nested_type_name;
+            if n.is_empty() || seen.contains(n) || n == type_name {
+                continue;
+            }
+            let r = all
+                .get(n.as_str())
+                .ok_or_else(|| SchemaError(format!("the type description lacks type '{n}'")))?;
+            seen.push(n.clone());
+            stack.push(r);
+        }
+    }
+    seen.sort();
+    Ok(TypeDescription {
+        type_description: main.clone(),
+        referenced_type_descriptions: seen
+            .iter()
+            .filter_map(|n| all.get(n.as_str()).map(|t| (*t).clone()))
+            .collect(),
+    })
+}
+
+fn convert_struct(t: &IndividualTypeDescription) -> Result<Struct, SchemaError> {
+    let members = t
+        .fields
+        .iter()
+        .map(|f| {
+            Ok(Member {
+                name: f.name.clone(),
+                ty: convert_type(&f.r#type).map_err(|e| {
+                    SchemaError(format!("field '{}' of '{}': {e}", f.name, t.type_name))
+                })?,
+                default: f.default_value.clone(),
+            })
+        })
+        .collect::<Result<Vec<_>, SchemaError>>()?;
+    Ok(Struct {
+        name: t.type_name.clone(),
+        members,
+    })
+}
+
+fn usize_of(n: u64) -> Result<usize, SchemaError> {
+    usize::try_from(n).map_err(|_| SchemaError(format!("capacity {n} is too large")))
+}
+
+/// Maps a `FieldType` to [`FieldTy`].
+pub fn convert_type(t: &FieldType) -> Result<FieldTy, SchemaError> {
+    let (base, container) = match t.type_id {
+        1..=48 => (t.type_id, Container::Single),
+        49..=96 => (t.type_id - 48, Container::Array(usize_of(t.capacity)?)),
+        97..=144 => (
+            t.type_id - 96,
+            Container::Sequence(Some(usize_of(t.capacity)?)),
+        ),
+        145..=192 => (t.type_id - 144, Container::Sequence(None)),
+        id => return Err(SchemaError(format!("unknown field type id {id}"))),
+    };
+    let bound = (t.string_capacity > 0).then_some(t.string_capacity);
+    let elem = match base {
+        FieldType::FIELD_TYPE_NESTED_TYPE => {
+            if t.nested_type_name.is_empty() {
+                return Err(SchemaError("nested type without a name".to_owned()));
+            }
+            Elem::Nested(t.nested_type_name.clone())
+        }
+        FieldType::FIELD_TYPE_INT8 => Elem::Int {
+            bits: 8,
+            signed: true,
+        },
+        FieldType::FIELD_TYPE_UINT8 => Elem::Int {
+            bits: 8,
+            signed: false,
+        },
+        FieldType::FIELD_TYPE_INT16 => Elem::Int {
+            bits: 16,
+            signed: true,
+        },
+        FieldType::FIELD_TYPE_UINT16 => Elem::Int {
+            bits: 16,
+            signed: false,
+        },
+        FieldType::FIELD_TYPE_INT32 => Elem::Int {
+            bits: 32,
+            signed: true,
+        },
+        FieldType::FIELD_TYPE_UINT32 => Elem::Int {
+            bits: 32,
+            signed: false,
+        },
+        FieldType::FIELD_TYPE_INT64 => Elem::Int {
+            bits: 64,
+            signed: true,
+        },
+        FieldType::FIELD_TYPE_UINT64 => Elem::Int {
+            bits: 64,
+            signed: false,
+        },
+        FieldType::FIELD_TYPE_FLOAT => Elem::F32,
+        FieldType::FIELD_TYPE_DOUBLE => Elem::F64,
+        FieldType::FIELD_TYPE_LONG_DOUBLE => Elem::LongDouble,
+        FieldType::FIELD_TYPE_CHAR => Elem::Char,
+        FieldType::FIELD_TYPE_WCHAR => Elem::WChar,
+        FieldType::FIELD_TYPE_BOOLEAN => Elem::Bool,
+        FieldType::FIELD_TYPE_BYTE => Elem::Byte,
+        FieldType::FIELD_TYPE_STRING => Elem::Str(None),
+        FieldType::FIELD_TYPE_WSTRING => Elem::WStr(None),
+        FieldType::FIELD_TYPE_FIXED_STRING | FieldType::FIELD_TYPE_BOUNDED_STRING => {
+            Elem::Str(bound)
+        }
+        FieldType::FIELD_TYPE_FIXED_WSTRING | FieldType::FIELD_TYPE_BOUNDED_WSTRING => {
+            Elem::WStr(bound)
+        }
+        id => return Err(SchemaError(format!("unknown field type id {id}"))),
+    };
+    Ok(FieldTy { elem, container })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use horus_ros_msgs::rcl_interfaces::srv::SetParameters;
+    use horus_ros_msgs::{Message, Service};
+
+    #[test]
+    fn sub_description_of_a_service_part_hashes_like_the_compiled_type() {
+        let service = SetParameters::type_description();
+        let req =
+            sub_description(&service, "rcl_interfaces/srv/SetParameters_Request").expect("request");
+        assert_eq!(
+            req.compute_type_hash(),
+            <SetParameters as Service>::Request::type_hash()
+        );
+        let schema = Schema::from_description(&service).expect("schema");
+        schema
+            .check("rcl_interfaces/srv/SetParameters_Request")
+            .expect("complete");
+    }
+}

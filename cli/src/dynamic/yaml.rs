@@ -1,0 +1,384 @@
+//! ros2cli's request values: a YAML document (`yaml.safe_load`) applied to a default message as
+//! rosidl_runtime_py (jazzy) `set_message_fields` does, with the errors rclpy's field setters
+//! raise (rosidl_generator_py jazzy `_msg.py.em`).
+//!
+//! Deliberate differences, each to refuse a value ros2cli would silently mangle: an integer
+//! field takes a float only if it is integral (Python truncates), a `bool` field takes no
+//! string (Python makes `'false'` true), and a `byte` field takes an integer 0..=255 (Python's
+//! `bytes(n)` makes n zero bytes).
+
+use yaml_rust2::{Yaml, YamlLoader};
+
+use super::repr::{py_float, py_str};
+use super::{Container, Elem, Member, Schema, Value};
+
+/// Parses `text` as YAML and fills a message of type `type_name` with it.
+pub fn fill_from_yaml(schema: &Schema, type_name: &str, text: &str) -> Result<Value, String> {
+    let docs = YamlLoader::load_from_str(text).map_err(|e| format!("invalid YAML: {e}"))?;
+    let doc = docs.into_iter().next().unwrap_or(Yaml::Null);
+    let mut value = schema.default_value(type_name).map_err(|e| e.to_string())?;
+    fill_struct(schema, type_name, &mut value, &doc)?;
+    Ok(value)
+}
+
+/// Python's type name of a YAML value (`type(v).__name__`).
+fn py_type(y: &Yaml) -> &'static str {
+    match y {
+        Yaml::Integer(_) => "int",
+        Yaml::Real(_) => "float",
+        Yaml::String(_) => "str",
+        Yaml::Boolean(_) => "bool",
+        Yaml::Array(_) => "list",
+        Yaml::Hash(_) => "dict",
+        Yaml::Null | Yaml::BadValue | Yaml::Alias(_) => "NoneType",
+    }
+}
+
+/// Python's `str()` of a YAML value (for messages).
+fn py_display(y: &Yaml) -> String {
+    match y {
+        Yaml::Integer(i) => i.to_string(),
+        Yaml::Real(r) => real(r).map_or_else(|| r.clone(), py_float),
+        Yaml::String(s) => s.clone(),
+        Yaml::Boolean(b) => if *b { "True" } else { "False" }.to_owned(),
+        Yaml::Array(a) => format!(
+            "[{}]",
+            a.iter().map(py_repr_yaml).collect::<Vec<_>>().join(", ")
+        ),
+        Yaml::Hash(h) => format!(
+            "{{{}}}",
+            h.iter()
+                .map(|(k, v)| format!("{}: {}", py_repr_yaml(k), py_repr_yaml(v)))
+                .collect::<Vec<_>>()
+                .join(", ")
+        ),
+        Yaml::Null | Yaml::BadValue | Yaml::Alias(_) => "None".to_owned(),
+    }
+}
+
+/// Python's `repr()` of a YAML value.
+fn py_repr_yaml(y: &Yaml) -> String {
+    match y {
+        Yaml::String(s) => py_str(s),
+        other => py_display(other),
+    }
+}
+
+/// A YAML float (`.inf`, `-.inf`, `.nan` as YAML spells them).
+fn real(r: &str) -> Option<f64> {
+    match r.trim_start_matches('+') {
+        ".inf" | ".Inf" | ".INF" => Some(f64::INFINITY),
+        "-.inf" | "-.Inf" | "-.INF" => Some(f64::NEG_INFINITY),
+        ".nan" | ".NaN" | ".NAN" => Some(f64::NAN),
+        other => other.replace('_', "").parse().ok(),
+    }
+}
+
+fn fill_struct(
+    schema: &Schema,
+    type_name: &str,
+    value: &mut Value,
+    y: &Yaml,
+) -> Result<(), String> {
+    let s = schema.get(type_name).map_err(|e| e.to_string())?;
+    let Yaml::Hash(map) = y else {
+        return Err(format!(
+            "Value '{}' is expected to be a dictionary but is a {}",
+            py_display(y),
+            py_type(y)
+        ));
+    };
+    let Value::Struct(fields) = value else {
+        return Err(format!("internal error: '{type_name}' is not a struct"));
+    };
+    let hidden = s.is_empty_placeholder();
+    for (k, v) in map {
+        let key = py_display(k);
+        let index = s
+            .members
+            .iter()
+            .position(|m| m.name == key)
+            .filter(|_| !hidden)
+            .ok_or_else(|| format!("'{}' object has no attribute '{key}'", s.short_name()))?;
+        let member = &s.members[index];
+        fields[index] = convert_member(schema, member, v)?;
+    }
+    Ok(())
+}
+
+fn convert_member(schema: &Schema, m: &Member, y: &Yaml) -> Result<Value, String> {
+    match m.ty.container {
+        Container::Single => {
+            convert_elem(schema, &m.ty.elem, y).map_err(|e| e.into_message(&m.name, &m.ty.elem))
+        }
+        Container::Array(_) | Container::Sequence(_) => {
+            let wrong = || container_message(m);
+            let Yaml::Array(items) = y else {
+                return Err(wrong());
+            };
+            match m.ty.container {
+                Container::Array(n) if items.len() != n => return Err(wrong()),
+                Container::Sequence(Some(n)) if items.len() > n => return Err(wrong()),
+                _ => {}
+            }
+            items
+                .iter()
+                .map(|item| match convert_elem(schema, &m.ty.elem, item) {
+                    Ok(v) => Ok(v),
+                    Err(ElemError::Nested(e)) => Err(e),
+                    Err(_) => Err(wrong()),
+                })
+                .collect::<Result<Vec<_>, _>>()
+                .map(Value::List)
+        }
+    }
+}
+
+/// rosidl's assertion message for arrays and sequences.
+fn container_message(m: &Member) -> String {
+    let mut parts = vec!["a set or sequence".to_owned()];
+    match m.ty.container {
+        Container::Array(n) => parts.push(format!("with length {n}")),
+        Container::Sequence(Some(n)) => parts.push(format!("with length <= {n}")),
+        _ => {}
+    }
+    if let Elem::Str(Some(n)) | Elem::WStr(Some(n)) = m.ty.elem {
+        parts.push(format!("and each string value not longer than {n}"));
+    }
+    parts.push(format!(
+        "and each value of type '{}'",
+        python_type(&m.ty.elem)
+    ));
+    match m.ty.elem {
+        Elem::Int { bits, signed: true } => {
+            let b = 1i128 << (bits - 1);
+            parts.push(format!("and each integer in [{}, {}]", -b, b - 1));
+        }
+        Elem::Int {
+            bits,
+            signed: false,
+        } => parts.push(format!(
+            "and each unsigned integer in [0, {}]",
+            (1i128 << bits) - 1
+        )),
+        Elem::F32 => parts.push(
+            "and each float in [-340282346600000016151267322115014000640.000000, \
+             340282346600000016151267322115014000640.000000]"
+                .to_owned(),
+        ),
+        _ => {}
+    }
+    format!("The '{}' field must be {}", m.name, parts.join(" "))
+}
+
+/// The Python type rclpy stores an element as.
+fn python_type(e: &Elem) -> String {
+    match e {
+        Elem::Bool => "bool".to_owned(),
+        Elem::Byte => "bytes".to_owned(),
+        Elem::Char | Elem::WChar | Elem::Str(_) | Elem::WStr(_) => "str".to_owned(),
+        Elem::Int { .. } => "int".to_owned(),
+        Elem::F32 | Elem::F64 | Elem::LongDouble => "float".to_owned(),
+        Elem::Nested(n) => n.rsplit('/').next().unwrap_or(n).to_owned(),
+    }
+}
+
+enum ElemError {
+    /// Not of the element's type.
+    Type,
+    /// Out of range.
+    Range,
+    /// A string too long.
+    TooLong(u64),
+    /// Python's own conversion error message (e.g. `int('x')`).
+    Python(String),
+    /// An error inside a nested message, already complete.
+    Nested(String),
+}
+
+impl ElemError {
+    fn into_message(self, name: &str, e: &Elem) -> String {
+        match self {
+            ElemError::Type => match e {
+                Elem::Nested(n) => format!(
+                    "The '{name}' field must be a sub message of type '{}'",
+                    n.rsplit('/').next().unwrap_or(n)
+                ),
+                Elem::Byte => format!(
+                    "The '{name}' field must be of type 'bytes' or 'ByteString' with length 1"
+                ),
+                Elem::Char => format!(
+                    "The '{name}' field must be of type 'str' or 'UserString' with length 1 and \
+                     the character ord() in [-128, 127]"
+                ),
+                other => format!(
+                    "The '{name}' field must be of type '{}'",
+                    python_type(other)
+                ),
+            },
+            ElemError::Range => match e {
+                Elem::Int { bits, signed: true } => {
+                    let b = 1i128 << (bits - 1);
+                    format!(
+                        "The '{name}' field must be an integer in [{}, {}]",
+                        -b,
+                        b - 1
+                    )
+                }
+                Elem::Int { bits, .. } => format!(
+                    "The '{name}' field must be an unsigned integer in [0, {}]",
+                    (1i128 << bits) - 1
+                ),
+                _ => format!(
+                    "The '{name}' field must be a float in [-3.402823466e+38, 3.402823466e+38]"
+                ),
+            },
+            ElemError::TooLong(n) => {
+                format!("The '{name}' field must be string value not longer than {n}")
+            }
+            ElemError::Python(m) | ElemError::Nested(m) => m,
+        }
+    }
+}
+
+fn convert_elem(schema: &Schema, e: &Elem, y: &Yaml) -> Result<Value, ElemError> {
+    match e {
+        Elem::Nested(n) => {
+            let mut v = schema
+                .default_value(n)
+                .map_err(|e| ElemError::Nested(e.to_string()))?;
+            fill_struct(schema, n, &mut v, y).map_err(ElemError::Nested)?;
+            Ok(v)
+        }
+        Elem::Bool => match y {
+            Yaml::Boolean(b) => Ok(Value::Bool(*b)),
+            Yaml::Integer(i) => Ok(Value::Bool(*i != 0)),
+            _ => Err(ElemError::Type),
+        },
+        Elem::Int { bits, signed } => {
+            let i: i128 = match y {
+                Yaml::Integer(i) => i128::from(*i),
+                Yaml::Boolean(b) => i128::from(*b),
+                Yaml::Real(r) => {
+                    if let Ok(i) = r.replace('_', "").parse::<i128>() {
+                        i
+                    } else {
+                        let f = real(r).ok_or(ElemError::Type)?;
+                        if f.fract() != 0.0 || !f.is_finite() {
+                            return Err(ElemError::Type);
+                        }
+                        f as i128
+                    }
+                }
+                Yaml::String(s) => s.trim().parse::<i128>().map_err(|_| {
+                    ElemError::Python(format!(
+                        "invalid literal for int() with base 10: {}",
+                        py_str(s)
+                    ))
+                })?,
+                _ => return Err(ElemError::Type),
+            };
+            let (lo, hi) = if *signed {
+                (-(1i128 << (bits - 1)), (1i128 << (bits - 1)) - 1)
+            } else {
+                (0, (1i128 << bits) - 1)
+            };
+            if i < lo || i > hi {
+                return Err(ElemError::Range);
+            }
+            Ok(Value::Int(i))
+        }
+        Elem::F32 | Elem::F64 | Elem::LongDouble => {
+            let f = match y {
+                Yaml::Integer(i) => *i as f64,
+                Yaml::Real(r) => real(r).ok_or(ElemError::Type)?,
+                Yaml::Boolean(b) => f64::from(u8::from(*b)),
+                Yaml::String(s) => py_parse_float(s).ok_or_else(|| {
+                    ElemError::Python(format!("could not convert string to float: {}", py_str(s)))
+                })?,
+                _ => return Err(ElemError::Type),
+            };
+            if *e == Elem::F32 && f.is_finite() && f.abs() > 3.402823466e+38 {
+                return Err(ElemError::Range);
+            }
+            Ok(Value::Float(f))
+        }
+        Elem::Str(bound) | Elem::WStr(bound) => {
+            let s = match y {
+                Yaml::Hash(_) | Yaml::Array(_) => return Err(ElemError::Type),
+                other => py_display(other),
+            };
+            if let Some(n) = bound {
+                if s.chars().count() as u64 > *n {
+                    return Err(ElemError::TooLong(*n));
+                }
+            }
+            Ok(Value::Str(s))
+        }
+        Elem::Char | Elem::WChar => match y {
+            Yaml::String(s) if s.chars().count() == 1 => Ok(Value::Str(s.clone())),
+            Yaml::Integer(i) => u32::try_from(*i)
+                .ok()
+                .filter(|c| *c < if *e == Elem::Char { 256 } else { 65536 })
+                .and_then(char::from_u32)
+                .map(|c| Value::Str(c.to_string()))
+                .ok_or(ElemError::Type),
+            _ => Err(ElemError::Type),
+        },
+        Elem::Byte => match y {
+            Yaml::Integer(i) => u8::try_from(*i)
+                .map(Value::Byte)
+                .map_err(|_| ElemError::Type),
+            Yaml::String(s) if s.len() == 1 => Ok(Value::Byte(s.as_bytes()[0])),
+            _ => Err(ElemError::Type),
+        },
+    }
+}
+
+/// Python `float(str)`.
+fn py_parse_float(s: &str) -> Option<f64> {
+    let t = s.trim().to_ascii_lowercase();
+    match t.trim_start_matches(['+', '-']) {
+        "inf" | "infinity" | "nan" => {
+            let neg = t.starts_with('-');
+            let v = if t.ends_with("nan") {
+                f64::NAN
+            } else {
+                f64::INFINITY
+            };
+            Some(if neg { -v } else { v })
+        }
+        _ => t.replace('_', "").parse().ok(),
+    }
+}
+
+/// A member's `.msg` default as rosidl writes it into descriptions (`False`, `0`, `1.5`, a raw
+/// string, `[1, 2]`), as a value; `None` if it cannot be read.
+pub(super) fn parse_default(schema: &Schema, m: &Member) -> Option<Value> {
+    let text = m.default.trim();
+    if let (Container::Single, Elem::Str(_) | Elem::WStr(_)) = (m.ty.container, &m.ty.elem) {
+        return Some(Value::Str(unquote(text).to_owned()));
+    }
+    let text = if text.starts_with('(') && text.ends_with(')') {
+        format!("[{}]", &text[1..text.len() - 1])
+    } else {
+        text.to_owned()
+    };
+    let doc = YamlLoader::load_from_str(&text).ok()?.into_iter().next()?;
+    let doc = match doc {
+        Yaml::String(s) if m.ty.container == Container::Single => {
+            Yaml::String(unquote(&s).to_owned())
+        }
+        other => other,
+    };
+    convert_member(schema, m, &doc).ok()
+}
+
+fn unquote(s: &str) -> &str {
+    for q in ['"', '\''] {
+        if s.len() >= 2 && s.starts_with(q) && s.ends_with(q) {
+            return &s[1..s.len() - 1];
+        }
+    }
+    s
+}

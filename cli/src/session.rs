@@ -1,0 +1,66 @@
+//! [`Session`]: the CLI's own hidden node on the graph, and the wait for discovery.
+
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use horus_ros_graph::Graph;
+use horus_ros_rmw::{Context, Node};
+
+use crate::{CliError, Global};
+
+/// The shortest discovery wait: peers answer a new participant's announcement within a few
+/// milliseconds, but not at once.
+const MIN_DISCOVERY: Duration = Duration::from_millis(100);
+/// The graph counts as settled once it has not changed for this long.
+const QUIET: Duration = Duration::from_millis(80);
+
+/// A context, a hidden node (`_horus_ros_<pid>`, as ros2cli's `_ros2cli_<pid>`), and the live
+/// graph seen from it.
+pub struct Session {
+    /// The context.
+    pub context: Context,
+    /// The CLI's node (hidden: its name starts with `_`).
+    pub node: Node,
+    /// The graph.
+    pub graph: Arc<Graph>,
+}
+
+impl Session {
+    /// Joins the domain and waits for discovery to settle (at most `--spin-time`).
+    pub fn open(global: &Global) -> Result<Self, CliError> {
+        let session = Self::join(global)?;
+        session.settle(global);
+        Ok(session)
+    }
+
+    /// Joins the domain without waiting.
+    pub fn join(global: &Global) -> Result<Self, CliError> {
+        let mut builder = Context::builder();
+        if let Some(d) = global.domain_id {
+            builder = builder.domain_id(d);
+        }
+        let context = builder.build()?;
+        let node = context.create_node(&format!("_horus_ros_{}", std::process::id()), "/")?;
+        let graph = Graph::shared(&context)?;
+        Ok(Self {
+            context,
+            node,
+            graph,
+        })
+    }
+
+    /// Waits for discovery: at least [`MIN_DISCOVERY`], then until the graph has been quiet for
+    /// [`QUIET`], never longer than `--spin-time` (ros2cli always waits the whole spin time).
+    pub fn settle(&self, global: &Global) {
+        let start = Instant::now();
+        let limit = Duration::from_secs_f64(global.spin_time.max(0.0));
+        let min = MIN_DISCOVERY.min(limit);
+        std::thread::sleep(min);
+        while start.elapsed() < limit {
+            let left = limit.saturating_sub(start.elapsed());
+            if !self.graph.wait_for_graph_change(QUIET.min(left)) {
+                break;
+            }
+        }
+    }
+}

@@ -1,0 +1,922 @@
+//! `horus-ros graph`: the whole graph in one document, or (`--watch`) a live, timestamped diff
+//! of the nodes and endpoints appearing and vanishing. Formats: `docs/cli-json.md`.
+
+use std::collections::{BTreeMap, HashMap};
+use std::io::Write;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc::RecvTimeoutError;
+use std::sync::Arc;
+use std::time::{Duration, SystemTime, UNIX_EPOCH};
+
+use horus_ros_graph::{
+    Gid, GraphCache, GraphEvent, NamesAndTypes, ServiceEndpointInfo, TopicEndpointInfo,
+};
+use horus_ros_msgs::TypeHash;
+use horus_ros_rmw::names::{
+    is_hidden_name, DemangledTopic, ROS_SERVICE_REQUESTER_PREFIX, ROS_SERVICE_RESPONSE_PREFIX,
+    ROS_TOPIC_PREFIX, SERVICE_REPLY_SUFFIX, SERVICE_REQUEST_SUFFIX,
+};
+use horus_ros_rmw::qos::{EndpointKind, Qos};
+use serde_json::{json, Value};
+
+use crate::session::Session;
+use crate::verb::names;
+use crate::{CliError, Global};
+
+/// How often `--watch` checks for Ctrl+C while no graph event arrives.
+const STOP_POLL: Duration = Duration::from_millis(50);
+
+/// Arguments of `graph`.
+#[derive(Debug, clap::Args)]
+#[command(after_help = "\
+Without --watch: one document of every node (with its publishers, subscribers, servers and
+clients), every topic (types, publishers and subscriptions with GIDs and QoS) and every service
+(types, servers and clients). With --json it is one JSON document (docs/cli-json.md).
+
+With --watch: first the current graph as `+` lines (after discovery settles), then one
+timestamped line per change, until Ctrl+C (or SIGTERM), exit status 0:
+  2026-11-22T01:23:45.678Z + node /ns/talker
+  2026-11-22T01:23:45.679Z + publisher /ns/chatter [std_msgs/msg/String] gid 01.0f.…
+  2026-11-22T01:23:47.012Z - service server /add_two_ints [example_interfaces/srv/AddTwoInts] request reader gid 01.0f.…
+With --json, one JSON object per line instead.")]
+pub struct GraphArgs {
+    /// Print a live, timestamped diff of nodes and endpoints appearing and vanishing until Ctrl+C.
+    #[arg(long)]
+    pub watch: bool,
+    /// Include hidden nodes, topics and services (a name token starting with `_`).
+    #[arg(short = 'a', long)]
+    pub all: bool,
+}
+
+/// Runs `graph`.
+pub fn run(global: &Global, args: &GraphArgs) -> Result<(), CliError> {
+    if args.watch {
+        return watch(global, args);
+    }
+    let session = Session::open(global)?;
+    let doc = session.graph.read(|c| GraphDoc::read(c, args.all));
+    let domain_id = session.context.domain_id().get();
+    if global.json {
+        names::print_json(&doc.to_json(domain_id))
+    } else {
+        let mut out = std::io::stdout().lock();
+        match out
+            .write_all(doc.render(domain_id).as_bytes())
+            .and_then(|()| out.flush())
+        {
+            // A reader that stopped early (`| head`) is not an error.
+            Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
+                Err(CliError::new(format!("could not write the graph: {e}")))
+            }
+            _ => Ok(()),
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// The document.
+
+/// One node and what it publishes, subscribes to, serves and calls (as `node info` reads it).
+struct NodeDoc {
+    name: String,
+    namespace: String,
+    enclave: Option<String>,
+    subscribers: NamesAndTypes,
+    publishers: NamesAndTypes,
+    service_servers: NamesAndTypes,
+    service_clients: NamesAndTypes,
+    action_servers: NamesAndTypes,
+    action_clients: NamesAndTypes,
+}
+
+/// One topic with its endpoints (as `topic info -v` reads it).
+struct TopicDoc {
+    name: String,
+    types: Vec<String>,
+    publishers: Vec<TopicEndpointInfo>,
+    subscriptions: Vec<TopicEndpointInfo>,
+}
+
+/// One service with its servers and clients (as `service info -v` reads it).
+struct ServiceDoc {
+    name: String,
+    types: Vec<String>,
+    clients_count: usize,
+    services_count: usize,
+    clients: Vec<ServiceEndpointInfo>,
+    servers: Vec<ServiceEndpointInfo>,
+}
+
+/// The whole graph, read under one lock so that its parts agree.
+struct GraphDoc {
+    nodes: Vec<NodeDoc>,
+    topics: Vec<TopicDoc>,
+    services: Vec<ServiceDoc>,
+}
+
+/// Keeps the names that are not hidden (all of them with `all`).
+fn visible(names_and_types: NamesAndTypes, all: bool) -> NamesAndTypes {
+    if all {
+        return names_and_types;
+    }
+    names_and_types
+        .into_iter()
+        .filter(|(name, _)| !is_hidden_name(name))
+        .collect()
+}
+
+impl GraphDoc {
+    fn read(cache: &GraphCache, all: bool) -> Self {
+        let nodes = cache
+            .node_names()
+            .into_iter()
+            .filter(|n| all || !names::is_hidden_node(&n.name))
+            .map(|n| {
+                let get = |r: Result<NamesAndTypes, _>| r.unwrap_or_default();
+                let publishers =
+                    get(cache.publisher_names_and_types_by_node(&n.name, &n.namespace));
+                let subscribers =
+                    get(cache.subscription_names_and_types_by_node(&n.name, &n.namespace));
+                NodeDoc {
+                    action_servers: visible(names::filter_action_names(&publishers), all),
+                    action_clients: visible(names::filter_action_names(&subscribers), all),
+                    service_servers: visible(
+                        get(cache.service_names_and_types_by_node(&n.name, &n.namespace)),
+                        all,
+                    ),
+                    service_clients: visible(
+                        get(cache.client_names_and_types_by_node(&n.name, &n.namespace)),
+                        all,
+                    ),
+                    publishers: visible(publishers, all),
+                    subscribers: visible(subscribers, all),
+                    name: n.name,
+                    namespace: n.namespace,
+                    enclave: n.enclave,
+                }
+            })
+            .collect();
+        let topics = cache
+            .topic_names_and_types(all)
+            .into_iter()
+            .map(|(name, types)| TopicDoc {
+                publishers: cache.publishers_info_by_topic(&name, false),
+                subscriptions: cache.subscriptions_info_by_topic(&name, false),
+                types: types.into_iter().collect(),
+                name,
+            })
+            .collect();
+        let services = cache
+            .service_names_and_types(all)
+            .into_iter()
+            .map(|(name, types)| ServiceDoc {
+                clients_count: cache.count_clients(&name),
+                services_count: cache.count_services(&name),
+                // Only an error with no_mangle, which is not used.
+                clients: cache
+                    .clients_info_by_service(&name, false)
+                    .unwrap_or_default(),
+                servers: cache
+                    .servers_info_by_service(&name, false)
+                    .unwrap_or_default(),
+                types: types.into_iter().collect(),
+                name,
+            })
+            .collect();
+        Self {
+            nodes,
+            topics,
+            services,
+        }
+    }
+
+    /// The JSON document (`docs/cli-json.md`, "graph").
+    fn to_json(&self, domain_id: u16) -> Value {
+        let nodes: Vec<Value> = self
+            .nodes
+            .iter()
+            .map(|n| {
+                json!({
+                    "full_name": names::node_full_name(&n.namespace, &n.name),
+                    "name": n.name,
+                    "namespace": n.namespace,
+                    "enclave": n.enclave,
+                    "subscribers": names::names_and_types_json(&n.subscribers),
+                    "publishers": names::names_and_types_json(&n.publishers),
+                    "service_servers": names::names_and_types_json(&n.service_servers),
+                    "service_clients": names::names_and_types_json(&n.service_clients),
+                    "action_servers": names::names_and_types_json(&n.action_servers),
+                    "action_clients": names::names_and_types_json(&n.action_clients),
+                })
+            })
+            .collect();
+        let topics: Vec<Value> = self
+            .topics
+            .iter()
+            .map(|t| {
+                json!({
+                    "name": t.name,
+                    "types": t.types,
+                    "publisher_count": t.publishers.len(),
+                    "subscription_count": t.subscriptions.len(),
+                    "publishers": t.publishers.iter().map(names::topic_endpoint_json).collect::<Vec<_>>(),
+                    "subscriptions": t.subscriptions.iter().map(names::topic_endpoint_json).collect::<Vec<_>>(),
+                })
+            })
+            .collect();
+        let services: Vec<Value> = self
+            .services
+            .iter()
+            .map(|s| {
+                json!({
+                    "name": s.name,
+                    "types": s.types,
+                    "clients_count": s.clients_count,
+                    "services_count": s.services_count,
+                    "clients": s.clients.iter().map(names::service_endpoint_json).collect::<Vec<_>>(),
+                    "servers": s.servers.iter().map(names::service_endpoint_json).collect::<Vec<_>>(),
+                })
+            })
+            .collect();
+        json!({
+            "domain_id": domain_id,
+            "nodes": nodes,
+            "topics": topics,
+            "services": services,
+        })
+    }
+
+    /// The text document (`docs/cli-json.md`, "graph: text layout").
+    fn render(&self, domain_id: u16) -> String {
+        let mut out = format!(
+            "Domain {domain_id}: {}, {}, {}\n",
+            plural(self.nodes.len(), "node"),
+            plural(self.topics.len(), "topic"),
+            plural(self.services.len(), "service"),
+        );
+        out.push_str("\nNodes:\n");
+        for n in &self.nodes {
+            out.push_str(&format!(
+                "  {}\n",
+                names::node_full_name(&n.namespace, &n.name)
+            ));
+            for (title, list) in [
+                ("Subscribers", &n.subscribers),
+                ("Publishers", &n.publishers),
+                ("Service Servers", &n.service_servers),
+                ("Service Clients", &n.service_clients),
+                ("Action Servers", &n.action_servers),
+                ("Action Clients", &n.action_clients),
+            ] {
+                if list.is_empty() {
+                    continue;
+                }
+                out.push_str(&format!("    {title}:\n"));
+                for (name, types) in list {
+                    out.push_str(&format!("      {name}: {}\n", join_types(types)));
+                }
+            }
+        }
+        out.push_str("\nTopics:\n");
+        for t in &self.topics {
+            out.push_str(&format!("  {}: {}\n", t.name, join_types(&t.types)));
+            for (title, list) in [
+                ("Publishers", &t.publishers),
+                ("Subscriptions", &t.subscriptions),
+            ] {
+                out.push_str(&format!("    {title} ({}):\n", list.len()));
+                for e in list {
+                    out.push_str(&format!(
+                        "      {}  gid {}  {}\n",
+                        endpoint_node(&e.node_namespace, &e.node_name),
+                        e.endpoint_gid,
+                        qos_summary(&e.qos_profile),
+                    ));
+                }
+            }
+        }
+        out.push_str("\nServices:\n");
+        for s in &self.services {
+            out.push_str(&format!("  {}: {}\n", s.name, join_types(&s.types)));
+            for (title, list) in [("Servers", &s.servers), ("Clients", &s.clients)] {
+                out.push_str(&format!("    {title} ({}):\n", list.len()));
+                for e in list {
+                    let gids: Vec<String> = e.endpoint_gids.iter().map(Gid::to_string).collect();
+                    out.push_str(&format!(
+                        "      {}  gids {}\n",
+                        endpoint_node(&e.node_namespace, &e.node_name),
+                        gids.join(", "),
+                    ));
+                }
+            }
+        }
+        out
+    }
+}
+
+fn plural(n: usize, word: &str) -> String {
+    if n == 1 {
+        format!("1 {word}")
+    } else {
+        format!("{n} {word}s")
+    }
+}
+
+fn join_types<S: AsRef<str>>(types: impl IntoIterator<Item = S>) -> String {
+    let types: Vec<String> = types.into_iter().map(|t| t.as_ref().to_owned()).collect();
+    types.join(", ")
+}
+
+/// The full name of an endpoint's node; the placeholders (`_CREATED_BY_BARE_DDS_APP_`,
+/// `_NODE_NAME_UNKNOWN_`) alone.
+fn endpoint_node(namespace: &str, name: &str) -> String {
+    if name == horus_ros_graph::CREATED_BY_BARE_DDS_APP
+        || name == horus_ros_graph::NODE_NAME_UNKNOWN
+    {
+        name.to_owned()
+    } else {
+        names::node_full_name(namespace, name)
+    }
+}
+
+/// `RELIABLE, VOLATILE, KEEP_LAST (10)`: the policies that decide matching, in one line.
+fn qos_summary(qos: &Qos) -> String {
+    format!(
+        "{}, {}, {}",
+        qos.reliability,
+        qos.durability,
+        qos.history_depth_string()
+    )
+}
+
+// ---------------------------------------------------------------------------------------------
+// --watch.
+
+/// What a DDS endpoint is to a ROS user, from its topic prefix and side.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Role {
+    /// Writer on `rt/…`.
+    Publisher,
+    /// Reader on `rt/…`.
+    Subscription,
+    /// Reader on `rq/…Request`.
+    ServerRequestReader,
+    /// Writer on `rr/…Reply`.
+    ServerResponseWriter,
+    /// Writer on `rq/…Request`.
+    ClientRequestWriter,
+    /// Reader on `rr/…Reply`.
+    ClientResponseReader,
+}
+
+impl Role {
+    /// The role and ROS name of an endpoint; `None` for a topic that is not ROS
+    /// (e.g. `ros_discovery_info`).
+    fn of(dds_topic: &str, kind: EndpointKind) -> Option<(Self, String)> {
+        use EndpointKind::{Reader, Writer};
+        match (DemangledTopic::from_dds_topic_name(dds_topic), kind) {
+            (DemangledTopic::Topic(t), Writer) => Some((Self::Publisher, t.as_str().to_owned())),
+            (DemangledTopic::Topic(t), Reader) => Some((Self::Subscription, t.as_str().to_owned())),
+            (DemangledTopic::ServiceRequest(s), Reader) => {
+                Some((Self::ServerRequestReader, s.as_str().to_owned()))
+            }
+            (DemangledTopic::ServiceReply(s), Writer) => {
+                Some((Self::ServerResponseWriter, s.as_str().to_owned()))
+            }
+            (DemangledTopic::ServiceRequest(s), Writer) => {
+                Some((Self::ClientRequestWriter, s.as_str().to_owned()))
+            }
+            (DemangledTopic::ServiceReply(s), Reader) => {
+                Some((Self::ClientResponseReader, s.as_str().to_owned()))
+            }
+            (DemangledTopic::NotRos, _) => None,
+        }
+    }
+
+    /// The endpoint as ROS users name it, in text lines.
+    fn text(self) -> &'static str {
+        match self {
+            Self::Publisher => "publisher",
+            Self::Subscription => "subscription",
+            Self::ServerRequestReader | Self::ServerResponseWriter => "service server",
+            Self::ClientRequestWriter | Self::ClientResponseReader => "service client",
+        }
+    }
+
+    /// `kind` in JSON lines.
+    fn json_kind(self) -> &'static str {
+        match self {
+            Self::Publisher => "publisher",
+            Self::Subscription => "subscription",
+            Self::ServerRequestReader | Self::ServerResponseWriter => "service_server",
+            Self::ClientRequestWriter | Self::ClientResponseReader => "service_client",
+        }
+    }
+
+    /// Which of a server's or client's two DDS endpoints this is.
+    fn part(self) -> Option<&'static str> {
+        match self {
+            Self::Publisher | Self::Subscription => None,
+            Self::ServerRequestReader => Some("request reader"),
+            Self::ServerResponseWriter => Some("response writer"),
+            Self::ClientRequestWriter => Some("request writer"),
+            Self::ClientResponseReader => Some("response reader"),
+        }
+    }
+
+    fn is_service(self) -> bool {
+        self.part().is_some()
+    }
+
+    fn kind(self) -> EndpointKind {
+        match self {
+            Self::Publisher | Self::ServerResponseWriter | Self::ClientRequestWriter => {
+                EndpointKind::Writer
+            }
+            Self::Subscription | Self::ServerRequestReader | Self::ClientResponseReader => {
+                EndpointKind::Reader
+            }
+        }
+    }
+}
+
+/// One endpoint as the watcher last printed it.
+#[derive(Debug, Clone, PartialEq, Eq)]
+struct EndpointView {
+    gid: Gid,
+    role: Role,
+    /// The ROS topic or service name.
+    name: String,
+    /// The message type (`pkg/msg/Name`) or service type (`pkg/srv/Name`), when it was known.
+    ty: Option<String>,
+    type_hash: TypeHash,
+    dds_topic: String,
+}
+
+/// One line of `--watch`.
+#[derive(Debug, Clone, PartialEq, Eq)]
+enum Change {
+    Node {
+        added: bool,
+        name: String,
+        namespace: String,
+    },
+    Endpoint {
+        added: bool,
+        view: EndpointView,
+    },
+}
+
+impl Change {
+    fn text(&self, time: &str) -> String {
+        match self {
+            Self::Node {
+                added,
+                name,
+                namespace,
+            } => format!(
+                "{time} {} node {}",
+                sign(*added),
+                names::node_full_name(namespace, name)
+            ),
+            Self::Endpoint { added, view } => {
+                let mut line =
+                    format!("{time} {} {} {}", sign(*added), view.role.text(), view.name);
+                if let Some(ty) = &view.ty {
+                    line.push_str(&format!(" [{ty}]"));
+                }
+                if let Some(part) = view.role.part() {
+                    line.push_str(&format!(" {part}"));
+                }
+                line.push_str(&format!(" gid {}", view.gid));
+                line
+            }
+        }
+    }
+
+    fn json(&self, time: &str) -> Value {
+        let change = |added: bool| if added { "added" } else { "removed" };
+        match self {
+            Self::Node {
+                added,
+                name,
+                namespace,
+            } => json!({
+                "time": time,
+                "change": change(*added),
+                "kind": "node",
+                "full_name": names::node_full_name(namespace, name),
+                "name": name,
+                "namespace": namespace,
+            }),
+            Self::Endpoint { added, view } => {
+                let mut v = json!({
+                    "time": time,
+                    "change": change(*added),
+                    "kind": view.role.json_kind(),
+                    "type": view.ty,
+                    "type_hash": view.type_hash.is_set().then(|| view.type_hash.to_string()),
+                    "gid": view.gid.to_string(),
+                    "dds_topic": view.dds_topic,
+                    "dds_endpoint": match view.role.kind() {
+                        EndpointKind::Reader => "reader",
+                        EndpointKind::Writer => "writer",
+                    },
+                });
+                if let Some(map) = v.as_object_mut() {
+                    let key = if view.role.is_service() {
+                        "service"
+                    } else {
+                        "topic"
+                    };
+                    map.insert(key.to_owned(), json!(view.name));
+                    if let Some(part) = view.role.part() {
+                        map.insert("part".to_owned(), json!(part.replace(' ', "_")));
+                    }
+                }
+                v
+            }
+        }
+    }
+}
+
+fn sign(added: bool) -> char {
+    if added {
+        '+'
+    } else {
+        '-'
+    }
+}
+
+/// The watcher's view of the graph: what it has printed as present. Graph events are checked
+/// against it and against the cache, so a change is printed once even when the initial snapshot
+/// and the first events overlap.
+#[derive(Debug, Default)]
+struct Watcher {
+    all: bool,
+    /// Visible nodes by (namespace, name), with how many of that name are present.
+    nodes: BTreeMap<(String, String), usize>,
+    /// Visible endpoints by GID.
+    endpoints: HashMap<Gid, EndpointView>,
+}
+
+/// The type and type hash of endpoint `gid` on `dds_topic`, if the cache still has it.
+fn lookup(cache: &GraphCache, gid: Gid, role: Role, dds_topic: &str) -> Option<(String, TypeHash)> {
+    let infos = match role.kind() {
+        EndpointKind::Writer => cache.publishers_info_by_topic(dds_topic, true),
+        EndpointKind::Reader => cache.subscriptions_info_by_topic(dds_topic, true),
+    };
+    let info = infos.into_iter().find(|i| i.endpoint_gid == gid)?;
+    Some((endpoint_type(role, info.topic_type), info.topic_type_hash))
+}
+
+/// The type to show: a service endpoint's `pkg/srv/Name_Request` / `_Response` as the service
+/// type `pkg/srv/Name`.
+fn endpoint_type(role: Role, ty: String) -> String {
+    if !role.is_service() {
+        return ty;
+    }
+    match ty
+        .strip_suffix("_Request")
+        .or_else(|| ty.strip_suffix("_Response"))
+    {
+        Some(service) => service.to_owned(),
+        None => ty,
+    }
+}
+
+fn node_count(cache: &GraphCache, namespace: &str, name: &str) -> usize {
+    cache
+        .node_names()
+        .iter()
+        .filter(|n| n.namespace == namespace && n.name == name)
+        .count()
+}
+
+impl Watcher {
+    fn new(all: bool) -> Self {
+        Self {
+            all,
+            ..Self::default()
+        }
+    }
+
+    fn visible_node(&self, name: &str) -> bool {
+        self.all || !names::is_hidden_node(name)
+    }
+
+    fn visible_name(&self, name: &str) -> bool {
+        self.all || !is_hidden_name(name)
+    }
+
+    /// The current graph as `+` changes (nodes, then topic endpoints by topic, then service
+    /// endpoints by service), and the view set to it.
+    fn snapshot(&mut self, cache: &GraphCache) -> Vec<Change> {
+        let mut out = Vec::new();
+        for n in cache.node_names() {
+            if !self.visible_node(&n.name) {
+                continue;
+            }
+            *self
+                .nodes
+                .entry((n.namespace.clone(), n.name.clone()))
+                .or_default() += 1;
+            out.push(Change::Node {
+                added: true,
+                name: n.name,
+                namespace: n.namespace,
+            });
+        }
+        let mut dds_topics = Vec::new();
+        for name in cache.topic_names_and_types(self.all).into_keys() {
+            let dds = format!("{ROS_TOPIC_PREFIX}{name}");
+            dds_topics.push((dds.clone(), EndpointKind::Writer));
+            dds_topics.push((dds, EndpointKind::Reader));
+        }
+        for name in cache.service_names_and_types(self.all).into_keys() {
+            let request = format!("{ROS_SERVICE_REQUESTER_PREFIX}{name}{SERVICE_REQUEST_SUFFIX}");
+            let reply = format!("{ROS_SERVICE_RESPONSE_PREFIX}{name}{SERVICE_REPLY_SUFFIX}");
+            dds_topics.push((request.clone(), EndpointKind::Reader));
+            dds_topics.push((reply.clone(), EndpointKind::Writer));
+            dds_topics.push((request, EndpointKind::Writer));
+            dds_topics.push((reply, EndpointKind::Reader));
+        }
+        for (dds_topic, kind) in dds_topics {
+            let Some((role, name)) = Role::of(&dds_topic, kind) else {
+                continue;
+            };
+            let infos = match kind {
+                EndpointKind::Writer => cache.publishers_info_by_topic(&dds_topic, true),
+                EndpointKind::Reader => cache.subscriptions_info_by_topic(&dds_topic, true),
+            };
+            for info in infos {
+                let view = EndpointView {
+                    gid: info.endpoint_gid,
+                    role,
+                    name: name.clone(),
+                    ty: Some(endpoint_type(role, info.topic_type)),
+                    type_hash: info.topic_type_hash,
+                    dds_topic: dds_topic.clone(),
+                };
+                self.endpoints.insert(view.gid, view.clone());
+                out.push(Change::Endpoint { added: true, view });
+            }
+        }
+        out
+    }
+
+    /// The changes one graph event makes to the view (none if the view already shows it).
+    fn apply(&mut self, cache: &GraphCache, event: GraphEvent) -> Vec<Change> {
+        match event {
+            GraphEvent::NodeAdded { name, .. } | GraphEvent::NodeRemoved { name, .. }
+                if !self.visible_node(&name) =>
+            {
+                Vec::new()
+            }
+            GraphEvent::NodeAdded { name, namespace } => {
+                let present = node_count(cache, &namespace, &name);
+                let shown = self
+                    .nodes
+                    .entry((namespace.clone(), name.clone()))
+                    .or_default();
+                if present > *shown {
+                    *shown += 1;
+                    vec![Change::Node {
+                        added: true,
+                        name,
+                        namespace,
+                    }]
+                } else {
+                    Vec::new()
+                }
+            }
+            GraphEvent::NodeRemoved { name, namespace } => {
+                let present = node_count(cache, &namespace, &name);
+                let key = (namespace, name);
+                let shown = self.nodes.get(&key).copied().unwrap_or(0);
+                if shown > present {
+                    if shown == 1 {
+                        self.nodes.remove(&key);
+                    } else {
+                        self.nodes.insert(key.clone(), shown - 1);
+                    }
+                    vec![Change::Node {
+                        added: false,
+                        name: key.1,
+                        namespace: key.0,
+                    }]
+                } else {
+                    Vec::new()
+                }
+            }
+            GraphEvent::EndpointAdded { gid, kind, topic } => {
+                let Some((role, name)) = Role::of(&topic, kind) else {
+                    return Vec::new();
+                };
+                if !self.visible_name(&name) {
+                    return Vec::new();
+                }
+                let mut out = Vec::new();
+                if let Some(old) = self.endpoints.get(&gid) {
+                    if old.role == role && old.dds_topic == topic {
+                        return out;
+                    }
+                    if let Some(old) = self.endpoints.remove(&gid) {
+                        out.push(Change::Endpoint {
+                            added: false,
+                            view: old,
+                        });
+                    }
+                }
+                let found = lookup(cache, gid, role, &topic);
+                let view = EndpointView {
+                    gid,
+                    role,
+                    name,
+                    type_hash: found.as_ref().map_or(TypeHash::ZERO, |f| f.1),
+                    ty: found.map(|f| f.0),
+                    dds_topic: topic,
+                };
+                self.endpoints.insert(gid, view.clone());
+                out.push(Change::Endpoint { added: true, view });
+                out
+            }
+            GraphEvent::EndpointRemoved { gid, .. } => match self.endpoints.remove(&gid) {
+                Some(view) => vec![Change::Endpoint { added: false, view }],
+                None => Vec::new(),
+            },
+        }
+    }
+}
+
+/// RFC 3339 UTC with milliseconds: `2026-11-22T01:23:45.678Z`.
+fn rfc3339_millis(t: SystemTime) -> String {
+    let d = t.duration_since(UNIX_EPOCH).unwrap_or_default();
+    let secs = d.as_secs();
+    let (year, month, day) = civil_from_days(secs / 86_400);
+    let rem = secs % 86_400;
+    format!(
+        "{year:04}-{month:02}-{day:02}T{:02}:{:02}:{:02}.{:03}Z",
+        rem / 3600,
+        rem % 3600 / 60,
+        rem % 60,
+        d.subsec_millis()
+    )
+}
+
+/// (year, month, day) of a day count since 1970-01-01 (Howard Hinnant's `civil_from_days`).
+fn civil_from_days(days: u64) -> (u64, u64, u64) {
+    let z = days + 719_468;
+    let era = z / 146_097;
+    let doe = z % 146_097;
+    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let day = doy - (153 * mp + 2) / 5 + 1;
+    let month = if mp < 10 { mp + 3 } else { mp - 9 };
+    let year = yoe + era * 400 + u64::from(month <= 2);
+    (year, month, day)
+}
+
+/// Writes changes, one line each; `false` once stdout is gone (e.g. a closed pipe).
+fn emit(out: &mut impl Write, changes: &[Change], json: bool) -> bool {
+    if changes.is_empty() {
+        return true;
+    }
+    let time = rfc3339_millis(SystemTime::now());
+    for change in changes {
+        let line = if json {
+            change.json(&time).to_string()
+        } else {
+            change.text(&time)
+        };
+        if writeln!(out, "{line}").is_err() {
+            return false;
+        }
+    }
+    out.flush().is_ok()
+}
+
+/// `graph --watch`: the snapshot, then every change, until SIGINT / SIGTERM / SIGHUP.
+fn watch(global: &Global, args: &GraphArgs) -> Result<(), CliError> {
+    let stop = Arc::new(AtomicBool::new(false));
+    let flag = Arc::clone(&stop);
+    ctrlc::set_handler(move || flag.store(true, Ordering::SeqCst))
+        .map_err(|e| CliError::new(format!("could not handle Ctrl+C: {e}")))?;
+    let session = Session::open(global)?;
+    let mut watcher = Watcher::new(args.all);
+    let stdout = std::io::stdout();
+    let mut out = stdout.lock();
+    // Subscribed before the snapshot, so nothing falls between them; what both hold is
+    // printed once (see `Watcher`).
+    let events = session.graph.subscribe();
+    let changes = session.graph.read(|c| watcher.snapshot(c));
+    if !emit(&mut out, &changes, global.json) {
+        return Ok(());
+    }
+    while !stop.load(Ordering::SeqCst) {
+        let first = match events.recv_timeout(STOP_POLL) {
+            Ok(event) => event,
+            Err(RecvTimeoutError::Timeout) => continue,
+            Err(RecvTimeoutError::Disconnected) => break,
+        };
+        let changes = session.graph.read(|c| {
+            let mut changes = watcher.apply(c, first);
+            while let Ok(event) = events.try_recv() {
+                changes.extend(watcher.apply(c, event));
+            }
+            changes
+        });
+        if !emit(&mut out, &changes, global.json) {
+            break;
+        }
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn timestamps_are_rfc3339_utc_millis() {
+        assert_eq!(rfc3339_millis(UNIX_EPOCH), "1970-01-01T00:00:00.000Z");
+        let t = UNIX_EPOCH + Duration::from_millis(1_795_310_625_678);
+        assert_eq!(rfc3339_millis(t), "2026-11-22T01:23:45.678Z");
+        // A leap day.
+        let t = UNIX_EPOCH + Duration::from_secs(951_782_400);
+        assert_eq!(rfc3339_millis(t), "2000-02-29T00:00:00.000Z");
+        let t = UNIX_EPOCH + Duration::from_secs(4_102_444_799);
+        assert_eq!(rfc3339_millis(t), "2099-12-31T23:59:59.000Z");
+    }
+
+    #[test]
+    fn roles_from_dds_topics() {
+        use EndpointKind::{Reader, Writer};
+        let role = Role::of;
+        assert_eq!(
+            role("rt/ns/chatter", Writer),
+            Some((Role::Publisher, "/ns/chatter".to_owned()))
+        );
+        assert_eq!(
+            role("rt/chatter", Reader),
+            Some((Role::Subscription, "/chatter".to_owned()))
+        );
+        assert_eq!(
+            role("rq/add_two_intsRequest", Reader),
+            Some((Role::ServerRequestReader, "/add_two_ints".to_owned()))
+        );
+        assert_eq!(
+            role("rr/add_two_intsReply", Writer),
+            Some((Role::ServerResponseWriter, "/add_two_ints".to_owned()))
+        );
+        assert_eq!(
+            role("rq/add_two_intsRequest", Writer),
+            Some((Role::ClientRequestWriter, "/add_two_ints".to_owned()))
+        );
+        assert_eq!(
+            role("rr/add_two_intsReply", Reader),
+            Some((Role::ClientResponseReader, "/add_two_ints".to_owned()))
+        );
+        assert_eq!(role("ros_discovery_info", Writer), None);
+    }
+
+    #[test]
+    fn change_lines() {
+        let view = EndpointView {
+            gid: Gid::from_bytes([1; 16]),
+            role: Role::ServerRequestReader,
+            name: "/add_two_ints".to_owned(),
+            ty: Some(endpoint_type(
+                Role::ServerRequestReader,
+                "example_interfaces/srv/AddTwoInts_Request".to_owned(),
+            )),
+            type_hash: TypeHash::ZERO,
+            dds_topic: "rq/add_two_intsRequest".to_owned(),
+        };
+        let t = "2026-11-22T01:23:45.678Z";
+        let change = Change::Endpoint { added: false, view };
+        assert_eq!(
+            change.text(t),
+            format!(
+                "{t} - service server /add_two_ints [example_interfaces/srv/AddTwoInts] \
+                 request reader gid {}",
+                Gid::from_bytes([1; 16])
+            )
+        );
+        let j = change.json(t);
+        assert_eq!(j["kind"], "service_server");
+        assert_eq!(j["change"], "removed");
+        assert_eq!(j["service"], "/add_two_ints");
+        assert_eq!(j["part"], "request_reader");
+        assert_eq!(j["dds_endpoint"], "reader");
+        assert_eq!(j["type_hash"], Value::Null);
+        let node = Change::Node {
+            added: true,
+            name: "talker".to_owned(),
+            namespace: "/ns".to_owned(),
+        };
+        assert_eq!(node.text(t), format!("{t} + node /ns/talker"));
+        assert_eq!(node.json(t)["full_name"], "/ns/talker");
+    }
+}

@@ -1,0 +1,254 @@
+//! `horus-ros service call` (ros2service jazzy `verb/call.py`): fills the request from YAML as
+//! `rosidl_runtime_py.set_message_fields` does, calls, and prints
+//!
+//! ```text
+//! requester: making request: example_interfaces.srv.AddTwoInts_Request(a=2, b=3)
+//!
+//! response:
+//! example_interfaces.srv.AddTwoInts_Response(sum=5)
+//!
+//! ```
+//!
+//! Every type goes through one dynamic path ([`crate::dynamic`]): types compiled into
+//! horus-ros-msgs use their compiled description; any other type is described by its server's
+//! node through `~/get_type_description` ([`describe`]), so no package needs installing.
+//!
+//! Unlike ros2cli, which waits for a server forever, we print ros2cli's
+//! `waiting for service to become available...` and give up after `--timeout` seconds; each
+//! call also waits at most `--timeout` for its reply. Failures are one line on stderr, exit 1.
+
+mod describe;
+
+use std::time::{Duration, Instant};
+
+use horus_ros_msgs::dds_type_name;
+use horus_ros_msgs::description::{REQUEST_SUFFIX, RESPONSE_SUFFIX};
+use horus_ros_rmw::names::ServiceName;
+
+use crate::dynamic::{cdr, repr, yaml};
+use crate::session::Session;
+use crate::{CliError, Global};
+use describe::ServiceTypeInfo;
+use horus_ros_services::{DynamicPart, DynamicServiceClient, ServiceError};
+
+/// Arguments of `service call`.
+#[derive(Debug, clap::Args)]
+pub struct CallArgs {
+    /// Name of the ROS service to call to (e.g. '/add_two_ints').
+    pub service_name: String,
+    /// Type of the ROS service (e.g. 'std_srvs/srv/Empty').
+    pub service_type: String,
+    /// Values to fill the service request with in YAML format (e.g. '{a: 1, b: 2}'), otherwise
+    /// the service request will be published with default values.
+    #[arg(default_value = "{}")]
+    pub values: String,
+    /// Repeat the call at a specific rate in Hz.
+    #[arg(short = 'r', long, value_name = "N")]
+    pub rate: Option<f64>,
+    /// Longest wait for a server to appear, and for each reply, in seconds (ros2cli waits for
+    /// the server forever).
+    #[arg(long, value_name = "SECONDS", default_value_t = 10.0)]
+    pub timeout: f64,
+    /// Stop after this many calls (with -r; for tests).
+    #[arg(long, hide = true, value_name = "N")]
+    pub count: Option<u64>,
+}
+
+/// `pkg/srv/Name`, or ros2cli's `pkg/Name` shorthand.
+fn normalize_type(t: &str) -> Result<String, CliError> {
+    let parts: Vec<&str> = t.split('/').collect();
+    let valid = |s: &str| {
+        !s.is_empty()
+            && s.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
+            && !s.starts_with(|c: char| c.is_ascii_digit())
+    };
+    match parts.as_slice() {
+        [pkg, name] if valid(pkg) && valid(name) => Ok(format!("{pkg}/srv/{name}")),
+        [pkg, "srv", name] if valid(pkg) && valid(name) => Ok(t.to_owned()),
+        [_, _, _] => Err(CliError::new("The passed type is not a service")),
+        _ => Err(CliError::new("The passed service type is invalid")),
+    }
+}
+
+/// Runs `service call`.
+pub fn run(global: &Global, args: &CallArgs) -> Result<(), CliError> {
+    let period = match args.rate {
+        Some(r) if r <= 0.0 || r.is_nan() => {
+            return Err(CliError::new("rate must be greater than zero"))
+        }
+        Some(r) => Some(Duration::from_secs_f64(1.0 / r)),
+        None => None,
+    };
+    if !(args.timeout.is_finite() && args.timeout >= 0.0) {
+        return Err(CliError::new("--timeout must be a number of seconds"));
+    }
+    let timeout = Duration::from_secs_f64(args.timeout);
+    let service_type = normalize_type(&args.service_type)?;
+    // ros2cli loads the YAML before anything else.
+    if let Err(e) = yaml_rust2::YamlLoader::load_from_str(&args.values) {
+        return Err(CliError::new(format!(
+            "Failed to parse values as YAML: {e}"
+        )));
+    }
+    let compiled = describe::compiled(&service_type)
+        .map(|d| ServiceTypeInfo::from_descriptions(&service_type, &[d]))
+        .transpose()
+        .map_err(CliError::new)?;
+    let request_type = format!("{service_type}{REQUEST_SUFFIX}");
+    let response_type = format!("{service_type}{RESPONSE_SUFFIX}");
+    let fill = |info: &ServiceTypeInfo| {
+        yaml::fill_from_yaml(&info.schema, &request_type, &args.values)
+            .map_err(|e| CliError::new(format!("Failed to populate field: {e}")))
+    };
+    // Known types are checked before joining the graph, as ros2cli does.
+    let early_request = compiled.as_ref().map(fill).transpose()?;
+
+    let session = Session::open(global)?;
+    let service = ServiceName::expand(
+        &args.service_name,
+        session.node.name(),
+        session.node.namespace(),
+    )
+    .map_err(|e| CliError::new(format!("Invalid service name '{}': {e}", args.service_name)))?;
+    let deadline = Instant::now() + timeout;
+    if !server_listed(&session, service.as_str(), &service_type) {
+        println!("waiting for service to become available...");
+        while !server_listed(&session, service.as_str(), &service_type) {
+            let now = Instant::now();
+            if now >= deadline {
+                return Err(no_server(
+                    &session,
+                    service.as_str(),
+                    &service_type,
+                    timeout,
+                ));
+            }
+            session
+                .graph
+                .wait_for_graph_change((deadline - now).min(Duration::from_millis(50)));
+        }
+    }
+    let (info, request) = match (compiled, early_request) {
+        (Some(info), Some(request)) => (info, request),
+        _ => {
+            let info = describe::fetch(
+                &session.node,
+                &session.graph,
+                service.as_str(),
+                &service_type,
+                timeout,
+            )
+            .map_err(|e| CliError::new(format!("Cannot call {service}: {e}")))?;
+            let request = fill(&info)?;
+            (info, request)
+        }
+    };
+    let body = cdr::encode(&info.schema, &request_type, &request)
+        .map_err(|e| CliError::new(format!("Cannot encode the request: {e}")))?;
+    let mut client = DynamicServiceClient::builder(
+        service.as_str(),
+        service_type.as_str(),
+        DynamicPart {
+            dds_type_name: dds_type_name(&request_type),
+            type_hash: info.request.compute_type_hash(),
+        },
+        DynamicPart {
+            dds_type_name: dds_type_name(&response_type),
+            type_hash: info.response.compute_type_hash(),
+        },
+    )
+    .node(&session.node)
+    .build()?;
+    let request_repr = repr::repr(&info.schema, &request_type, &request);
+    let mut calls = 0u64;
+    loop {
+        println!("requester: making request: {request_repr}\n");
+        let last_call = Instant::now();
+        let reply = client
+            .call(body.clone(), timeout)
+            .map_err(|e| call_error(e, &service, timeout))?;
+        let response = cdr::decode(&info.schema, &response_type, &reply.body, reply.big_endian)
+            .map_err(|e| CliError::new(format!("Cannot decode the response of {service}: {e}")))?;
+        println!(
+            "response:\n{}\n",
+            repr::repr(&info.schema, &response_type, &response)
+        );
+        calls += 1;
+        let Some(period) = period else { break };
+        if args.count.is_some_and(|n| calls >= n) {
+            break;
+        }
+        if let Some(wait) = (last_call + period).checked_duration_since(Instant::now()) {
+            std::thread::sleep(wait);
+        }
+    }
+    Ok(())
+}
+
+/// Whether the graph lists a server of `service` with this type, both endpoints known.
+fn server_listed(session: &Session, service: &str, service_type: &str) -> bool {
+    session.graph.read(|c| {
+        c.servers_info_by_service(service, false)
+            .is_ok_and(|s| s.iter().any(|s| s.service_type == service_type))
+    })
+}
+
+fn no_server(session: &Session, service: &str, service_type: &str, timeout: Duration) -> CliError {
+    let others: Vec<String> = session.graph.read(|c| {
+        c.service_names_and_types(true)
+            .get(service)
+            .map(|t| t.iter().filter(|t| *t != service_type).cloned().collect())
+            .unwrap_or_default()
+    });
+    if others.is_empty() {
+        CliError::new(format!(
+            "No server of {service} appeared within {} s",
+            timeout.as_secs_f64()
+        ))
+    } else {
+        CliError::new(format!(
+            "Service {service} has type {}, not {service_type}",
+            others.join(", ")
+        ))
+    }
+}
+
+fn call_error(e: ServiceError, service: &ServiceName, timeout: Duration) -> CliError {
+    CliError::new(match e {
+        ServiceError::NoServer => format!(
+            "The server of {service} did not become reachable within {} s",
+            timeout.as_secs_f64()
+        ),
+        ServiceError::Timeout => format!(
+            "No response from {service} within {} s",
+            timeout.as_secs_f64()
+        ),
+        ServiceError::ServiceFailed(m) => format!("The service {service} failed: {m}"),
+        ServiceError::Transport(m) => format!("Calling {service} failed: {m}"),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn service_types_are_normalized_as_ros2cli_does() {
+        assert_eq!(
+            normalize_type("example_interfaces/AddTwoInts").expect("short"),
+            "example_interfaces/srv/AddTwoInts"
+        );
+        assert_eq!(
+            normalize_type("std_srvs/srv/Empty").expect("full"),
+            "std_srvs/srv/Empty"
+        );
+        assert_eq!(
+            normalize_type("std_msgs/msg/String").map_err(|e| e.message),
+            Err("The passed type is not a service".to_owned())
+        );
+        assert_eq!(
+            normalize_type("nonsense").map_err(|e| e.message),
+            Err("The passed service type is invalid".to_owned())
+        );
+    }
+}

@@ -1,0 +1,230 @@
+//! Where a service type's description comes from: the types compiled into horus-ros-msgs, or the
+//! serving node's `~/get_type_description` service.
+//!
+//! rcl (jazzy 9.2) `rcl_node_type_description_service_handle_request` looks a type up by its
+//! hash alone (the `type_name` of the request is ignored), in the node's type cache, which holds
+//! the hashes of the types its publishers, subscriptions, services and clients use — for a
+//! service, the *service* type hash. Jazzy does not put that hash on the wire (service endpoints
+//! announce their `_Request` / `_Response` hashes), so we ask, in order, for the hashes a peer
+//! does show: the service hash if the graph has it, the `<service>/_service_event` publisher's
+//! `_Event` type (present when the server enabled service introspection; its description holds
+//! the request and response), and the request / response hashes themselves (known to nodes that
+//! also publish or subscribe those types).
+
+use std::sync::Arc;
+use std::time::Duration;
+
+use horus_ros_graph::Graph;
+use horus_ros_msgs::description::{EVENT_SUFFIX, REQUEST_SUFFIX, RESPONSE_SUFFIX};
+use horus_ros_msgs::type_description_interfaces::srv::{
+    GetTypeDescription, GetTypeDescriptionRequest, GetTypeDescriptionResponse,
+};
+use horus_ros_msgs::{example_interfaces, rcl_interfaces, std_srvs, type_description_interfaces};
+use horus_ros_msgs::{Service, TypeDescription, TypeHash};
+use horus_ros_rmw::names::ServiceName;
+use horus_ros_rmw::Node;
+
+use crate::dynamic::{sub_description, Schema};
+use horus_ros_services::ServiceClient;
+
+/// A service type ready for dynamic calls.
+pub struct ServiceTypeInfo {
+    /// All structs involved.
+    pub schema: Schema,
+    /// `pkg/srv/Name_Request` and its full description.
+    pub request: TypeDescription,
+    /// `pkg/srv/Name_Response` and its full description.
+    pub response: TypeDescription,
+}
+
+impl ServiceTypeInfo {
+    /// From descriptions that contain the request and response types (and what they use).
+    pub fn from_descriptions(
+        service_type: &str,
+        descriptions: &[TypeDescription],
+    ) -> Result<Self, String> {
+        let req_name = format!("{service_type}{REQUEST_SUFFIX}");
+        let resp_name = format!("{service_type}{RESPONSE_SUFFIX}");
+        let find = |name: &str| {
+            descriptions
+                .iter()
+                .find_map(|d| sub_description(d, name).ok())
+                .ok_or_else(|| format!("the type description lacks type '{name}'"))
+        };
+        let request = find(&req_name)?;
+        let response = find(&resp_name)?;
+        let mut schema = Schema::from_description(&request).map_err(|e| e.to_string())?;
+        schema.add(&response).map_err(|e| e.to_string())?;
+        schema.check(&req_name).map_err(|e| e.to_string())?;
+        schema.check(&resp_name).map_err(|e| e.to_string())?;
+        Ok(Self {
+            schema,
+            request,
+            response,
+        })
+    }
+}
+
+/// The description of a service type compiled into horus-ros-msgs.
+pub fn compiled(service_type: &str) -> Option<TypeDescription> {
+    fn d<S: Service>() -> (&'static str, fn() -> TypeDescription) {
+        (S::TYPE_NAME, S::type_description)
+    }
+    let table = [
+        d::<example_interfaces::srv::AddTwoInts>(),
+        d::<std_srvs::srv::Empty>(),
+        d::<std_srvs::srv::Trigger>(),
+        d::<std_srvs::srv::SetBool>(),
+        d::<rcl_interfaces::srv::ListParameters>(),
+        d::<rcl_interfaces::srv::GetParameters>(),
+        d::<rcl_interfaces::srv::GetParameterTypes>(),
+        d::<rcl_interfaces::srv::SetParameters>(),
+        d::<rcl_interfaces::srv::SetParametersAtomically>(),
+        d::<rcl_interfaces::srv::DescribeParameters>(),
+        d::<type_description_interfaces::srv::GetTypeDescription>(),
+    ];
+    table
+        .iter()
+        .find(|(name, _)| *name == service_type)
+        .map(|(_, f)| f())
+}
+
+/// One type hash to ask a node about.
+struct Candidate {
+    type_name: String,
+    hash: TypeHash,
+}
+
+/// Fetches the description of `service_type` from the node serving `service`.
+pub fn fetch(
+    node: &Node,
+    graph: &Arc<Graph>,
+    service: &str,
+    service_type: &str,
+    timeout: Duration,
+) -> Result<ServiceTypeInfo, String> {
+    let servers: Vec<_> = graph
+        .read(|c| c.servers_info_by_service(service, false))
+        .unwrap_or_default()
+        .into_iter()
+        .filter(|s| s.service_type == service_type)
+        .collect();
+    let server = servers
+        .first()
+        .ok_or_else(|| format!("no server of '{service}' to describe '{service_type}'"))?;
+    let node_name = if server.node_namespace.ends_with('/') {
+        format!("{}{}", server.node_namespace, server.node_name)
+    } else {
+        format!("{}/{}", server.node_namespace, server.node_name)
+    };
+    let unknown = || {
+        format!(
+            "type '{service_type}' is not compiled in and its server {node_name} does not \
+             describe it"
+        )
+    };
+    let mut candidates = Vec::new();
+    if server.service_type_hash.is_set() {
+        candidates.push(Candidate {
+            type_name: service_type.to_owned(),
+            hash: server.service_type_hash,
+        });
+    }
+    let event_type = format!("{service_type}{EVENT_SUFFIX}");
+    for p in graph.read(|c| c.publishers_info_by_topic(&format!("{service}/_service_event"), false))
+    {
+        if p.topic_type == event_type
+            && p.node_name == server.node_name
+            && p.node_namespace == server.node_namespace
+            && p.topic_type_hash.is_set()
+        {
+            candidates.push(Candidate {
+                type_name: event_type.clone(),
+                hash: p.topic_type_hash,
+            });
+        }
+    }
+    for (suffix, hash) in [REQUEST_SUFFIX, RESPONSE_SUFFIX]
+        .iter()
+        .zip(&server.endpoint_type_hashes)
+    {
+        if hash.is_set() {
+            candidates.push(Candidate {
+                type_name: format!("{service_type}{suffix}"),
+                hash: *hash,
+            });
+        }
+    }
+    let describe_service = format!("{node_name}/get_type_description");
+    let has_describer = graph.read(|c| {
+        c.servers_info_by_service(&describe_service, false)
+            .is_ok_and(|s| {
+                s.iter()
+                    .any(|s| s.service_type == GetTypeDescription::TYPE_NAME)
+            })
+    });
+    if !has_describer {
+        return Err(format!("{} (it serves no {describe_service})", unknown()));
+    }
+    let describe_name = ServiceName::expand(&describe_service, node.name(), node.namespace())
+        .map_err(|e| format!("{describe_service}: {e}"))?;
+    let mut client = ServiceClient::<GetTypeDescription>::builder()
+        .node(node)
+        .name(describe_name.as_str())
+        .build()
+        .map_err(|e| e.to_string())?;
+    let mut got: Vec<TypeDescription> = Vec::new();
+    let mut reasons: Vec<String> = Vec::new();
+    for c in candidates {
+        let reply = call_describe(
+            &mut client,
+            &GetTypeDescriptionRequest {
+                type_name: c.type_name.clone(),
+                type_hash: c.hash.to_string(),
+                include_type_sources: false,
+            },
+            timeout,
+        );
+        match reply {
+            Ok(r) if r.successful => {
+                let hash = r.type_description.compute_type_hash();
+                if hash != c.hash {
+                    reasons.push(format!(
+                        "the description of {} hashes to {hash}, not {}",
+                        c.type_name, c.hash
+                    ));
+                    continue;
+                }
+                got.push(r.type_description);
+                if let Ok(info) = ServiceTypeInfo::from_descriptions(service_type, &got) {
+                    return Ok(info);
+                }
+            }
+            Ok(r) => reasons.push(format!("{}: {}", c.type_name, r.failure_reason)),
+            Err(e) => reasons.push(format!("{describe_service}: {e}")),
+        }
+    }
+    if reasons.is_empty() {
+        reasons.push("no type hash of it is on the graph".to_owned());
+    }
+    reasons.dedup();
+    Err(format!("{} ({})", unknown(), reasons.join("; ")))
+}
+
+/// One `GetTypeDescription` call.
+fn call_describe(
+    client: &mut ServiceClient<GetTypeDescription>,
+    request: &GetTypeDescriptionRequest,
+    timeout: Duration,
+) -> Result<GetTypeDescriptionResponse, String> {
+    client.call(request.clone(), timeout).map_err(|e| match e {
+        horus_ros_services::ServiceError::NoServer => {
+            "its server did not become reachable".to_owned()
+        }
+        horus_ros_services::ServiceError::Timeout => {
+            format!("no response within {} s", timeout.as_secs_f64())
+        }
+        horus_ros_services::ServiceError::ServiceFailed(m)
+        | horus_ros_services::ServiceError::Transport(m) => m,
+    })
+}

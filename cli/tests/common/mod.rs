@@ -1,0 +1,240 @@
+//! Helpers for the CLI's output tests: the `horus-ros` binary, independent Cyclone DDS peers
+//! (the Python programs of `interop-tests/peers/`), and retries until discovery has settled.
+//!
+//! Run these tests inside the private network namespace (`scripts/isolated`).
+
+#![allow(dead_code)]
+
+use std::io::{BufRead, BufReader};
+use std::path::PathBuf;
+use std::process::{Child, Command, Stdio};
+use std::sync::mpsc;
+use std::time::{Duration, Instant};
+
+use serde_json::Value;
+
+/// How long a peer may take to start and print its JSON line (Python start-up included).
+pub const PEER_START: Duration = Duration::from_secs(8);
+/// How long a command's output may take to reach the expected text (discovery settling).
+pub const SETTLE: Duration = Duration::from_secs(6);
+/// How long peers stay up unless the test ends first (they are killed when dropped).
+pub const LINGER: &str = "30";
+
+/// The Python interpreter with the `cyclonedds` package (as interop-tests: the
+/// `HORUS_ROS_INTEROP_PYTHON` variable, else the workspace's venv, else `python3`).
+pub fn python() -> PathBuf {
+    if let Some(p) = std::env::var_os("HORUS_ROS_INTEROP_PYTHON") {
+        return PathBuf::from(p);
+    }
+    let venv = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../target/interop-venv/bin/python");
+    if venv.exists() {
+        venv
+    } else {
+        PathBuf::from("python3")
+    }
+}
+
+/// `interop-tests/peers/<name>`.
+pub fn peer_script(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../interop-tests/peers")
+        .join(name)
+}
+
+/// Cyclone DDS configuration for the peers: loopback only, with multicast (a copy of
+/// `interop_tests::cyclone_config()`).
+pub fn cyclone_config() -> String {
+    "<CycloneDDS><Domain Id=\"any\"><General><Interfaces>\
+     <NetworkInterface name=\"lo\" multicast=\"true\"/></Interfaces>\
+     <AllowMulticast>true</AllowMulticast></General></Domain></CycloneDDS>"
+        .to_owned()
+}
+
+/// A running Cyclone DDS peer and the JSON line it printed at start (its GIDs); killed when
+/// dropped.
+pub struct Peer {
+    child: Child,
+    /// The peer's first line, parsed.
+    pub created: Value,
+}
+
+impl Peer {
+    /// Starts `script` with `args` and waits for its first JSON line.
+    pub fn start(script: &str, args: &[&str]) -> Self {
+        let mut child = Command::new(python())
+            .arg(peer_script(script))
+            .args(args)
+            .env("CYCLONEDDS_URI", cyclone_config())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::inherit())
+            .spawn()
+            .unwrap_or_else(|e| panic!("start {script} with {:?}: {e}", python()));
+        let stdout = child.stdout.take().expect("piped stdout");
+        let (tx, rx) = mpsc::channel();
+        std::thread::spawn(move || {
+            let mut line = String::new();
+            let _ = BufReader::new(stdout).read_line(&mut line);
+            let _ = tx.send(line);
+        });
+        let line = match rx.recv_timeout(PEER_START) {
+            Ok(line) => line,
+            Err(_) => {
+                let _ = child.kill();
+                let _ = child.wait();
+                panic!("{script} printed nothing within {PEER_START:?}");
+            }
+        };
+        let created = serde_json::from_str(line.trim())
+            .unwrap_or_else(|e| panic!("{script} printed {line:?}: {e}"));
+        Self { child, created }
+    }
+
+    /// A string field of the start line, by JSON pointer (e.g. `/server/request_reader`).
+    pub fn field(&self, pointer: &str) -> String {
+        self.created
+            .pointer(pointer)
+            .and_then(Value::as_str)
+            .unwrap_or_else(|| panic!("no {pointer} in {}", self.created))
+            .to_owned()
+    }
+}
+
+impl Drop for Peer {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+/// One run of the CLI.
+#[derive(Debug, Clone)]
+pub struct Run {
+    /// What it printed on stdout.
+    pub stdout: String,
+    /// What it printed on stderr.
+    pub stderr: String,
+    /// Its exit status.
+    pub code: Option<i32>,
+    /// Its process id (its hidden node is `_horus_ros_<pid>`).
+    pub pid: u32,
+}
+
+/// Runs `horus-ros --domain-id <domain> <args…>` (inside the test's namespace).
+pub fn horus(domain: u32, args: &[&str]) -> Run {
+    let child = Command::new(env!("CARGO_BIN_EXE_horus-ros"))
+        .arg("--domain-id")
+        .arg(domain.to_string())
+        .args(args)
+        .env_remove("ROS_DOMAIN_ID")
+        .env("RUST_LOG", "error")
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("start horus-ros");
+    let pid = child.id();
+    let out = child.wait_with_output().expect("horus-ros output");
+    Run {
+        stdout: String::from_utf8_lossy(&out.stdout).into_owned(),
+        stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
+        code: out.status.code(),
+        pid,
+    }
+}
+
+/// Runs the command until its stdout is `expected(run)` (the graph may still be settling),
+/// at most [`SETTLE`]; then asserts it line for line and returns the run.
+pub fn expect_stdout(domain: u32, args: &[&str], expected: impl Fn(&Run) -> String) -> Run {
+    let deadline = Instant::now() + SETTLE;
+    loop {
+        let run = horus(domain, args);
+        let want = expected(&run);
+        if run.stdout == want || Instant::now() >= deadline {
+            assert_lines(&run, &want, args);
+            return run;
+        }
+        std::thread::sleep(Duration::from_millis(100));
+    }
+}
+
+/// Like [`expect_stdout`] with a fixed text.
+pub fn expect(domain: u32, args: &[&str], expected: &str) -> Run {
+    expect_stdout(domain, args, |_| expected.to_owned())
+}
+
+/// Asserts stdout equals `want`, line by line, with a readable failure.
+pub fn assert_lines(run: &Run, want: &str, args: &[&str]) {
+    let got: Vec<&str> = run.stdout.split('\n').collect();
+    let exp: Vec<&str> = want.split('\n').collect();
+    for (i, (g, e)) in got.iter().zip(&exp).enumerate() {
+        assert_eq!(
+            g,
+            e,
+            "`horus-ros {}` line {} differs\n--- got:\n{}\n--- expected:\n{}\n--- stderr:\n{}",
+            args.join(" "),
+            i + 1,
+            run.stdout,
+            want,
+            run.stderr
+        );
+    }
+    assert_eq!(
+        run.stdout,
+        want,
+        "`horus-ros {}`: different line count\n--- stderr:\n{}",
+        args.join(" "),
+        run.stderr
+    );
+}
+
+/// Runs a command that must fail: exit 1, nothing on stdout, `stderr` exactly.
+pub fn expect_failure(domain: u32, args: &[&str], stderr: &str) {
+    let run = horus(domain, args);
+    assert_eq!(run.code, Some(1), "`horus-ros {}`: {run:?}", args.join(" "));
+    assert_eq!(run.stdout, "", "`horus-ros {}`", args.join(" "));
+    assert_eq!(run.stderr, stderr, "`horus-ros {}`", args.join(" "));
+}
+
+/// Runs a `--json` command until its output parses and `check` accepts it, at most
+/// [`SETTLE`]; returns the document.
+pub fn expect_json(domain: u32, args: &[&str], check: impl Fn(&Value) -> bool) -> Value {
+    let deadline = Instant::now() + SETTLE;
+    loop {
+        let run = horus(domain, args);
+        assert_eq!(run.code, Some(0), "`horus-ros {}`: {run:?}", args.join(" "));
+        let doc: Value = serde_json::from_str(&run.stdout).unwrap_or_else(|e| {
+            panic!(
+                "`horus-ros {}` printed invalid JSON ({e}):\n{}",
+                args.join(" "),
+                run.stdout
+            )
+        });
+        if check(&doc) {
+            return doc;
+        }
+        assert!(
+            Instant::now() < deadline,
+            "`horus-ros {}`: unexpected document\n{}",
+            args.join(" "),
+            run.stdout
+        );
+        std::thread::sleep(Duration::from_millis(100));
+    }
+}
+
+/// The seven QoS lines of an rclpy `TopicEndpointInfo` block (two spaces of indent).
+pub fn topic_qos(reliability: &str, history: &str, durability: &str) -> String {
+    format!(
+        "QoS profile:\n  Reliability: {reliability}\n  History (Depth): {history}\n  \
+         Durability: {durability}\n  Lifespan: Infinite\n  Deadline: Infinite\n  \
+         Liveliness: AUTOMATIC\n  Liveliness lease duration: Infinite\n"
+    )
+}
+
+/// The seven QoS lines of one endpoint in an rclpy `ServiceEndpointInfo` block (six spaces).
+pub fn service_qos(reliability: &str, history: &str, durability: &str) -> String {
+    format!(
+        "      Reliability: {reliability}\n      History (Depth): {history}\n      \
+         Durability: {durability}\n      Lifespan: Infinite\n      Deadline: Infinite\n      \
+         Liveliness: AUTOMATIC\n      Liveliness lease duration: Infinite\n"
+    )
+}

@@ -1,0 +1,732 @@
+//! Output tests of the query verbs — `service list|type|find|info`, `node list|info`,
+//! `topic list|info` — against a live graph: independent Cyclone DDS peers (Python,
+//! `interop-tests/peers/`) and our own nodes in this process. Whole stdout is compared line for
+//! line with ros2cli's (Jazzy; Rolling's `service info -v`) format; `--json` output is parsed back.
+//!
+//! Each test has its own DDS domain. Run inside the private network namespace:
+//! `scripts/isolated cargo test -p horus-ros-cli --test query_verbs`.
+
+mod common;
+
+use std::time::Duration;
+
+use common::{expect, expect_failure, expect_json, expect_stdout, horus, service_qos, topic_qos};
+use common::{Peer, LINGER};
+use horus_ros_msgs::builtin_interfaces::msg::{Duration as RosDuration, Time};
+use horus_ros_msgs::example_interfaces::srv::AddTwoInts;
+use horus_ros_msgs::std_srvs::srv::{SetBool, SetBoolResponse};
+use horus_ros_msgs::{DescriptionBuilder, Message, TypeDescription};
+use horus_ros_rmw::qos::Qos;
+use horus_ros_rmw::Context;
+use horus_ros_services::{ServiceClient, ServiceServerBuilder};
+use serde_json::{json, Value};
+
+/// The Time type hash the Cyclone participant peer announces for its topics.
+fn time_hash() -> String {
+    Time::type_hash().to_string()
+}
+
+/// A stand-in for an action's feedback message (`test_msgs/action/Fibonacci_FeedbackMessage`):
+/// publishing it on `<action>/_action/feedback` makes a node an action server for rcl_action.
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+struct FibonacciFeedbackMessage {
+    sequence: i32,
+}
+
+impl Message for FibonacciFeedbackMessage {
+    const TYPE_NAME: &'static str = "test_msgs/action/Fibonacci_FeedbackMessage";
+    fn type_description() -> TypeDescription {
+        DescriptionBuilder::new(Self::TYPE_NAME)
+            .field::<i32>("sequence")
+            .build()
+    }
+}
+
+fn context(domain: u32) -> Context {
+    Context::builder()
+        .domain_id(domain)
+        .build()
+        .expect("context")
+}
+
+/// Our endpoints as another process sees them through DDS discovery: the history depth is not
+/// announced (UNKNOWN), and rustdds sends no type hash (INVALID).
+const OURS_HISTORY_TOPIC: &str = "UNKNOWN";
+const OURS_HISTORY_SERVICE: &str = "UNKNOWN (0)";
+
+#[test]
+fn service_verbs() {
+    const D: u32 = 101;
+    let d = D.to_string();
+    let hash = time_hash();
+    let peer = Peer::start(
+        "cyclone_ros_participant.py",
+        &[
+            &d,
+            "/peer_ns",
+            "cyclone_node",
+            &hash,
+            LINGER,
+            "/add_two_ints",
+        ],
+    );
+    let _hidden = Peer::start(
+        "cyclone_add_two_ints_server.py",
+        &[&d, "/_private/add", LINGER],
+    );
+    let ctx = context(D);
+    let node = ctx.create_node("horus_node", "/").expect("node");
+    let server = ServiceServerBuilder::<SetBool>::new()
+        .node(&node)
+        .name("set_flag")
+        .on_request(|_| {
+            Ok(SetBoolResponse {
+                success: true,
+                message: String::new(),
+            })
+        })
+        .build()
+        .expect("server");
+    let client = ServiceClient::<AddTwoInts>::builder()
+        .node(&node)
+        .name("/add_two_ints")
+        .build()
+        .expect("client");
+    assert!(client.wait_for_service(Duration::from_secs(8)));
+
+    expect(D, &["service", "list"], "/add_two_ints\n/set_flag\n");
+    expect(
+        D,
+        &["service", "list", "-t"],
+        "/add_two_ints [example_interfaces/srv/AddTwoInts]\n/set_flag [std_srvs/srv/SetBool]\n",
+    );
+    expect(
+        D,
+        &["service", "list", "--include-hidden-services"],
+        "/_private/add\n/add_two_ints\n/set_flag\n",
+    );
+    expect(D, &["service", "list", "-c"], "2\n");
+    expect(
+        D,
+        &["service", "list", "-c", "--include-hidden-services"],
+        "3\n",
+    );
+
+    expect(
+        D,
+        &["service", "type", "/set_flag"],
+        "std_srvs/srv/SetBool\n",
+    );
+    // ros2cli's type verb returns 1 without a message for an unknown (or hidden) service.
+    expect_failure(D, &["service", "type", "/_private/add"], "");
+    expect_failure(D, &["service", "type", "/nope"], "");
+    expect(
+        D,
+        &[
+            "service",
+            "type",
+            "/_private/add",
+            "--include-hidden-services",
+        ],
+        "example_interfaces/srv/AddTwoInts\n",
+    );
+
+    expect(
+        D,
+        &["service", "find", "example_interfaces/srv/AddTwoInts"],
+        "/add_two_ints\n",
+    );
+    expect(
+        D,
+        &[
+            "service",
+            "find",
+            "example_interfaces/srv/AddTwoInts",
+            "--include-hidden-services",
+        ],
+        "/_private/add\n/add_two_ints\n",
+    );
+    expect(
+        D,
+        &["service", "find", "-c", "example_interfaces/srv/AddTwoInts"],
+        "1\n",
+    );
+    expect(D, &["service", "find", "std_srvs/srv/Empty"], "");
+
+    expect(
+        D,
+        &["service", "info", "/add_two_ints"],
+        "Type: example_interfaces/srv/AddTwoInts\nClients count: 1\nServices count: 1\n",
+    );
+    expect(
+        D,
+        &["service", "info", "/set_flag"],
+        "Type: std_srvs/srv/SetBool\nClients count: 0\nServices count: 1\n",
+    );
+    expect_failure(
+        D,
+        &["service", "info", "/nope"],
+        "Unknown service '/nope'\n",
+    );
+    expect_failure(
+        D,
+        &["service", "info", "/_private/add"],
+        "Unknown service '/_private/add'\n",
+    );
+    expect(
+        D,
+        &[
+            "service",
+            "info",
+            "--include-hidden-services",
+            "/_private/add",
+        ],
+        "Type: example_interfaces/srv/AddTwoInts\nClients count: 0\nServices count: 1\n",
+    );
+
+    // -v: Rolling's blocks, the client (ours) then the server (the Cyclone peer's).
+    let (request_writer, reply_reader) = client.gids();
+    let verbose = format!(
+        "Type: example_interfaces/srv/AddTwoInts\n\
+         Clients count: 1\n\
+         \n\
+         Node name: horus_node\n\
+         Node namespace: /\n\
+         Service type: example_interfaces/srv/AddTwoInts\n\
+         Service type hash: INVALID\n\
+         Endpoint type: CLIENT\n\
+         Endpoint count: 2\n\
+         GIDs:\n \
+         - Request Writer : {request_writer}\n \
+         - Response Reader : {reply_reader}\n\
+         QoS profiles:\n \
+         - Request Writer :\n{ours} \
+         - Response Reader :\n{ours}\
+         \n\
+         Services count: 1\n\
+         \n\
+         Node name: cyclone_node\n\
+         Node namespace: /peer_ns\n\
+         Service type: example_interfaces/srv/AddTwoInts\n\
+         Service type hash: INVALID\n\
+         Endpoint type: SERVER\n\
+         Endpoint count: 2\n\
+         GIDs:\n \
+         - Request Reader : {request_reader}\n \
+         - Response Writer : {reply_writer}\n\
+         QoS profiles:\n \
+         - Request Reader :\n{theirs} \
+         - Response Writer :\n{theirs}\
+         \n",
+        ours = service_qos("RELIABLE", OURS_HISTORY_SERVICE, "VOLATILE"),
+        theirs = service_qos("RELIABLE", "UNKNOWN (0)", "VOLATILE"),
+        request_reader = peer.field("/server/request_reader"),
+        reply_writer = peer.field("/server/reply_writer"),
+    );
+    expect(D, &["service", "info", "/add_two_ints", "-v"], &verbose);
+
+    // --json, parsed back.
+    let list = expect_json(D, &["--json", "service", "list"], |doc| {
+        doc.as_array().is_some_and(|a| a.len() == 2)
+    });
+    assert_eq!(
+        list,
+        json!([
+            {"name": "/add_two_ints", "types": ["example_interfaces/srv/AddTwoInts"]},
+            {"name": "/set_flag", "types": ["std_srvs/srv/SetBool"]},
+        ])
+    );
+    let count = expect_json(D, &["--json", "service", "list", "-c"], |_| true);
+    assert_eq!(count, json!({"count": 2}));
+    let ty = expect_json(D, &["--json", "service", "type", "/set_flag"], |_| true);
+    assert_eq!(
+        ty,
+        json!({"name": "/set_flag", "types": ["std_srvs/srv/SetBool"]})
+    );
+    let found = expect_json(
+        D,
+        &["--json", "service", "find", "std_srvs/srv/SetBool"],
+        |_| true,
+    );
+    assert_eq!(
+        found,
+        json!([{"name": "/set_flag", "types": ["std_srvs/srv/SetBool"]}])
+    );
+
+    let info = expect_json(D, &["--json", "service", "info", "/add_two_ints"], |doc| {
+        doc["clients"].as_array().is_some_and(|a| a.len() == 1)
+            && doc["servers"].as_array().is_some_and(|a| a.len() == 1)
+    });
+    assert_eq!(info["name"], "/add_two_ints");
+    assert_eq!(info["types"], json!(["example_interfaces/srv/AddTwoInts"]));
+    assert_eq!(
+        (
+            info["clients_count"].as_u64(),
+            info["services_count"].as_u64()
+        ),
+        (Some(1), Some(1))
+    );
+    let qos = |reliability: &str| {
+        json!({
+            "reliability": reliability, "history": "UNKNOWN", "depth": 0, "durability": "VOLATILE",
+            "lifespan_ns": null, "deadline_ns": null, "liveliness": "AUTOMATIC",
+            "liveliness_lease_duration_ns": null,
+        })
+    };
+    assert_eq!(
+        info["clients"][0],
+        json!({
+            "node_name": "horus_node",
+            "node_namespace": "/",
+            "type": "example_interfaces/srv/AddTwoInts",
+            "type_hash": null,
+            "endpoint_type": "CLIENT",
+            // rmw's order: reader then writer.
+            "gids": [reply_reader.to_string(), request_writer.to_string()],
+            "qos": [qos("RELIABLE"), qos("RELIABLE")],
+        })
+    );
+    assert_eq!(
+        info["servers"][0],
+        json!({
+            "node_name": "cyclone_node",
+            "node_namespace": "/peer_ns",
+            "type": "example_interfaces/srv/AddTwoInts",
+            "type_hash": null,
+            "endpoint_type": "SERVER",
+            "gids": [peer.field("/server/request_reader"), peer.field("/server/reply_writer")],
+            "qos": [qos("RELIABLE"), qos("RELIABLE")],
+        })
+    );
+    // Our server, in JSON: its request reader and reply writer.
+    let (request_reader, reply_writer) = server.gids();
+    let flag = expect_json(D, &["--json", "service", "info", "/set_flag"], |doc| {
+        doc["servers"].as_array().is_some_and(|a| a.len() == 1)
+    });
+    assert_eq!(
+        flag["servers"][0]["gids"],
+        json!([request_reader.to_string(), reply_writer.to_string()])
+    );
+    assert_eq!(flag["clients"], json!([]));
+    expect_failure(
+        D,
+        &["--json", "service", "info", "/nope"],
+        "Unknown service '/nope'\n",
+    );
+}
+
+#[test]
+fn node_verbs() {
+    const D: u32 = 102;
+    let d = D.to_string();
+    let hash = time_hash();
+    let _peer = Peer::start(
+        "cyclone_ros_participant.py",
+        &[
+            &d,
+            "/peer_ns",
+            "cyclone_node",
+            &hash,
+            LINGER,
+            "/add_two_ints",
+        ],
+    );
+    // Two participants announcing the same node name.
+    let _twin1 = Peer::start(
+        "cyclone_ros_participant.py",
+        &[&d, "/dup", "twin", &hash, LINGER],
+    );
+    let _twin2 = Peer::start(
+        "cyclone_ros_participant.py",
+        &[&d, "/dup", "twin", &hash, LINGER],
+    );
+
+    let ctx = context(D);
+    let node = ctx.create_node("horus_node", "/").expect("node");
+    let qos = Qos::default();
+    let _chatter = node
+        .create_publisher::<Time>("/horus/chatter", &qos)
+        .expect("publisher");
+    let _listener = node
+        .create_subscription::<Time>("/peer_ns/chatter", &qos)
+        .expect("subscription");
+    let _hidden = node
+        .create_publisher::<RosDuration>("/_hidden/topic", &qos)
+        .expect("hidden publisher");
+    let _action_server = node
+        .create_publisher::<FibonacciFeedbackMessage>("/fib/_action/feedback", &qos)
+        .expect("feedback publisher");
+    let _action_client = node
+        .create_subscription::<FibonacciFeedbackMessage>("/other/_action/feedback", &qos)
+        .expect("feedback subscription");
+    let _server = ServiceServerBuilder::<SetBool>::new()
+        .node(&node)
+        .name("set_flag")
+        .on_request(|_| {
+            Ok(SetBoolResponse {
+                success: true,
+                message: String::new(),
+            })
+        })
+        .build()
+        .expect("server");
+    let _client = ServiceClient::<AddTwoInts>::builder()
+        .node(&node)
+        .name("/add_two_ints")
+        .build()
+        .expect("client");
+    // A second node of ours, hidden.
+    let _hidden_node = ctx.create_node("_secret", "/").expect("hidden node");
+
+    const DUPLICATES: &str = "WARNING: Be aware that there are nodes in the graph that share an \
+                              exact name, which can have unintended side effects.\n";
+    let run = expect(
+        D,
+        &["node", "list"],
+        "/dup/twin\n/dup/twin\n/horus_node\n/peer_ns/cyclone_node\n",
+    );
+    assert_eq!(run.stderr, DUPLICATES);
+    // -a adds the hidden nodes: ours and the CLI's own `_horus_ros_<pid>`.
+    let run = expect_stdout(D, &["node", "list", "-a"], |run| {
+        format!(
+            "/_horus_ros_{}\n/_secret\n/dup/twin\n/dup/twin\n/horus_node\n/peer_ns/cyclone_node\n",
+            run.pid
+        )
+    });
+    assert_eq!(run.stderr, DUPLICATES);
+    expect(D, &["node", "list", "-c"], "4\n");
+    expect(D, &["node", "list", "-a", "-c"], "6\n");
+
+    expect(
+        D,
+        &["node", "info", "/peer_ns/cyclone_node"],
+        "/peer_ns/cyclone_node\n\
+         \x20 Subscribers:\n\
+         \x20   /peer_ns/echo: builtin_interfaces/msg/Time\n\
+         \x20 Publishers:\n\
+         \x20   /peer_ns/chatter: builtin_interfaces/msg/Time\n\
+         \x20 Service Servers:\n\
+         \x20   /add_two_ints: example_interfaces/srv/AddTwoInts\n\
+         \x20 Service Clients:\n\
+         \n\
+         \x20 Action Servers:\n\
+         \n\
+         \x20 Action Clients:\n\
+         \n",
+    );
+    let run = expect(
+        D,
+        &["node", "info", "/dup/twin"],
+        "/dup/twin\n\
+         \x20 Subscribers:\n\
+         \x20   /dup/echo: builtin_interfaces/msg/Time\n\
+         \x20 Publishers:\n\
+         \x20   /dup/chatter: builtin_interfaces/msg/Time\n\
+         \x20 Service Servers:\n\
+         \n\
+         \x20 Service Clients:\n\
+         \n\
+         \x20 Action Servers:\n\
+         \n\
+         \x20 Action Clients:\n\
+         \n",
+    );
+    assert_eq!(
+        run.stderr,
+        "There are 2 nodes in the graph with the exact name \"/dup/twin\". You are seeing \
+         information about only one of them.\n"
+    );
+    expect(
+        D,
+        &["node", "info", "/horus_node"],
+        "/horus_node\n\
+         \x20 Subscribers:\n\
+         \x20   /peer_ns/chatter: builtin_interfaces/msg/Time\n\
+         \x20 Publishers:\n\
+         \x20   /horus/chatter: builtin_interfaces/msg/Time\n\
+         \x20 Service Servers:\n\
+         \x20   /set_flag: std_srvs/srv/SetBool\n\
+         \x20 Service Clients:\n\
+         \x20   /add_two_ints: example_interfaces/srv/AddTwoInts\n\
+         \x20 Action Servers:\n\
+         \x20   /fib: test_msgs/action/Fibonacci\n\
+         \x20 Action Clients:\n\
+         \x20   /other: test_msgs/action/Fibonacci\n",
+    );
+    expect(
+        D,
+        &["node", "info", "/horus_node", "--include-hidden"],
+        "/horus_node\n\
+         \x20 Subscribers:\n\
+         \x20   /other/_action/feedback: test_msgs/action/Fibonacci_FeedbackMessage\n\
+         \x20   /peer_ns/chatter: builtin_interfaces/msg/Time\n\
+         \x20 Publishers:\n\
+         \x20   /_hidden/topic: builtin_interfaces/msg/Duration\n\
+         \x20   /fib/_action/feedback: test_msgs/action/Fibonacci_FeedbackMessage\n\
+         \x20   /horus/chatter: builtin_interfaces/msg/Time\n\
+         \x20 Service Servers:\n\
+         \x20   /set_flag: std_srvs/srv/SetBool\n\
+         \x20 Service Clients:\n\
+         \x20   /add_two_ints: example_interfaces/srv/AddTwoInts\n\
+         \x20 Action Servers:\n\
+         \x20   /fib: test_msgs/action/Fibonacci\n\
+         \x20 Action Clients:\n\
+         \x20   /other: test_msgs/action/Fibonacci\n",
+    );
+    expect(
+        D,
+        &["node", "info", "/_secret", "--include-hidden"],
+        "/_secret\n  Subscribers:\n\n  Publishers:\n\n  Service Servers:\n\n  Service Clients:\n\n  \
+         Action Servers:\n\n  Action Clients:\n\n",
+    );
+    expect_failure(
+        D,
+        &["node", "info", "/_secret"],
+        "Unable to find node '/_secret'\n",
+    );
+    expect_failure(
+        D,
+        &["node", "info", "/nope"],
+        "Unable to find node '/nope'\n",
+    );
+    // ros2cli compares full names exactly: no leading slash, no match.
+    expect_failure(
+        D,
+        &["node", "info", "peer_ns/cyclone_node"],
+        "Unable to find node 'peer_ns/cyclone_node'\n",
+    );
+
+    let list = expect_json(D, &["--json", "node", "list"], |doc| {
+        doc.as_array().is_some_and(|a| a.len() == 4)
+    });
+    let names: Vec<(&str, &str, &str)> = list
+        .as_array()
+        .map(|a| {
+            a.iter()
+                .map(|n| {
+                    (
+                        n["full_name"].as_str().unwrap_or(""),
+                        n["namespace"].as_str().unwrap_or(""),
+                        n["name"].as_str().unwrap_or(""),
+                    )
+                })
+                .collect()
+        })
+        .unwrap_or_default();
+    assert_eq!(
+        names,
+        vec![
+            ("/dup/twin", "/dup", "twin"),
+            ("/dup/twin", "/dup", "twin"),
+            ("/horus_node", "/", "horus_node"),
+            ("/peer_ns/cyclone_node", "/peer_ns", "cyclone_node"),
+        ]
+    );
+    assert_eq!(
+        expect_json(D, &["--json", "node", "list", "-c"], |_| true),
+        json!({"count": 4})
+    );
+    let info = expect_json(D, &["--json", "node", "info", "/horus_node"], |doc| {
+        doc["action_clients"]
+            .as_array()
+            .is_some_and(|a| a.len() == 1)
+    });
+    assert_eq!(
+        info,
+        json!({
+            "full_name": "/horus_node",
+            "name": "horus_node",
+            "namespace": "/",
+            "subscribers": [{"name": "/peer_ns/chatter", "types": ["builtin_interfaces/msg/Time"]}],
+            "publishers": [{"name": "/horus/chatter", "types": ["builtin_interfaces/msg/Time"]}],
+            "service_servers": [{"name": "/set_flag", "types": ["std_srvs/srv/SetBool"]}],
+            "service_clients": [{"name": "/add_two_ints", "types": ["example_interfaces/srv/AddTwoInts"]}],
+            "action_servers": [{"name": "/fib", "types": ["test_msgs/action/Fibonacci"]}],
+            "action_clients": [{"name": "/other", "types": ["test_msgs/action/Fibonacci"]}],
+        })
+    );
+    expect_failure(
+        D,
+        &["--json", "node", "info", "/nope"],
+        "Unable to find node '/nope'\n",
+    );
+}
+
+#[test]
+fn topic_verbs() {
+    const D: u32 = 103;
+    let d = D.to_string();
+    let hash = time_hash();
+    let peer = Peer::start(
+        "cyclone_ros_participant.py",
+        &[&d, "/peer_ns", "cyclone_node", &hash, LINGER],
+    );
+    let ctx = context(D);
+    let node = ctx.create_node("horus_node", "/").expect("node");
+    let publisher = node
+        .create_publisher::<Time>("/peer_ns/chatter", &Qos::default().transient_local())
+        .expect("publisher");
+    let subscription = node
+        .create_subscription::<Time>("/peer_ns/chatter", &Qos::default().best_effort())
+        .expect("subscription");
+    let _hidden = node
+        .create_publisher::<Time>("/_internal/clock", &Qos::default())
+        .expect("hidden publisher");
+
+    expect(D, &["topic", "list"], "/peer_ns/chatter\n/peer_ns/echo\n");
+    expect(
+        D,
+        &["topic", "list", "-t"],
+        "/peer_ns/chatter [builtin_interfaces/msg/Time]\n/peer_ns/echo [builtin_interfaces/msg/Time]\n",
+    );
+    expect(D, &["topic", "list", "-c"], "2\n");
+    expect(
+        D,
+        &["topic", "list", "--include-hidden-topics"],
+        "/_internal/clock\n/peer_ns/chatter\n/peer_ns/echo\n",
+    );
+    expect(
+        D,
+        &["topic", "list", "-v"],
+        "Published topics:\n \
+         * /peer_ns/chatter [builtin_interfaces/msg/Time] 2 publishers\n\
+         \n\
+         Subscribed topics:\n \
+         * /peer_ns/chatter [builtin_interfaces/msg/Time] 1 subscriber\n \
+         * /peer_ns/echo [builtin_interfaces/msg/Time] 1 subscriber\n\
+         \n",
+    );
+    expect(
+        D,
+        &["topic", "list", "-v", "--include-hidden-topics"],
+        "Published topics:\n \
+         * /_internal/clock [builtin_interfaces/msg/Time] 1 publisher\n \
+         * /peer_ns/chatter [builtin_interfaces/msg/Time] 2 publishers\n\
+         \n\
+         Subscribed topics:\n \
+         * /peer_ns/chatter [builtin_interfaces/msg/Time] 1 subscriber\n \
+         * /peer_ns/echo [builtin_interfaces/msg/Time] 1 subscriber\n\
+         \n",
+    );
+
+    expect(
+        D,
+        &["topic", "info", "/peer_ns/chatter"],
+        "Type: builtin_interfaces/msg/Time\nPublisher count: 2\nSubscription count: 1\n",
+    );
+    // Hidden topics are found without any flag, as in ros2cli.
+    expect(
+        D,
+        &["topic", "info", "/_internal/clock"],
+        "Type: builtin_interfaces/msg/Time\nPublisher count: 1\nSubscription count: 0\n",
+    );
+    expect_failure(D, &["topic", "info", "/nope"], "Unknown topic '/nope'\n");
+    expect_failure(
+        D,
+        &["topic", "info", "peer_ns/chatter"],
+        "Unknown topic 'peer_ns/chatter'\n",
+    );
+
+    // -v: publishers in GID order (ours and the peer's), then the subscription.
+    let theirs_gid = peer.field("/writer");
+    let theirs = format!(
+        "Node name: cyclone_node\nNode namespace: /peer_ns\nTopic type: builtin_interfaces/msg/Time\n\
+         Topic type hash: {hash}\nEndpoint type: PUBLISHER\nGID: {theirs_gid}\n{}",
+        topic_qos("RELIABLE", "UNKNOWN", "VOLATILE")
+    );
+    let ours = format!(
+        "Node name: horus_node\nNode namespace: /\nTopic type: builtin_interfaces/msg/Time\n\
+         Topic type hash: INVALID\nEndpoint type: PUBLISHER\nGID: {}\n{}",
+        publisher.gid(),
+        topic_qos("RELIABLE", OURS_HISTORY_TOPIC, "TRANSIENT_LOCAL")
+    );
+    let mut publishers = [
+        (theirs_gid.clone(), theirs),
+        (publisher.gid().to_string(), ours),
+    ];
+    publishers.sort();
+    let verbose = format!(
+        "Type: builtin_interfaces/msg/Time\n\nPublisher count: 2\n\n{}\n{}\nSubscription count: 1\n\n\
+         Node name: horus_node\nNode namespace: /\nTopic type: builtin_interfaces/msg/Time\n\
+         Topic type hash: INVALID\nEndpoint type: SUBSCRIPTION\nGID: {}\n{}\n",
+        publishers[0].1,
+        publishers[1].1,
+        subscription.gid(),
+        topic_qos("BEST_EFFORT", OURS_HISTORY_TOPIC, "VOLATILE"),
+    );
+    expect(D, &["topic", "info", "/peer_ns/chatter", "-v"], &verbose);
+
+    let list = expect_json(D, &["--json", "topic", "list"], |doc| {
+        doc.as_array().is_some_and(|a| a.len() == 2)
+    });
+    assert_eq!(
+        list,
+        json!([
+            {"name": "/peer_ns/chatter", "types": ["builtin_interfaces/msg/Time"],
+             "publisher_count": 2, "subscription_count": 1},
+            {"name": "/peer_ns/echo", "types": ["builtin_interfaces/msg/Time"],
+             "publisher_count": 0, "subscription_count": 1},
+        ])
+    );
+    assert_eq!(
+        expect_json(
+            D,
+            &["--json", "topic", "list", "-c", "--include-hidden-topics"],
+            |_| true
+        ),
+        json!({"count": 3})
+    );
+    let info = expect_json(D, &["--json", "topic", "info", "/peer_ns/chatter"], |doc| {
+        doc["publishers"].as_array().is_some_and(|a| a.len() == 2)
+            && doc["subscriptions"]
+                .as_array()
+                .is_some_and(|a| a.len() == 1)
+    });
+    assert_eq!(info["name"], "/peer_ns/chatter");
+    assert_eq!(info["types"], json!(["builtin_interfaces/msg/Time"]));
+    assert_eq!(
+        (
+            info["publisher_count"].as_u64(),
+            info["subscription_count"].as_u64()
+        ),
+        (Some(2), Some(1))
+    );
+    let find = |list: &Value, gid: &str| -> Value {
+        list.as_array()
+            .and_then(|a| a.iter().find(|e| e["gid"] == gid))
+            .cloned()
+            .unwrap_or(Value::Null)
+    };
+    assert_eq!(
+        find(&info["publishers"], &theirs_gid),
+        json!({
+            "node_name": "cyclone_node",
+            "node_namespace": "/peer_ns",
+            "type": "builtin_interfaces/msg/Time",
+            "type_hash": hash,
+            "endpoint_type": "PUBLISHER",
+            "gid": theirs_gid,
+            "qos": {
+                "reliability": "RELIABLE", "history": "UNKNOWN", "depth": 0,
+                "durability": "VOLATILE", "lifespan_ns": null, "deadline_ns": null,
+                "liveliness": "AUTOMATIC", "liveliness_lease_duration_ns": null,
+            },
+        })
+    );
+    let sub = &info["subscriptions"][0];
+    assert_eq!(sub["gid"], subscription.gid().to_string());
+    assert_eq!(sub["node_name"], "horus_node");
+    assert_eq!(sub["endpoint_type"], "SUBSCRIPTION");
+    assert_eq!(sub["type_hash"], Value::Null);
+    assert_eq!(sub["qos"]["reliability"], "BEST_EFFORT");
+    let ours = find(&info["publishers"], &publisher.gid().to_string());
+    assert_eq!(ours["qos"]["durability"], "TRANSIENT_LOCAL");
+    expect_failure(
+        D,
+        &["--json", "topic", "info", "/nope"],
+        "Unknown topic '/nope'\n",
+    );
+    // Nothing at all on an empty domain.
+    let empty = horus(D + 10, &["topic", "list", "-v"]);
+    assert_eq!((empty.code, empty.stdout.as_str()), (Some(0), ""));
+}
