@@ -117,7 +117,7 @@ fn local_endpoint<M: Message>(
         kind,
         dds_topic_name: topic.to_dds_topic_name(qos.avoid_ros_namespace_conventions),
         dds_type_name: M::dds_type_name(),
-        qos: *qos,
+        qos: qos.effective(kind),
         type_hash: M::type_hash(),
         // What rustdds announces for us: nothing (it cannot send endpoint USER_DATA).
         user_data: Vec::new(),

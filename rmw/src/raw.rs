@@ -112,7 +112,7 @@ fn describe(
         kind,
         dds_topic_name: spec.dds_topic_name.clone(),
         dds_type_name: spec.dds_type_name.clone(),
-        qos: spec.qos,
+        qos: spec.qos.effective(kind),
         type_hash: spec.type_hash,
         user_data: Vec::new(),
     }

@@ -462,3 +462,40 @@ mod tests {
         );
     }
 }
+
+impl Qos {
+    /// The profile an endpoint created with `self` really has, as rmw reports its own endpoints
+    /// (`dds_qos_to_rmw_qos` of the created entity): system defaults and default durations
+    /// resolved to what DDS applies (e.g. AUTOMATIC liveliness, infinite durations).
+    pub fn effective(&self, kind: EndpointKind) -> Qos {
+        match self.to_dds(kind) {
+            Ok(policies) => Qos {
+                avoid_ros_namespace_conventions: self.avoid_ros_namespace_conventions,
+                ..Qos::from_dds(&policies, kind)
+            },
+            Err(_) => *self,
+        }
+    }
+}
+
+#[cfg(test)]
+mod effective_tests {
+    use super::*;
+
+    #[test]
+    fn system_defaults_resolve_to_what_dds_applies() {
+        let q = Qos::services_default().effective(EndpointKind::Writer);
+        assert_eq!(q.reliability, ReliabilityPolicy::Reliable);
+        assert_eq!(q.durability, DurabilityPolicy::Volatile);
+        assert_eq!((q.history, q.depth), (HistoryPolicy::KeepLast, 10));
+        assert_eq!(q.liveliness, LivelinessPolicy::Automatic);
+        assert!(q.deadline.is_infinite() && q.lifespan.is_infinite());
+        assert!(q.liveliness_lease_duration.is_infinite());
+        let avoid = Qos::default_profile().with_avoid_ros_namespace_conventions(true);
+        assert!(
+            avoid
+                .effective(EndpointKind::Reader)
+                .avoid_ros_namespace_conventions
+        );
+    }
+}
