@@ -10,9 +10,12 @@ use crate::{CliError, Global};
 
 /// The shortest discovery wait: peers answer a new participant's announcement within a few
 /// milliseconds, but not at once.
-const MIN_DISCOVERY: Duration = Duration::from_millis(100);
-/// The graph counts as settled once it has not changed for this long.
-const QUIET: Duration = Duration::from_millis(80);
+const MIN_DISCOVERY: Duration = Duration::from_millis(120);
+/// Once what is known is consistent, the wait ends when nothing has changed for this long
+/// (participants not seen yet get this long to show up).
+const GRACE: Duration = Duration::from_millis(30);
+/// Longest single wait while what is known is still inconsistent.
+const STEP: Duration = Duration::from_millis(10);
 
 /// A context, a hidden node (`_horus_ros_<pid>`, as ros2cli's `_ros2cli_<pid>`), and the live
 /// graph seen from it.
@@ -49,17 +52,25 @@ impl Session {
         })
     }
 
-    /// Waits for discovery: at least [`MIN_DISCOVERY`], then until the graph has been quiet for
-    /// [`QUIET`], never longer than `--spin-time` (ros2cli always waits the whole spin time).
+    /// Waits for discovery, never longer than `--spin-time` (ros2cli always waits the whole
+    /// spin time): at least [`MIN_DISCOVERY`], then until what is known is consistent (every
+    /// participant's `ros_discovery_info` in and every endpoint it lists discovered) and has not
+    /// changed for [`GRACE`].
     pub fn settle(&self, global: &Global) {
         let start = Instant::now();
         let limit = Duration::from_secs_f64(global.spin_time.max(0.0));
-        let min = MIN_DISCOVERY.min(limit);
-        std::thread::sleep(min);
-        while start.elapsed() < limit {
+        std::thread::sleep(MIN_DISCOVERY.min(limit));
+        loop {
             let left = limit.saturating_sub(start.elapsed());
-            if !self.graph.wait_for_graph_change(QUIET.min(left)) {
-                break;
+            if left.is_zero() {
+                return;
+            }
+            if self.graph.read(|c| c.is_consistent()) {
+                if !self.graph.wait_for_graph_change(GRACE.min(left)) {
+                    return;
+                }
+            } else {
+                self.graph.wait_for_graph_change(STEP.min(left));
             }
         }
     }

@@ -23,6 +23,8 @@ pub(crate) struct Participant {
     pub(crate) nodes: Vec<NodeEntitiesInfo>,
     /// Endpoint GID → (kind, index into `nodes`) of the first node listing it.
     pub(crate) owner: BTreeMap<Gid, (EndpointKind, usize)>,
+    /// Whether a `ros_discovery_info` message of it has arrived.
+    pub(crate) announced: bool,
 }
 
 impl Participant {
@@ -355,8 +357,10 @@ impl GraphCache {
     /// participant if unknown. Returns whether its node list changed.
     pub fn update_participant_entities(&mut self, msg: ParticipantEntitiesInfo) -> bool {
         let participant = self.participants.entry(msg.gid.prefix()).or_default();
+        let first = !participant.announced;
+        participant.announced = true;
         if participant.nodes == msg.node_entities_info_seq {
-            return false;
+            return first;
         }
         let prefix = msg.gid.prefix();
         let old = std::mem::take(&mut participant.nodes);
@@ -382,6 +386,15 @@ impl GraphCache {
             self.emit(GraphEvent::NodeAdded { name, namespace });
         }
         true
+    }
+
+    /// Whether what is known is consistent: every participant has sent its `ros_discovery_info`
+    /// and every endpoint its nodes list has been discovered. Participants that are not ROS
+    /// (no `ros_discovery_info`) keep this false. A discovery wait can stop once this holds.
+    pub fn is_consistent(&self) -> bool {
+        self.participants
+            .values()
+            .all(|p| p.announced && p.owner.keys().all(|gid| self.endpoints.contains_key(gid)))
     }
 
     /// Records the hash of a service type (e.g. `example_interfaces/srv/AddTwoInts`) for

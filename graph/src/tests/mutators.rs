@@ -233,3 +233,29 @@ fn participant_gid_from_guid_prefix() {
     assert!(g.remove_participant(participant_gid_from_prefix(prefix)));
     assert_eq!(g.count_publishers("/t"), 0);
 }
+
+#[test]
+fn consistency_needs_every_participant_announced_and_its_endpoints_known() {
+    let mut c = GraphCache::new();
+    assert!(c.is_consistent(), "nothing known is consistent");
+    c.add_participant(participant_gid_from_prefix(gid("p1").prefix()), None);
+    assert!(
+        !c.is_consistent(),
+        "a participant without ros_discovery_info"
+    );
+    c.update_participant_entities(msg("p1", vec![node("/", "n", &["r1"], &["w1"])]));
+    assert!(
+        !c.is_consistent(),
+        "its node lists endpoints not discovered yet"
+    );
+    c.add_entity(reader("r1", "p1", "rt/a", "std_msgs::msg::dds_::String_"));
+    assert!(!c.is_consistent());
+    c.add_entity(writer("w1", "p1", "rt/b", "std_msgs::msg::dds_::String_"));
+    assert!(c.is_consistent());
+    // An empty message counts as announced too.
+    assert!(
+        c.update_participant_entities(msg("p2", vec![])),
+        "a first, empty message is a change"
+    );
+    assert!(c.is_consistent());
+}
