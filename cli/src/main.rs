@@ -74,6 +74,28 @@ enum Command {
     Completions(verb::completions::CompletionsArgs),
 }
 
+/// Set when stdout turned out to be a closed pipe.
+static STDOUT_CLOSED: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+/// `println!` panics when stdout is a closed pipe: that panic is not an error of ours, so it is
+/// not reported (any other panic is, as usual).
+fn quiet_on_closed_stdout() {
+    let default = std::panic::take_hook();
+    std::panic::set_hook(Box::new(move |info| {
+        let message = info
+            .payload()
+            .downcast_ref::<String>()
+            .map(String::as_str)
+            .or_else(|| info.payload().downcast_ref::<&str>().copied())
+            .unwrap_or("");
+        if message.contains("failed printing to stdout") && message.contains("Broken pipe") {
+            STDOUT_CLOSED.store(true, std::sync::atomic::Ordering::SeqCst);
+            return;
+        }
+        default(info);
+    }));
+}
+
 fn main() -> ExitCode {
     tracing_subscriber::fmt()
         .with_env_filter(
@@ -83,13 +105,22 @@ fn main() -> ExitCode {
         .with_writer(std::io::stderr)
         .init();
     let cli = Cli::parse();
-    let result = match cli.command {
+    quiet_on_closed_stdout();
+    let result = std::panic::catch_unwind(move || match cli.command {
         Command::Service(c) => verb::service::run(&cli.global, c),
         Command::Node(c) => verb::node::run(&cli.global, c),
         Command::Topic(c) => verb::topic::run(&cli.global, c),
         Command::Graph(args) => verb::graph::run(&cli.global, &args),
         Command::Demo(args) => verb::demo::run(&cli.global, &args),
         Command::Completions(args) => verb::completions::run(&args),
+    });
+    // The reader of our output went away (`horus-ros … | head`): stop quietly, as a shell tool does.
+    let Ok(result) = result else {
+        return if STDOUT_CLOSED.load(std::sync::atomic::Ordering::SeqCst) {
+            ExitCode::SUCCESS
+        } else {
+            ExitCode::from(101)
+        };
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
