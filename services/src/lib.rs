@@ -31,6 +31,7 @@ mod raw_traits;
 mod retry;
 mod runtime;
 mod server;
+mod server_wire;
 mod wire;
 
 pub use client::{

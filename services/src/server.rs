@@ -5,25 +5,21 @@ use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::Arc;
 use std::thread::JoinHandle;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
-use horus_ros_graph::Graph;
 use horus_ros_msgs::Service;
 use horus_ros_rmw::names::ServiceName;
 use horus_ros_rmw::qos::Qos;
-use horus_ros_rmw::{Gid, Node, RawReader, RawSample, RawWriter, SampleId};
+use horus_ros_rmw::{Gid, Node, RawReader, RawSample, RawWriter};
 
 use crate::naming::{default_service_name, ServiceTopics};
 use crate::runtime::Runtime;
-use crate::wire::{decode, encode, is_reader, CycloneHeader, WireFlavour, HORUS_CLIENT_MARKER};
+use crate::server_wire::ServerWire;
+use crate::wire::{decode, encode, WireFlavour};
 use crate::SetupError;
 
 /// The default [`poll_interval`](ServiceServerBuilder::poll_interval).
 pub const DEFAULT_POLL_INTERVAL: Duration = Duration::from_millis(5);
-
-/// How long a reply waits for the client's reply reader to be matched before it is sent anyway
-/// (rmw_fastrtps and rmw_cyclonedds wait too, so that a fresh client's first reply is not lost).
-const REPLY_MATCH_WAIT: Duration = Duration::from_millis(500);
 
 /// Most undecodable samples skipped in one drain before the thread checks whether to stop.
 const MAX_ERRORS_PER_DRAIN: usize = 1000;
@@ -120,11 +116,14 @@ impl<S: Service> ServiceServerBuilder<S> {
         let worker = ServerLoop::<S> {
             requests,
             replies,
-            graph: Arc::clone(&runtime.graph),
-            service: topics.name.clone(),
-            reply_topic: topics.reply.dds_topic_name.clone(),
+            wire: ServerWire::new(
+                Arc::clone(&runtime.graph),
+                topics.name.clone(),
+                topics.reply.dds_topic_name.clone(),
+                reply_writer,
+                self.flavour,
+            ),
             handler,
-            flavour: self.flavour,
             poll_interval: self.poll_interval,
             shared: Arc::clone(&shared),
         };
@@ -210,12 +209,8 @@ impl<S: Service> Drop for ServiceServer<S> {
 struct ServerLoop<S: Service> {
     requests: RawReader,
     replies: RawWriter,
-    graph: Arc<Graph>,
-    service: ServiceName,
-    /// The DDS reply topic (`rr/…Reply`).
-    reply_topic: String,
+    wire: ServerWire,
     handler: Handler<S>,
-    flavour: Option<WireFlavour>,
     poll_interval: Duration,
     shared: Arc<ServerShared>,
 }
@@ -229,7 +224,7 @@ impl<S: Service> ServerLoop<S> {
                     Ok(Some(sample)) => self.serve(sample),
                     Ok(None) => break,
                     Err(e) => {
-                        tracing::warn!(service = %self.service, "dropped a request: {e}");
+                        tracing::warn!(service = %self.wire.service(), "dropped a request: {e}");
                         errors += 1;
                         if errors >= MAX_ERRORS_PER_DRAIN {
                             break;
@@ -242,72 +237,19 @@ impl<S: Service> ServerLoop<S> {
         }
     }
 
+    /// Answers one request in its client's convention, once the client's reply reader is
+    /// matched (or after a bounded wait).
     fn serve(&mut self, sample: RawSample) {
-        let flavour = self.flavour.unwrap_or_else(|| {
-            WireFlavour::for_vendor(self.graph.participant_vendor(sample.id.writer))
-        });
-        match flavour {
-            WireFlavour::CycloneDds => self.serve_cyclone(sample),
-            WireFlavour::FastRtps => self.serve_fastrtps(sample),
-        }
-    }
-
-    /// rmw_cyclonedds: echo the request header in front of the response.
-    fn serve_cyclone(&mut self, sample: RawSample) {
-        let Some((header, message)) = CycloneHeader::split(&sample.body, sample.big_endian) else {
-            tracing::warn!(service = %self.service, "request shorter than rmw_cyclonedds' header; dropped");
+        let Some(request) = self.wire.interpret(sample) else {
             return;
         };
-        match self.handle(message, sample.big_endian) {
-            Ok(body) => {
-                self.wait_for_client_reader_of(sample.id.writer);
-                if let Err(e) = self.replies.write(header.prepend(&body), None, None) {
-                    tracing::warn!(service = %self.service, "could not send a reply: {e}");
-                }
-            }
-            Err(message) => tracing::warn!(
-                service = %self.service,
-                "handler failed for an rmw_cyclonedds client, which gets no reply: {message}"
-            ),
-        }
-    }
-
-    /// rmw_fastrtps (and horus-ros clients): reply with related_sample_identity = request id.
-    fn serve_fastrtps(&mut self, sample: RawSample) {
-        let reply_to = match sample.related {
-            Some(r) if r.writer != Gid::default() => r.writer,
-            _ => sample.id.writer,
+        let outcome = self.handle(request.message(), request.big_endian);
+        let Some(reply) = self.wire.reply(&request.route, outcome) else {
+            return;
         };
-        let horus_client = sample
-            .related
-            .is_some_and(|r| r.sequence_number == HORUS_CLIENT_MARKER);
-        let outcome = self.handle(&sample.body, sample.big_endian);
-        let only_to = (is_reader(reply_to)
-            && self
-                .graph
-                .wait_for_match(self.replies.gid(), reply_to, REPLY_MATCH_WAIT))
-        .then_some(reply_to);
-        let (body, sequence_number) = match outcome {
-            Ok(body) => (body, sample.id.sequence_number),
-            // The error reply: the request's sequence number negated, the message as a CDR string.
-            Err(message) if horus_client => match encode(&message) {
-                Ok(body) => (body, -sample.id.sequence_number),
-                Err(e) => {
-                    tracing::warn!(service = %self.service, "could not encode an error reply: {e}");
-                    return;
-                }
-            },
-            Err(message) => {
-                tracing::warn!(service = %self.service, "handler failed; a ROS client gets no reply: {message}");
-                return;
-            }
-        };
-        let related = SampleId {
-            writer: reply_to,
-            sequence_number,
-        };
-        if let Err(e) = self.replies.write(body, Some(related), only_to) {
-            tracing::warn!(service = %self.service, "could not send a reply: {e}");
+        self.wire.wait_until_sendable(&reply);
+        if let Err(e) = self.wire.write(&self.replies, reply) {
+            tracing::warn!(service = %self.wire.service(), "could not send a reply: {e}");
         }
     }
 
@@ -332,30 +274,6 @@ impl<S: Service> ServerLoop<S> {
         };
         counter.fetch_add(1, Ordering::Relaxed);
         result
-    }
-
-    /// rmw_cyclonedds clients are identified by a header id, not a GUID: wait for the reply
-    /// reader(s) of the requesting participant on our reply topic, as far as the graph shows them.
-    fn wait_for_client_reader_of(&mut self, request_writer: Gid) {
-        let prefix = request_writer.prefix();
-        let writer = self.replies.gid();
-        let deadline = Instant::now() + REPLY_MATCH_WAIT;
-        loop {
-            // Readers of our reply topic in the requesting participant (its node may not be
-            // known yet: look at the DDS topic, not at clients by node).
-            let matched = self
-                .graph
-                .read(|c| c.subscriptions_info_by_topic(&self.reply_topic, true))
-                .iter()
-                .filter(|r| r.endpoint_gid.prefix() == prefix)
-                .any(|r| self.graph.is_matched(writer, r.endpoint_gid));
-            let now = Instant::now();
-            if matched || now >= deadline {
-                return;
-            }
-            self.graph
-                .wait_for_graph_change((deadline - now).min(Duration::from_millis(10)));
-        }
     }
 }
 

@@ -93,17 +93,26 @@ fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
 impl<S: Service> ClientCore<Typed<S>> {
     /// A client of the compiled service type `S`.
     pub(crate) fn new(options: ClientOptions) -> Result<Self, SetupError> {
+        Self::for_service::<S>(Typed::default(), &options)
+    }
+}
+
+impl<C: Codec> ClientCore<C> {
+    /// A client of the compiled service type `S` (its topics, and its default name unless
+    /// `options` name one) using `codec`.
+    pub(crate) fn for_service<S: Service>(
+        codec: C,
+        options: &ClientOptions,
+    ) -> Result<Self, SetupError> {
         let runtime = Runtime::for_service::<S>(options.node.as_ref())?;
         let name = options
             .name
             .clone()
             .unwrap_or_else(default_service_name::<S>);
         let topics = ServiceTopics::resolve::<S>(&runtime.node, &name, &options.qos)?;
-        Self::with_codec(runtime, topics, Typed::default(), &options)
+        Self::with_codec(runtime, topics, codec, options)
     }
-}
 
-impl<C: Codec> ClientCore<C> {
     /// A client on `topics` using `codec`.
     pub(crate) fn with_codec(
         runtime: Runtime,
@@ -324,7 +333,7 @@ impl<C: Codec> ClientCore<C> {
                         .unwrap_or_else(|_| "the service handler failed".to_owned());
                     let key = RequestKey {
                         flavour: WireFlavour::FastRtps,
-                        sequence: -related.sequence_number,
+                        sequence: related.sequence_number.saturating_neg(),
                     };
                     (key, Err(ServiceError::ServiceFailed(message)))
                 } else {

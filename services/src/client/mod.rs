@@ -2,7 +2,7 @@
 //! [`PendingResponse`] futures).
 
 mod blocking;
-mod codec;
+pub(crate) mod codec;
 pub(crate) mod core;
 mod dynamic;
 mod pending;

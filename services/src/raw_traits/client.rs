@@ -1,7 +1,7 @@
 //! [`DdsServiceClient`]: [`ServiceClientTrait`] over DDS, in the server's wire convention.
 
 use std::marker::PhantomData;
-use std::sync::atomic::{AtomicBool, AtomicI64, Ordering};
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard};
 use std::task::Waker;
 use std::thread::JoinHandle;
@@ -10,21 +10,13 @@ use std::time::{Duration, Instant};
 use horus_ros_msgs::Service;
 use horus_ros_rmw::names::ServiceName;
 use horus_ros_rmw::qos::Qos;
-use horus_ros_rmw::{Gid, Node, RawReader, RawSample, RawWriter, SampleId};
+use horus_ros_rmw::{Gid, Node};
 
 use super::{encapsulate_into, le_body, ServiceClientTrait, TransportError};
-use crate::client::core::ClientOptions;
-use crate::naming::{default_service_name, ServiceTopics};
-use crate::runtime::Runtime;
-use crate::wire::{client_id, decode, CycloneHeader, WireFlavour, HORUS_CLIENT_MARKER};
-use crate::SetupError;
-
-/// Request numbers of rmw_cyclonedds-convention requests (process-wide, like rmw_cyclonedds).
-static NEXT_CYCLONE_SEQ: AtomicI64 = AtomicI64::new(1);
-
-/// How long our reply reader must have been matched with an rmw_cyclonedds server's reply writer
-/// before a request is sent (as `ServiceClient` does: such a server does not wait for us).
-const CYCLONE_MATCH_SETTLE: Duration = Duration::from_millis(100);
+use crate::client::codec::{Raw, RawReply};
+use crate::client::core::{ClientCore, ClientOptions, RequestKey};
+use crate::wire::WireFlavour;
+use crate::{ServiceError, SetupError};
 
 /// The default [`send_timeout`](DdsServiceClientBuilder::send_timeout).
 const DEFAULT_SEND_TIMEOUT: Duration = Duration::from_secs(10);
@@ -61,7 +53,7 @@ impl<S: Service> DdsServiceClientBuilder<S> {
         self
     }
 
-    /// The service name (default: [`default_service_name`]).
+    /// The service name (default: [`default_service_name`](crate::default_service_name)).
     pub fn name(mut self, name: impl Into<String>) -> Self {
         self.options.name = Some(name.into());
         self
@@ -88,22 +80,14 @@ impl<S: Service> DdsServiceClientBuilder<S> {
 
     /// Creates the request writer and reply reader and starts the reply thread.
     pub fn build(self) -> Result<DdsServiceClient<S>, SetupError> {
-        let runtime = Runtime::for_service::<S>(self.options.node.as_ref())?;
-        let name = self.options.name.unwrap_or_else(default_service_name::<S>);
-        let topics = ServiceTopics::resolve::<S>(&runtime.node, &name, &self.options.qos)?;
-        let writer = runtime.node.create_raw_writer(&topics.request)?;
-        let reader = runtime.node.create_raw_reader(&topics.reply)?;
+        // Raw payloads are re-encoded as CDR_LE bodies before they reach the core.
+        let codec = Raw {
+            service_type: S::TYPE_NAME.to_owned(),
+        };
         let shared = Arc::new(Shared {
-            request_writer: writer.gid(),
-            reply_reader: reader.gid(),
-            client_id: client_id(writer.gid()),
-            runtime,
-            name: topics.name,
-            type_name: S::TYPE_NAME,
-            flavour: self.options.flavour,
+            core: ClientCore::for_service::<S>(codec, &self.options)?,
             send_timeout: self.send_timeout,
             state: Mutex::new(State {
-                writer,
                 unsent: None,
                 current: None,
                 reply: None,
@@ -114,8 +98,8 @@ impl<S: Service> DdsServiceClientBuilder<S> {
         let pump = {
             let shared = Arc::clone(&shared);
             std::thread::Builder::new()
-                .name(format!("horus-rawcli{}", shared.name))
-                .spawn(move || shared.pump(reader))?
+                .name(format!("horus-rawcli{}", shared.core.name()))
+                .spawn(move || shared.pump())?
         };
         Ok(DdsServiceClient {
             shared,
@@ -149,7 +133,7 @@ pub struct DdsServiceClient<S: Service> {
 impl<S: Service> std::fmt::Debug for DdsServiceClient<S> {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("DdsServiceClient")
-            .field("name", &self.shared.name)
+            .field("name", self.shared.core.name())
             .field("type", &S::TYPE_NAME)
             .finish()
     }
@@ -168,12 +152,12 @@ impl<S: Service> DdsServiceClient<S> {
 
     /// The fully-qualified service name.
     pub fn name(&self) -> &ServiceName {
-        &self.shared.name
+        self.shared.core.name()
     }
 
     /// The GIDs of the request writer and the reply reader.
     pub fn gids(&self) -> (Gid, Gid) {
-        (self.shared.request_writer, self.shared.reply_reader)
+        self.shared.core.gids()
     }
 }
 
@@ -195,7 +179,10 @@ impl<S: Service> ServiceClientTrait for DdsServiceClient<S> {
     fn send_request_raw(&mut self, request: &[u8]) -> Result<(), TransportError> {
         let body = le_body::<S::Request>(request)?.into_owned();
         let mut state = self.shared.state();
-        state.current = None;
+        if let Some(key) = state.current.take() {
+            // Its reply, if it still comes, is dropped.
+            self.shared.core.forget(key);
+        }
         state.reply = None;
         state.unsent = Some(Unsent {
             body,
@@ -212,6 +199,7 @@ impl<S: Service> ServiceClientTrait for DdsServiceClient<S> {
         if let Err(e) = self.shared.try_send(&mut state) {
             state.reply = Some(Err(e));
         }
+        self.shared.collect(&mut state);
         match state.reply.take() {
             None => Ok(None),
             Some(Err(e)) => Err(e),
@@ -229,6 +217,7 @@ impl<S: Service> ServiceClientTrait for DdsServiceClient<S> {
     /// Wakes `waker` once, when the next reply (or error) is ready; at once if one already is.
     fn register_waker(&self, waker: &Waker) {
         let mut state = self.shared.state();
+        self.shared.collect(&mut state);
         if state.reply.is_some() {
             drop(state);
             waker.wake_by_ref();
@@ -248,7 +237,7 @@ impl<S: Service> ServiceClientTrait for DdsServiceClient<S> {
     /// [`is_server_ready`](Self::is_server_ready)); `Some(false)` when the query's timeout passed
     /// without one; `None` meanwhile. Without a query in flight, answers at once.
     fn poll_server_discovery(&mut self) -> Result<Option<bool>, TransportError> {
-        if self.shared.ready_server().is_some() {
+        if self.shared.core.ready_server().is_some() {
             self.discovery_deadline = None;
             return Ok(Some(true));
         }
@@ -264,13 +253,13 @@ impl<S: Service> ServiceClientTrait for DdsServiceClient<S> {
     /// Whether a server can take a request now: its request reader and reply writer are known
     /// and matched with our writer and reader (rmw_fastrtps `service_is_ready`).
     fn is_server_ready(&self) -> bool {
-        self.shared.ready_server().is_some()
+        self.shared.core.ready_server().is_some()
     }
 
     /// Whether the graph knows a server of this service and type with both its endpoints
     /// (rcl `service_is_available`), matched with ours or not yet.
     fn server_available(&self) -> Result<bool, TransportError> {
-        Ok(!self.shared.servers().is_empty())
+        Ok(self.shared.core.server_available())
     }
 }
 
@@ -281,73 +270,36 @@ struct Unsent {
     queued: Instant,
 }
 
-/// A received reply body.
-struct Reply {
-    body: Vec<u8>,
-    big_endian: bool,
-}
-
-/// Identifies the request whose reply is awaited.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-struct RequestKey {
-    flavour: WireFlavour,
-    sequence: i64,
-}
-
 struct State {
-    writer: RawWriter,
     unsent: Option<Unsent>,
     /// The request sent last, until its reply is in.
     current: Option<RequestKey>,
     /// The reply to `current` (or the error that ended it), until taken.
-    reply: Option<Result<Reply, TransportError>>,
+    reply: Option<Result<RawReply, TransportError>>,
     waker: Option<Waker>,
 }
 
 struct Shared {
-    runtime: Runtime,
-    name: ServiceName,
-    type_name: &'static str,
-    request_writer: Gid,
-    reply_reader: Gid,
-    client_id: u64,
-    flavour: Option<WireFlavour>,
+    /// Finds servers, sends in their convention and routes replies (as for `ServiceClient`).
+    core: ClientCore<Raw>,
     send_timeout: Duration,
     state: Mutex<State>,
     stop: AtomicBool,
 }
 
+/// The raw traits' form of a call error.
+fn transport_error(e: ServiceError) -> TransportError {
+    match e {
+        ServiceError::Timeout => TransportError::Timeout,
+        ServiceError::NoServer => TransportError::NoServer,
+        ServiceError::ServiceFailed(message) => TransportError::ServiceFailed(message),
+        ServiceError::Transport(message) => TransportError::Transport(message),
+    }
+}
+
 impl Shared {
     fn state(&self) -> MutexGuard<'_, State> {
         self.state.lock().unwrap_or_else(|p| p.into_inner())
-    }
-
-    /// (request reader, reply writer) of each server of this service and type the graph knows
-    /// with both endpoints.
-    fn servers(&self) -> Vec<(Gid, Gid)> {
-        self.runtime
-            .graph
-            .read(|c| c.servers_info_by_service(self.name.as_str(), false))
-            .unwrap_or_default()
-            .into_iter()
-            .filter(|s| s.service_type == self.type_name && s.endpoint_gids.len() == 2)
-            .map(|s| (s.endpoint_gids[0], s.endpoint_gids[1]))
-            .collect()
-    }
-
-    /// The wire convention of a server usable now, if any (as `ServiceClient` decides it).
-    fn ready_server(&self) -> Option<WireFlavour> {
-        let graph = &self.runtime.graph;
-        self.servers().into_iter().find_map(|(reader, writer)| {
-            graph.matched_since(self.request_writer, reader)?;
-            let reply_match = graph.matched_since(self.reply_reader, writer)?;
-            let flavour = self
-                .flavour
-                .unwrap_or_else(|| WireFlavour::for_vendor(graph.participant_vendor(reader)));
-            let settled =
-                flavour != WireFlavour::CycloneDds || reply_match.elapsed() >= CYCLONE_MATCH_SETTLE;
-            settled.then_some(flavour)
-        })
     }
 
     /// Sends the unsent request if a server is ready; drops it past the send timeout (then the
@@ -356,7 +308,7 @@ impl Shared {
         let Some(unsent) = &state.unsent else {
             return Ok(false);
         };
-        let Some(flavour) = self.ready_server() else {
+        let Some(server) = self.core.ready_server() else {
             if unsent.queued.elapsed() >= self.send_timeout {
                 state.unsent = None;
                 self.complete(state, Err(TransportError::NoServer));
@@ -366,46 +318,28 @@ impl Shared {
         let Some(unsent) = state.unsent.take() else {
             return Ok(false);
         };
-        let key = match flavour {
-            WireFlavour::FastRtps => {
-                // rmw_fastrtps: related_sample_identity = our reply reader; the marker asks a
-                // horus-ros server for error replies.
-                let related = SampleId {
-                    writer: self.reply_reader,
-                    sequence_number: HORUS_CLIENT_MARKER,
-                };
-                let id = state
-                    .writer
-                    .write(unsent.body, Some(related), None)
-                    .map_err(|e| TransportError::Transport(e.to_string()))?;
-                RequestKey {
-                    flavour,
-                    sequence: id.sequence_number,
-                }
-            }
-            WireFlavour::CycloneDds => {
-                let seq = NEXT_CYCLONE_SEQ.fetch_add(1, Ordering::Relaxed);
-                let header = CycloneHeader {
-                    guid: self.client_id,
-                    seq,
-                };
-                state
-                    .writer
-                    .write(header.prepend(&unsent.body), None, None)
-                    .map_err(|e| TransportError::Transport(e.to_string()))?;
-                RequestKey {
-                    flavour,
-                    sequence: seq,
-                }
-            }
-        };
+        // No reply deadline: the request is current until replaced (the core's deadline only
+        // serves async clients' wake-ups).
+        let key = self
+            .core
+            .send(&unsent.body, server, Instant::now())
+            .map_err(transport_error)?;
         state.current = Some(key);
         Ok(true)
     }
 
+    /// Moves the current request's reply, once the core routed it, into the reply slot.
+    fn collect(&self, state: &mut State) {
+        if let Some(result) = state.current.and_then(|key| self.core.take_result(key)) {
+            self.complete(state, result.map_err(transport_error));
+        }
+    }
+
     /// Ends the current request with `outcome` and wakes the waker.
-    fn complete(&self, state: &mut State, outcome: Result<Reply, TransportError>) {
-        state.current = None;
+    fn complete(&self, state: &mut State, outcome: Result<RawReply, TransportError>) {
+        if let Some(key) = state.current.take() {
+            self.core.forget(key);
+        }
         state.reply = Some(outcome);
         if let Some(waker) = state.waker.take() {
             waker.wake();
@@ -414,84 +348,22 @@ impl Shared {
 
     /// The reply thread: receives replies, sends queued requests when a server becomes ready,
     /// enforces the send timeout.
-    fn pump(&self, mut reader: RawReader) {
+    fn pump(&self) {
         while !self.stop.load(Ordering::SeqCst) {
             let tick = if self.state().unsent.is_some() {
                 UNSENT_TICK
             } else {
                 TICK
             };
-            reader.wait(tick);
-            loop {
-                match reader.take() {
-                    Ok(Some(sample)) => self.route(sample),
-                    Ok(None) => break,
-                    Err(e) => tracing::debug!(service = %self.name, "dropped a reply: {e}"),
-                }
-            }
+            self.core.wait_for_replies(tick);
+            self.core.drain_replies();
             let mut state = self.state();
+            self.collect(&mut state);
             if state.unsent.is_some() {
                 if let Err(e) = self.try_send(&mut state) {
                     self.complete(&mut state, Err(e));
                 }
             }
-        }
-    }
-
-    /// Stores a reply if it answers the current request; drops it otherwise.
-    fn route(&self, sample: RawSample) {
-        let (key, outcome) = match sample.related {
-            Some(related) => {
-                // rmw_fastrtps `__rmw_take_response`: ours iff the related GUID is our reader or writer.
-                if related.writer != self.reply_reader && related.writer != self.request_writer {
-                    return;
-                }
-                let flavour = WireFlavour::FastRtps;
-                if related.sequence_number < 0 {
-                    // A horus-ros server's error reply: the handler's message as a CDR string.
-                    let message = decode::<String>(&sample.body, sample.big_endian)
-                        .unwrap_or_else(|_| "the service handler failed".to_owned());
-                    let sequence = related.sequence_number.saturating_neg();
-                    (
-                        RequestKey { flavour, sequence },
-                        Err(TransportError::ServiceFailed(message)),
-                    )
-                } else {
-                    let key = RequestKey {
-                        flavour,
-                        sequence: related.sequence_number,
-                    };
-                    let reply = Reply {
-                        body: sample.body,
-                        big_endian: sample.big_endian,
-                    };
-                    (key, Ok(reply))
-                }
-            }
-            None => {
-                // rmw_cyclonedds `rmw_take_response`: ours iff the header carries our id.
-                let Some((header, message)) = CycloneHeader::split(&sample.body, sample.big_endian)
-                else {
-                    return;
-                };
-                if header.guid != self.client_id {
-                    return;
-                }
-                let key = RequestKey {
-                    flavour: WireFlavour::CycloneDds,
-                    sequence: header.seq,
-                };
-                // The header is 16 bytes, so the message keeps its 8-byte alignment.
-                let reply = Reply {
-                    body: message.to_vec(),
-                    big_endian: sample.big_endian,
-                };
-                (key, Ok(reply))
-            }
-        };
-        let mut state = self.state();
-        if state.current == Some(key) {
-            self.complete(&mut state, outcome);
         }
     }
 }

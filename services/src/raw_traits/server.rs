@@ -7,23 +7,19 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard};
 use std::task::Waker;
 use std::thread::JoinHandle;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use horus_ros_msgs::Service;
 use horus_ros_rmw::names::ServiceName;
 use horus_ros_rmw::qos::Qos;
-use horus_ros_rmw::{Gid, Node, RawReader, RawSample, RawWriter, SampleId};
+use horus_ros_rmw::{Gid, Node, RawReader, RawWriter};
 
 use super::{encapsulate_into, le_body, ServiceRequest, ServiceServerTrait, TransportError};
 use crate::naming::{default_service_name, ServiceTopics};
 use crate::runtime::Runtime;
-use crate::wire::{is_reader, CycloneHeader, WireFlavour};
+use crate::server_wire::{Reply, ReplyRoute, Request, ServerWire};
+use crate::wire::WireFlavour;
 use crate::SetupError;
-
-/// How long a reply waits for the client's reply reader to be matched before it is sent anyway
-/// (as `ServiceServer`, rmw_fastrtps and rmw_cyclonedds do, so a fresh client's first reply is
-/// not lost). The wait happens in the background: `send_reply` never blocks.
-const REPLY_MATCH_WAIT: Duration = Duration::from_millis(500);
 
 /// Longest sleep of the request thread (bounds drop time).
 const TICK: Duration = Duration::from_millis(10);
@@ -99,9 +95,14 @@ impl<S: Service> DdsServiceServerBuilder<S> {
         let shared = Arc::new(Shared {
             request_reader: reader.gid(),
             reply_writer: writer.gid(),
-            runtime,
-            name: topics.name,
-            flavour: self.flavour,
+            wire: ServerWire::new(
+                Arc::clone(&runtime.graph),
+                topics.name,
+                topics.reply.dds_topic_name,
+                writer.gid(),
+                self.flavour,
+            ),
+            _runtime: runtime,
             queue: Mutex::new(VecDeque::new()),
             waker: Mutex::new(None),
             replies: Mutex::new(Replies {
@@ -113,7 +114,7 @@ impl<S: Service> DdsServiceServerBuilder<S> {
         let pump = {
             let shared = Arc::clone(&shared);
             std::thread::Builder::new()
-                .name(format!("horus-rawsrv{}", shared.name))
+                .name(format!("horus-rawsrv{}", shared.wire.service()))
                 .spawn(move || shared.pump(reader))?
         };
         Ok(DdsServiceServer {
@@ -143,14 +144,14 @@ pub struct DdsServiceServer<S: Service> {
     shared: Arc<Shared>,
     pump: Option<JoinHandle<()>>,
     next_sequence: i64,
-    outstanding: BTreeMap<i64, Route>,
+    outstanding: BTreeMap<i64, ReplyRoute>,
     _service: PhantomData<fn() -> S>,
 }
 
 impl<S: Service> std::fmt::Debug for DdsServiceServer<S> {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("DdsServiceServer")
-            .field("name", &self.shared.name)
+            .field("name", self.shared.wire.service())
             .field("type", &S::TYPE_NAME)
             .finish()
     }
@@ -169,7 +170,7 @@ impl<S: Service> DdsServiceServer<S> {
 
     /// The fully-qualified service name.
     pub fn name(&self) -> &ServiceName {
-        &self.shared.name
+        self.shared.wire.service()
     }
 
     /// The GIDs of the request reader and the reply writer.
@@ -201,20 +202,19 @@ impl<S: Service> ServiceServerTrait for DdsServiceServer<S> {
         &mut self,
         buf: &'a mut [u8],
     ) -> Result<Option<ServiceRequest<'a>>, TransportError> {
-        let Some(incoming) = self.shared.queue().pop_front() else {
+        let Some(request) = self.shared.queue().pop_front() else {
             return Ok(None);
         };
-        let message = incoming.body.get(incoming.offset..).unwrap_or_default();
-        let len = match encapsulate_into(message, incoming.big_endian, buf) {
+        let len = match encapsulate_into(request.message(), request.big_endian, buf) {
             Ok(len) => len,
             Err(e) => {
-                self.shared.queue().push_front(incoming);
+                self.shared.queue().push_front(request);
                 return Err(e);
             }
         };
         let sequence_number = self.next_sequence;
         self.next_sequence += 1;
-        self.outstanding.insert(sequence_number, incoming.route);
+        self.outstanding.insert(sequence_number, request.route);
         while self.outstanding.len() > MAX_OUTSTANDING {
             self.outstanding.pop_first();
         }
@@ -233,38 +233,15 @@ impl<S: Service> ServiceServerTrait for DdsServiceServer<S> {
             .ok_or(TransportError::UnknownRequest(sequence_number))?;
         let body = le_body::<S::Response>(data)?;
         self.outstanding.remove(&sequence_number);
-        let deadline = Instant::now() + REPLY_MATCH_WAIT;
-        let reply = match route {
-            Route::FastRtps {
-                reply_to,
-                sequence_number,
-            } => {
-                let reader = is_reader(reply_to).then_some(reply_to);
-                Deferred {
-                    body: body.into_owned(),
-                    related: Some(SampleId {
-                        writer: reply_to,
-                        sequence_number,
-                    }),
-                    reader,
-                    wait_for: reader.into_iter().collect(),
-                    deadline,
-                }
-            }
-            Route::CycloneDds {
-                header,
-                request_writer,
-            } => Deferred {
-                body: header.prepend(&body),
-                related: None,
-                reader: None,
-                wait_for: self.shared.client_readers_of(request_writer),
-                deadline,
-            },
+        let Some(reply) = self.shared.wire.reply(&route, Ok(body.into_owned())) else {
+            return Ok(());
         };
         let mut replies = self.shared.replies();
-        if replies.deferred.is_empty() && self.shared.can_send(&reply) {
-            self.shared.write(&replies.writer, reply)
+        if replies.deferred.is_empty() && self.shared.wire.can_send(&reply) {
+            self.shared
+                .wire
+                .write(&replies.writer, reply)
+                .map_err(|e| TransportError::Transport(e.to_string()))
         } else {
             replies.deferred.push_back(reply);
             Ok(())
@@ -287,48 +264,19 @@ impl<S: Service> ServiceServerTrait for DdsServiceServer<S> {
     }
 }
 
-/// What a reply to one request needs.
-#[derive(Clone, Copy, Debug)]
-enum Route {
-    /// rmw_fastrtps: reply with related_sample_identity = {reply_to, sequence_number}.
-    FastRtps { reply_to: Gid, sequence_number: i64 },
-    /// rmw_cyclonedds: echo the header; the client's readers are found from its writer.
-    CycloneDds {
-        header: CycloneHeader,
-        request_writer: Gid,
-    },
-}
-
-/// A received request: its body (message from `offset` on) and how to answer it.
-struct Incoming {
-    route: Route,
-    body: Vec<u8>,
-    offset: usize,
-    big_endian: bool,
-}
-
-/// A reply ready to write once its client's reply reader(s) are matched (or at `deadline`).
-struct Deferred {
-    body: Vec<u8>,
-    related: Option<SampleId>,
-    /// The one reader to send to, once matched (rmw_fastrtps convention).
-    reader: Option<Gid>,
-    wait_for: Vec<Gid>,
-    deadline: Instant,
-}
-
+/// The reply writer and the replies waiting for their client's reply reader, oldest first.
 struct Replies {
     writer: RawWriter,
-    deferred: VecDeque<Deferred>,
+    deferred: VecDeque<Reply>,
 }
 
 struct Shared {
-    runtime: Runtime,
-    name: ServiceName,
+    /// Keeps the node alive.
+    _runtime: Runtime,
+    wire: ServerWire,
     request_reader: Gid,
     reply_writer: Gid,
-    flavour: Option<WireFlavour>,
-    queue: Mutex<VecDeque<Incoming>>,
+    queue: Mutex<VecDeque<Request>>,
     waker: Mutex<Option<Waker>>,
     replies: Mutex<Replies>,
     stop: AtomicBool,
@@ -339,7 +287,7 @@ fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
 }
 
 impl Shared {
-    fn queue(&self) -> MutexGuard<'_, VecDeque<Incoming>> {
+    fn queue(&self) -> MutexGuard<'_, VecDeque<Request>> {
         lock(&self.queue)
     }
 
@@ -365,19 +313,19 @@ impl Shared {
             loop {
                 match reader.take() {
                     Ok(Some(sample)) => {
-                        if let Some(incoming) = self.prepare(sample) {
+                        if let Some(request) = self.wire.interpret(sample) {
                             let mut queue = self.queue();
                             if queue.len() >= MAX_QUEUED {
                                 queue.pop_front();
-                                tracing::warn!(service = %self.name, "request queue full: dropped the oldest request");
+                                tracing::warn!(service = %self.wire.service(), "request queue full: dropped the oldest request");
                             }
-                            queue.push_back(incoming);
+                            queue.push_back(request);
                             arrived = true;
                         }
                     }
                     Ok(None) => break,
                     Err(e) => {
-                        tracing::warn!(service = %self.name, "dropped a request: {e}");
+                        tracing::warn!(service = %self.wire.service(), "dropped a request: {e}");
                         errors += 1;
                         if errors >= MAX_ERRORS_PER_DRAIN {
                             break;
@@ -395,81 +343,6 @@ impl Shared {
         }
     }
 
-    /// Reads the correlation data of a request in its client's convention.
-    fn prepare(&self, sample: RawSample) -> Option<Incoming> {
-        let flavour = self.flavour.unwrap_or_else(|| {
-            WireFlavour::for_vendor(self.runtime.graph.participant_vendor(sample.id.writer))
-        });
-        let (route, offset) = match flavour {
-            WireFlavour::CycloneDds => {
-                let Some((header, message)) = CycloneHeader::split(&sample.body, sample.big_endian)
-                else {
-                    tracing::warn!(service = %self.name, "request shorter than rmw_cyclonedds' header; dropped");
-                    return None;
-                };
-                // 16 header bytes: the message keeps its 8-byte alignment.
-                let route = Route::CycloneDds {
-                    header,
-                    request_writer: sample.id.writer,
-                };
-                (route, sample.body.len() - message.len())
-            }
-            WireFlavour::FastRtps => {
-                // rmw_fastrtps `__rmw_take_request`: the request id is the sample identity, with
-                // the writer replaced by the related_sample_identity's GUID when given.
-                let reply_to = match sample.related {
-                    Some(r) if r.writer != Gid::default() => r.writer,
-                    _ => sample.id.writer,
-                };
-                let route = Route::FastRtps {
-                    reply_to,
-                    sequence_number: sample.id.sequence_number,
-                };
-                (route, 0)
-            }
-        };
-        Some(Incoming {
-            route,
-            body: sample.body,
-            offset,
-            big_endian: sample.big_endian,
-        })
-    }
-
-    /// The reply readers of the participant of an rmw_cyclonedds client's request writer, as far
-    /// as the graph shows them (its header carries no GUID).
-    fn client_readers_of(&self, request_writer: Gid) -> Vec<Gid> {
-        let prefix = request_writer.prefix();
-        self.runtime
-            .graph
-            .read(|c| c.clients_info_by_service(self.name.as_str(), false))
-            .unwrap_or_default()
-            .into_iter()
-            .filter_map(|client| client.endpoint_gids.first().copied())
-            .filter(|gid| gid.prefix() == prefix)
-            .collect()
-    }
-
-    /// Whether a reply can go now: its client's readers are matched, or it waited long enough.
-    fn can_send(&self, reply: &Deferred) -> bool {
-        Instant::now() >= reply.deadline
-            || reply
-                .wait_for
-                .iter()
-                .all(|r| self.runtime.graph.is_matched(self.reply_writer, *r))
-    }
-
-    /// Writes a reply (to its one reader if that is matched, else to all: clients filter).
-    fn write(&self, writer: &RawWriter, reply: Deferred) -> Result<(), TransportError> {
-        let only_to = reply
-            .reader
-            .filter(|r| self.runtime.graph.is_matched(self.reply_writer, *r));
-        writer
-            .write(reply.body, reply.related, only_to)
-            .map(|_id| ())
-            .map_err(|e| TransportError::Transport(e.to_string()))
-    }
-
     /// Sends the deferred replies that can go now.
     fn flush(&self) {
         let mut replies = self.replies();
@@ -478,9 +351,9 @@ impl Shared {
         }
         let waiting = std::mem::take(&mut replies.deferred);
         for reply in waiting {
-            if self.can_send(&reply) {
-                if let Err(e) = self.write(&replies.writer, reply) {
-                    tracing::warn!(service = %self.name, "could not send a reply: {e}");
+            if self.wire.can_send(&reply) {
+                if let Err(e) = self.wire.write(&replies.writer, reply) {
+                    tracing::warn!(service = %self.wire.service(), "could not send a reply: {e}");
                 }
             } else {
                 replies.deferred.push_back(reply);
