@@ -81,42 +81,16 @@ pub fn parse_node_name(full: &str) -> (String, String) {
     (name.to_owned(), namespace.to_owned())
 }
 
-/// Python's `repr` of a `str`, as `print('%s' % list_of_str)` shows each item.
-fn python_str_repr(s: &str) -> String {
-    let quote = if s.contains('\'') && !s.contains('"') {
-        '"'
-    } else {
-        '\''
-    };
-    let mut out = String::with_capacity(s.len() + 2);
-    out.push(quote);
-    for c in s.chars() {
-        match c {
-            '\\' => out.push_str("\\\\"),
-            '\n' => out.push_str("\\n"),
-            '\r' => out.push_str("\\r"),
-            '\t' => out.push_str("\\t"),
-            c if c == quote => {
-                out.push('\\');
-                out.push(c);
-            }
-            c if (c as u32) < 0x20 || c as u32 == 0x7f => {
-                out.push_str(&format!("\\x{:02x}", c as u32));
-            }
-            c => out.push(c),
-        }
-    }
-    out.push(quote);
-    out
-}
-
 /// What ros2cli's `'Type: %s' % type_str` shows: the type alone when there is exactly one,
 /// else Python's repr of the list (`['a/srv/A', 'b/srv/B']`, `[]`).
 pub fn type_str<S: AsRef<str>>(types: &[S]) -> String {
     match types {
         [one] => one.as_ref().to_owned(),
         many => {
-            let items: Vec<String> = many.iter().map(|t| python_str_repr(t.as_ref())).collect();
+            let items: Vec<String> = many
+                .iter()
+                .map(|t| crate::dynamic::repr::py_str(t.as_ref()))
+                .collect();
             format!("[{}]", items.join(", "))
         }
     }
