@@ -27,6 +27,7 @@ mod macros;
 mod client;
 mod error;
 mod naming;
+mod node_services;
 mod raw_traits;
 mod retry;
 mod runtime;
@@ -40,6 +41,11 @@ pub use client::{
 };
 pub use error::{Error, Result, ServiceError, SetupError};
 pub use naming::default_service_name;
+pub use node_services::{
+    parameter_type_name, NodeServices, NodeServicesOptions, ParameterError, ParameterValueExt,
+    Parameters, TypeRegistry, FAILURE_NOT_IN_USE, FAILURE_PARSE_HASH,
+    REASON_ATOMICALLY_NOT_DECLARED,
+};
 pub use raw_traits::{
     DdsServiceClient, DdsServiceClientBuilder, DdsServiceServer, DdsServiceServerBuilder,
     RosService, ServiceClientTrait, ServiceRequest, ServiceServerTrait, TransportError,
