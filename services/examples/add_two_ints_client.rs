@@ -35,6 +35,8 @@ fn main() -> horus_ros_services::Result<()> {
 
     let context = Context::from_env()?;
     let node = context.create_node("add_two_ints_client", "/")?;
+    // As every rclcpp node: parameter services and ~/get_type_description.
+    let _node_services = horus_ros_services::NodeServices::start(&node)?;
     let mut client = ServiceClient::<AddTwoInts>::builder()
         .node(&node)
         .name(options.service.as_str())

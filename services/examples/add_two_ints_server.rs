@@ -33,6 +33,10 @@ fn main() -> horus_ros_services::Result<()> {
 
     let context = Context::from_env()?;
     let node = context.create_node("add_two_ints_server", "/")?;
+    // As every rclcpp node: parameter services and ~/get_type_description.
+    let node_services = horus_ros_services::NodeServices::start(&node)?;
+    // Described by ~/get_type_description, as rcl does for the types a node uses.
+    node_services.register_service::<AddTwoInts>();
 
     let (served, requests_served) = mpsc::channel::<()>();
     let log_node = node.clone();
