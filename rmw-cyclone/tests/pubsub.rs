@@ -1,0 +1,211 @@
+//! Raw CDR write/take between two participants, GUID/handle mapping, waiter wake-ups and
+//! matched endpoints. Domains 141-143; run inside `scripts/isolated`.
+mod common;
+
+use std::time::{Duration, Instant};
+
+use common::*;
+use horus_ros_rmw_cyclone::{
+    Durability, EndpointQos, GuardCondition, History, Participant, Reader, StatusMask, Waiter,
+    Writer,
+};
+
+fn pair(domain: u32, topic: &str, qos: &EndpointQos) -> (Participant, Participant, Writer, Reader) {
+    let a = participant(domain, "enclave=/a;");
+    let b = participant(domain, "enclave=/b;");
+    let w = a
+        .writer(
+            &a.blob_topic(topic, TIME_TYPE).expect("topic"),
+            qos,
+            TIME_USER_DATA.as_bytes(),
+        )
+        .expect("writer");
+    let r = b
+        .reader(
+            &b.blob_topic(topic, TIME_TYPE).expect("topic"),
+            qos,
+            b"typehash=reader;",
+        )
+        .expect("reader");
+    (a, b, w, r)
+}
+
+/// Blocks (bounded) until `w` matched at least one reader, through a status condition.
+fn wait_matched(w: &Writer) {
+    let mut waiter = Waiter::new().expect("waiter");
+    waiter
+        .attach_status(&w.entity(), StatusMask::PUBLICATION_MATCHED, 1)
+        .expect("attach");
+    let end = Instant::now() + DISCOVERY;
+    while w.publication_matched().expect("status").0 == 0 {
+        assert!(Instant::now() < end, "writer never matched the reader");
+        waiter.wait(Duration::from_millis(200)).expect("wait");
+    }
+}
+
+#[test]
+fn raw_write_take_with_writer_guid_and_handle() {
+    let qos = EndpointQos {
+        durability: Durability::TransientLocal,
+        history: History::KeepLast(10),
+        ..Default::default()
+    };
+    let (_a, _b, w, r) = pair(141, "rt/rmwc/raw", &qos);
+    wait_matched(&w);
+    let wguid = w.entity().guid().expect("guid");
+    let wih = w.entity().instance_handle().expect("instance handle");
+    assert_ne!(wih, 0);
+    for i in 0..3 {
+        w.write(&time_cdr(i, 1000 + i as u32)).expect("write");
+    }
+    assert!(
+        w.write(&[0, 1]).is_err(),
+        "a sample without its encapsulation header is refused"
+    );
+
+    let mut waiter = Waiter::new().expect("waiter");
+    waiter.attach_reader(&r, 7).expect("attach");
+    let mut got = Vec::new();
+    let end = Instant::now() + DISCOVERY;
+    while got.len() < 3 {
+        assert!(
+            Instant::now() < end,
+            "only {} of 3 samples arrived",
+            got.len()
+        );
+        let woke = waiter.wait(Duration::from_millis(500)).expect("wait");
+        assert!(woke.is_empty() || woke == [7]);
+        while let Some(s) = r.take().expect("take") {
+            got.push(s);
+        }
+    }
+    for (i, s) in got.iter().enumerate() {
+        assert_eq!(
+            s.cdr,
+            time_cdr(i as i32, 1000 + i as u32),
+            "bytes incl. header round-trip"
+        );
+        assert_eq!(s.writer_guid, Some(wguid));
+        assert_eq!(
+            s.publication_handle, wih,
+            "publication handle is the writer's instance handle"
+        );
+        assert!(s.source_timestamp_ns > 0);
+    }
+    assert!(r.take().expect("take").is_none());
+    // GUIDs: endpoints share their participant's prefix.
+    assert_eq!(wguid.participant(), _a.guid().expect("guid"));
+    assert_eq!(
+        r.entity().guid().expect("guid").participant(),
+        _b.guid().expect("guid")
+    );
+    assert_eq!(wguid.vendor_hint(), horus_ros_rmw_cyclone::vendor::CYCLONE);
+}
+
+#[test]
+fn waiter_wakes_on_data_and_on_guard() {
+    let (_a, _b, w, r) = pair(142, "rt/rmwc/wake", &EndpointQos::default());
+    wait_matched(&w);
+    let guard = GuardCondition::new().expect("guard");
+    let mut waiter = Waiter::new().expect("waiter");
+    waiter.attach_reader(&r, 1).expect("attach reader");
+    waiter.attach_guard(&guard, 2).expect("attach guard");
+
+    // Nothing pending: times out, bounded.
+    let t0 = Instant::now();
+    assert!(waiter
+        .wait(Duration::from_millis(200))
+        .expect("wait")
+        .is_empty());
+    assert!(t0.elapsed() >= Duration::from_millis(150));
+
+    // Guard set from another thread wakes us.
+    let g2 = guard.clone();
+    let t = std::thread::spawn(move || {
+        std::thread::sleep(Duration::from_millis(100));
+        g2.trigger().expect("trigger");
+    });
+    assert_eq!(waiter.wait(Duration::from_secs(5)).expect("wait"), vec![2]);
+    t.join().expect("thread");
+    assert!(guard.take().expect("take"), "the guard was triggered");
+    assert!(!guard.take().expect("take"), "take resets it");
+
+    // Data wakes us.
+    let t0 = Instant::now();
+    w.write(&time_cdr(5, 6)).expect("write");
+    assert_eq!(waiter.wait(Duration::from_secs(5)).expect("wait"), vec![1]);
+    assert!(t0.elapsed() < Duration::from_secs(5));
+    assert_eq!(
+        r.take().expect("take").map(|s| parse_time(&s.cdr)),
+        Some((5, 6))
+    );
+    assert!(
+        waiter
+            .wait(Duration::from_millis(50))
+            .expect("wait")
+            .is_empty(),
+        "level-triggered: empty again"
+    );
+
+    waiter.detach(2).expect("detach");
+    guard.trigger().expect("trigger");
+    assert!(
+        waiter
+            .wait(Duration::from_millis(100))
+            .expect("wait")
+            .is_empty(),
+        "detached guard no longer wakes"
+    );
+}
+
+#[test]
+fn matched_endpoints_with_user_data() {
+    let (a, b, w, r) = pair(143, "rt/rmwc/matched", &EndpointQos::default());
+    wait_matched(&w);
+    let subs = w.matched_subscriptions().expect("matched subs");
+    assert_eq!(subs.len(), 1);
+    assert_eq!(subs[0].guid, r.entity().guid().expect("guid"));
+    assert_eq!(subs[0].participant_guid, b.guid().expect("guid"));
+    assert_eq!(subs[0].user_data, b"typehash=reader;");
+    let pubs = poll(DISCOVERY, || {
+        let p = r.matched_publications().expect("matched pubs");
+        (!p.is_empty()).then_some(p)
+    })
+    .expect("reader matched the writer");
+    assert_eq!(pubs.len(), 1);
+    assert_eq!(pubs[0].guid, w.entity().guid().expect("guid"));
+    assert_eq!(pubs[0].participant_guid, a.guid().expect("guid"));
+    assert_eq!(pubs[0].user_data, TIME_USER_DATA.as_bytes());
+
+    // A best-effort writer cannot match a reliable reader: no match.
+    let be = EndpointQos {
+        reliability: horus_ros_rmw_cyclone::Reliability::BestEffort,
+        ..Default::default()
+    };
+    let w2 = a
+        .writer(
+            &a.blob_topic("rt/rmwc/matched", TIME_TYPE).expect("topic"),
+            &be,
+            b"",
+        )
+        .expect("writer");
+    std::thread::sleep(Duration::from_millis(300));
+    assert!(w2.matched_subscriptions().expect("matched").is_empty());
+    assert_eq!(r.matched_publications().expect("matched").len(), 1);
+}
+
+#[test]
+fn domain_is_shared_per_id_and_config_must_agree() {
+    use horus_ros_rmw_cyclone::Domain;
+    let d1 = Domain::acquire(148, &config()).expect("domain");
+    let d2 = Domain::acquire(148, &config()).expect("same config: shared");
+    let err = Domain::acquire(148, "<CycloneDDS/>").expect_err("different config refused");
+    assert!(err.to_string().contains("configured differently"), "{err}");
+    drop(d1);
+    let p = Participant::new(d2, b"").expect("participant on the remaining reference");
+    assert_eq!(p.domain_id(), 148);
+    drop(p);
+    // All references gone: the domain may now be configured anew.
+    let d3 = Domain::acquire(148, &format!("{},<CycloneDDS/>", config())).expect("reconfigured");
+    drop(d3);
+}
