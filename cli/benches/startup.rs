@@ -15,9 +15,10 @@
 //! checked against the services the graph has. `HORUS_ROS_BENCH_RUNS` sets the number of runs
 //! (default 30); `HORUS_ROS_BENCH_DEBUG=1` prints the first wrong answer of each series.
 //!
-//! The warm graph is deliberately another process: held in this process (which spawns the CLI
-//! runs), the CLI's participants were, in most bench runs, not discovered at all (empty
-//! answers after 190 ms) — an anomaly of that setup, not what a user meets.
+//! The warm graph is another process, as it is for a user running the CLI next to a robot. (Held
+//! in this process, which spawns many fast-exiting children, it used to lose its participants:
+//! rustdds' threads ended on the SIGCHLD-interrupted wait. The context now starts them with
+//! signals blocked; see rmw/tests/signals.rs.)
 
 use std::io::{BufRead, BufReader, Read, Write};
 use std::path::Path;

@@ -2,6 +2,7 @@
 
 use std::net::{IpAddr, Ipv4Addr};
 
+use nix::sys::signal::{pthread_sigmask, SigSet, SigmaskHow, Signal};
 use rustdds::{DomainParticipant, DomainParticipantBuilder};
 
 use crate::context::env::{DiscoveryOptions, DiscoveryRange, DomainId};
@@ -45,6 +46,55 @@ pub(crate) fn create_participant(
             discovery.range
         ));
     }
-    let participant = builder.build()?;
+    // rustdds' event-loop and discovery threads end on an interrupted wait (EINTR), which takes
+    // the participant off the graph for good: a signal such as SIGCHLD from a child that exits
+    // while `Command::spawn` has signals blocked is handed to any thread that does not block it.
+    // Threads inherit the creating thread's mask, so rustdds' threads are started with
+    // asynchronous signals blocked; this thread gets its mask back right after.
+    let participant = {
+        let _mask = AsyncSignalsBlocked::new();
+        builder.build()?
+    };
     Ok((participant, warnings))
+}
+
+/// Blocks asynchronous signals in this thread until dropped (synchronous fault signals stay
+/// deliverable: blocking them would hide crashes).
+struct AsyncSignalsBlocked {
+    previous: Option<SigSet>,
+}
+
+impl AsyncSignalsBlocked {
+    fn new() -> Self {
+        let mut set = SigSet::all();
+        for fault in [
+            Signal::SIGSEGV,
+            Signal::SIGBUS,
+            Signal::SIGILL,
+            Signal::SIGFPE,
+            Signal::SIGTRAP,
+        ] {
+            set.remove(fault);
+        }
+        let mut previous = SigSet::empty();
+        match pthread_sigmask(SigmaskHow::SIG_BLOCK, Some(&set), Some(&mut previous)) {
+            Ok(()) => Self {
+                previous: Some(previous),
+            },
+            Err(e) => {
+                tracing::warn!("could not block signals for the DDS threads: {e}");
+                Self { previous: None }
+            }
+        }
+    }
+}
+
+impl Drop for AsyncSignalsBlocked {
+    fn drop(&mut self) {
+        if let Some(previous) = &self.previous {
+            if let Err(e) = pthread_sigmask(SigmaskHow::SIG_SETMASK, Some(previous), None) {
+                tracing::warn!("could not restore this thread's signal mask: {e}");
+            }
+        }
+    }
 }
