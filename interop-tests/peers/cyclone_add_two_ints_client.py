@@ -41,6 +41,7 @@ from cyclonedds.topic import Topic
 from cyclonedds.util import duration
 
 from ros_types import (
+    services_qos,
     ADD_TWO_INTS_REQUEST_HASH,
     ADD_TWO_INTS_RESPONSE_HASH,
     CddsAddTwoIntsRequest,
@@ -57,21 +58,6 @@ from ros_types import (
 NODE_NAMESPACE, NODE_NAME = "/", "add_two_ints_client"
 U64 = (1 << 64) - 1
 
-
-def services_qos(user_data: str, writer: bool) -> Qos:
-    """rmw_qos_profile_services_default as rmw_node.cpp `create_readwrite_qos` turns it into DDS QoS."""
-    policies = [
-        Policy.Reliability.Reliable(max_blocking_time=duration(infinite=True)),
-        Policy.Durability.Volatile,
-        Policy.History.KeepLast(10),
-        Policy.Liveliness.Automatic(lease_duration=duration(infinite=True)),
-        Policy.WriterDataLifecycle(autodispose=False),
-        Policy.Userdata(user_data.encode()),
-    ]
-    if writer:
-        # rmw_cyclonedds writes XCDR1 (Serialization.cpp `put_rtps_header`).
-        policies.append(Policy.DataRepresentation(use_cdrv0_representation=True))
-    return Qos(*policies)
 
 
 def service_is_available(request_writer, reply_reader) -> bool:

@@ -60,7 +60,7 @@ from cyclonedds.sub import DataReader
 from cyclonedds.topic import Topic
 from cyclonedds.util import duration
 
-from ros_types import Gid, NodeEntitiesInfo, ParticipantEntitiesInfo, Time, cdds_csid, cdds_csid_text, dotted
+from ros_types import services_qos, Gid, NodeEntitiesInfo, ParticipantEntitiesInfo, Time, cdds_csid, cdds_csid_text, dotted
 
 NODE_NAMESPACE, NODE_NAME = "/", "typed_server"
 
@@ -308,20 +308,6 @@ def wire_description(d: Desc) -> TypeDescription:
     return TypeDescription(type_description=individual(d.main),
                            referenced_type_descriptions=[individual(t) for t in d.referenced])
 
-
-def services_qos(user_data: str, writer: bool) -> Qos:
-    """rmw_qos_profile_services_default as rmw_cyclonedds `create_readwrite_qos` makes it."""
-    policies = [
-        Policy.Reliability.Reliable(max_blocking_time=duration(infinite=True)),
-        Policy.Durability.Volatile,
-        Policy.History.KeepLast(10),
-        Policy.Liveliness.Automatic(lease_duration=duration(infinite=True)),
-        Policy.WriterDataLifecycle(autodispose=False),
-        Policy.Userdata(user_data.encode()),
-    ]
-    if writer:
-        policies.append(Policy.DataRepresentation(use_cdrv0_representation=True))
-    return Qos(*policies)
 
 
 def rihs_ok(text: str) -> bool:

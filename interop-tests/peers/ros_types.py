@@ -150,3 +150,23 @@ def user_data_key(qos, key: str):
         return None
     value = rmw_parse_key_value(bytes(ud.data)).get(key)
     return None if value is None else value.decode("latin-1")
+
+
+def services_qos(user_data: str, writer: bool):
+    """rmw_qos_profile_services_default as rmw_cyclonedds' `create_readwrite_qos` (rmw_node.cpp)
+    turns it into DDS QoS; writers say XCDR1 explicitly (rmw_cyclonedds writes XCDR1,
+    Serialization.cpp `put_rtps_header`), so the binding never picks XCDR2."""
+    from cyclonedds.core import Policy, Qos
+    from cyclonedds.util import duration
+
+    policies = [
+        Policy.Reliability.Reliable(max_blocking_time=duration(infinite=True)),
+        Policy.Durability.Volatile,
+        Policy.History.KeepLast(10),
+        Policy.Liveliness.Automatic(lease_duration=duration(infinite=True)),
+        Policy.WriterDataLifecycle(autodispose=False),
+        Policy.Userdata(user_data.encode()),
+    ]
+    if writer:
+        policies.append(Policy.DataRepresentation(use_cdrv0_representation=True))
+    return Qos(*policies)
