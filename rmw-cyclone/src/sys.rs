@@ -157,12 +157,40 @@ impl Entity {
         Ok(StatusMask(s))
     }
 
+    /// A handle that does not keep the entity alive (e.g. for a registry of live endpoints).
+    pub fn downgrade(&self) -> WeakEntity {
+        WeakEntity(Arc::downgrade(&self.0))
+    }
+
+    /// The readers matched with this entity, a writer (their GUIDs and USER_DATA); an error
+    /// for anything else.
+    pub fn matched_subscriptions(&self) -> Result<Vec<MatchedEndpoint>> {
+        matched(&self.0, Direction::Subscriptions)
+    }
+
+    /// The writers matched with this entity, a reader (their GUIDs and USER_DATA); an error
+    /// for anything else.
+    pub fn matched_publications(&self) -> Result<Vec<MatchedEndpoint>> {
+        matched(&self.0, Direction::Publications)
+    }
+
     fn set_status_mask(&self, mask: StatusMask) -> Result<()> {
         // SAFETY: live handle; any mask value is accepted or rejected with an error code.
         check("dds_set_status_mask", unsafe {
             c::dds_set_status_mask(self.0.id, mask.0)
         })?;
         Ok(())
+    }
+}
+
+/// An [`Entity`] that may already be deleted.
+#[derive(Debug, Clone)]
+pub struct WeakEntity(std::sync::Weak<Handle>);
+
+impl WeakEntity {
+    /// The entity, if something still keeps it alive.
+    pub fn upgrade(&self) -> Option<Entity> {
+        self.0.upgrade().map(Entity)
     }
 }
 
@@ -1069,14 +1097,24 @@ impl GuardCondition {
     }
 }
 
+/// Something attached to a [`Waiter`].
+#[derive(Debug)]
+enum Attached {
+    /// Kept alive by the waiter.
+    Owned(Arc<Handle>),
+    /// Watched without being kept alive.
+    Observed(std::sync::Weak<Handle>),
+}
+
 /// A Cyclone waitset blocking in the calling thread: read conditions (reader has data),
 /// status conditions (e.g. matched) and guard conditions, each identified by a caller-chosen
 /// token.
 #[derive(Debug)]
 pub struct Waiter {
     handle: Arc<Handle>,
-    // What is attached, by token: kept alive while attached (read conditions are owned here).
-    attached: Vec<(usize, Arc<Handle>)>,
+    // What is attached, by token: kept alive while attached (read conditions are owned here),
+    // except entities watched for their status, which may be deleted while attached.
+    attached: Vec<(usize, Attached)>,
 }
 
 impl Waiter {
@@ -1099,7 +1137,7 @@ impl Waiter {
         check("dds_waitset_attach", unsafe {
             c::dds_waitset_attach(self.handle.id, h.id, token as c::dds_attach_t)
         })?;
-        self.attached.push((token, h));
+        self.attached.push((token, Attached::Owned(h)));
         Ok(())
     }
 
@@ -1124,9 +1162,18 @@ impl Waiter {
 
     /// Wakes while one of `mask`'s statuses of `entity` is set (reset it with
     /// [`Entity::take_status`] or the status getter). Replaces the entity's status mask.
+    ///
+    /// The waiter does not keep `entity` alive: deleting it detaches it (Cyclone removes a
+    /// deleted entity from every waitset it is attached to).
     pub fn attach_status(&mut self, entity: &Entity, mask: StatusMask, token: usize) -> Result<()> {
         entity.set_status_mask(mask)?;
-        self.attach(entity.0.clone(), token)
+        // SAFETY: both handles live (we hold `entity` during the call); the token is opaque.
+        check("dds_waitset_attach", unsafe {
+            c::dds_waitset_attach(self.handle.id, entity.0.id, token as c::dds_attach_t)
+        })?;
+        self.attached
+            .push((token, Attached::Observed(Arc::downgrade(&entity.0))));
+        Ok(())
     }
 
     /// Wakes while `guard` is triggered (reset it with [`GuardCondition::take`]).
@@ -1138,15 +1185,22 @@ impl Waiter {
     pub fn detach(&mut self, token: usize) -> Result<()> {
         let mut result = Ok(());
         let ws = self.handle.id;
-        self.attached.retain(|(t, h)| {
+        self.attached.retain(|(t, a)| {
             if *t != token {
                 return true;
             }
-            // SAFETY: both handles live and attached.
-            if let Err(e) = check("dds_waitset_detach", unsafe {
-                c::dds_waitset_detach(ws, h.id)
-            }) {
-                result = Err(e);
+            let h = match a {
+                Attached::Owned(h) => Some(h.clone()),
+                // Already deleted: Cyclone detached it then.
+                Attached::Observed(w) => w.upgrade(),
+            };
+            if let Some(h) = h {
+                // SAFETY: both handles live (held during the call) and attached.
+                if let Err(e) = check("dds_waitset_detach", unsafe {
+                    c::dds_waitset_detach(ws, h.id)
+                }) {
+                    result = Err(e);
+                }
             }
             false
         });

@@ -8,17 +8,22 @@
 //! - [`qos`]: QoS profiles and their DDS mapping.
 //! - [`Gid`]: 16-byte global ids.
 
+pub mod backend;
 pub mod context;
+#[cfg(feature = "cyclone")]
+mod cyclone;
 mod dds;
 pub mod discovery;
 mod entities;
 pub mod gid;
+mod local_sink;
 pub mod names;
 pub mod node;
 pub mod pubsub;
 pub mod qos;
 pub mod raw;
 
+pub use backend::{Backend, BackendError, BACKEND_ENV};
 pub use context::{
     env::{DiscoveryOptions, DiscoveryRange, DomainId},
     Context, ContextBuilder, ContextError, DiscoveryFeed, DiscoveryFeedError,
@@ -27,4 +32,7 @@ pub use discovery::{DiscoveredEndpoint, DiscoveredParticipant, DiscoveryEvent, V
 pub use gid::Gid;
 pub use node::{Node, NodeError, WeakNode};
 pub use pubsub::{EndpointError, PublishError, Publisher, Subscription, TakeError};
-pub use raw::{RawEndpointSpec, RawReader, RawSample, RawWriter, SampleId};
+pub use raw::{
+    RawEndpointSpec, RawReader, RawSample, RawWriter, SampleId, ServiceEndpointId,
+    ServiceEndpointRole,
+};

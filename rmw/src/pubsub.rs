@@ -8,7 +8,8 @@
 use horus_ros_msgs::Message;
 use rustdds::{no_key, CDRDeserializerAdapter, CDRSerializerAdapter, RTPSEntity, TopicKind};
 
-use crate::dds::gid_from_guid;
+use crate::context::Dds;
+use crate::dds::{gid_from_guid, RustddsParticipant};
 use crate::discovery::DiscoveredEndpoint;
 use crate::entities::EndpointSide;
 use crate::names::{ExpandError, TopicName};
@@ -67,13 +68,13 @@ pub struct TakeError {
     pub reason: String,
 }
 
-/// Resolves `name` for `node` and creates the DDS topic for message type `M`.
-fn resolve_topic<M: Message>(
+/// Resolves `name` for `node` and maps `qos` to DDS policies.
+fn resolve_topic(
     node: &Node,
     name: &str,
     qos: &Qos,
     kind: EndpointKind,
-) -> Result<(TopicName, rustdds::Topic, rustdds::QosPolicies), EndpointError> {
+) -> Result<(TopicName, rustdds::QosPolicies), EndpointError> {
     let dds_qos = qos
         .to_dds(kind)
         .map_err(|source| EndpointError::InvalidQos {
@@ -86,21 +87,28 @@ fn resolve_topic<M: Message>(
             source,
         }
     })?;
-    let dds_name = topic_name.to_dds_topic_name(qos.avoid_ros_namespace_conventions);
-    let participant = &node.context().inner().participant;
-    let topic = participant
+    Ok((topic_name, dds_qos))
+}
+
+/// Creates the rustdds topic `dds_name` for message type `M`.
+fn rustdds_topic<M: Message>(
+    participant: &RustddsParticipant,
+    dds_name: &str,
+    dds_qos: &rustdds::QosPolicies,
+) -> Result<rustdds::Topic, EndpointError> {
+    participant
+        .participant
         .create_topic(
-            dds_name.clone(),
+            dds_name.to_owned(),
             M::dds_type_name(),
-            &dds_qos,
+            dds_qos,
             TopicKind::NoKey,
         )
         .map_err(|e| EndpointError::Dds {
             kind: "topic",
-            topic: dds_name,
+            topic: dds_name.to_owned(),
             reason: e.to_string(),
-        })?;
-    Ok((topic_name, topic, dds_qos))
+        })
 }
 
 /// How one of our own endpoints is reported to the discovery feed.
@@ -119,8 +127,12 @@ fn local_endpoint<M: Message>(
         dds_type_name: M::dds_type_name(),
         qos: qos.effective(kind),
         type_hash: M::type_hash(),
-        // What rustdds announces for us: nothing (it cannot send endpoint USER_DATA).
-        user_data: Vec::new(),
+        // What the backend announces for us (rustdds cannot send endpoint USER_DATA).
+        user_data: if node.context().backend().announces_user_data() {
+            M::type_hash().to_user_data().into_bytes()
+        } else {
+            Vec::new()
+        },
     }
 }
 
@@ -130,7 +142,32 @@ pub struct Publisher<M: Message> {
     registration: Registration,
     topic: TopicName,
     qos: Qos,
-    writer: no_key::DataWriter<M, CDRSerializerAdapter<M>>,
+    writer: TypedWriter<M>,
+}
+
+// One per entity, used in place: boxing the larger variant would buy nothing.
+#[allow(clippy::large_enum_variant)]
+enum TypedWriter<M: Message> {
+    RustDds(no_key::DataWriter<M, CDRSerializerAdapter<M>>),
+    #[cfg(feature = "cyclone")]
+    Cyclone(crate::cyclone::endpoints::RawWriter),
+}
+
+/// Receives messages of type `M` from one topic.
+pub struct Subscription<M: Message> {
+    // Dropped first: withdrawn from ros_discovery_info before the DDS reader is deleted.
+    registration: Registration,
+    topic: TopicName,
+    qos: Qos,
+    reader: TypedReader<M>,
+}
+
+// One per entity, used in place: boxing the larger variant would buy nothing.
+#[allow(clippy::large_enum_variant)]
+enum TypedReader<M: Message> {
+    RustDds(no_key::DataReader<M, CDRDeserializerAdapter<M>>),
+    #[cfg(feature = "cyclone")]
+    Cyclone(crate::cyclone::endpoints::RawReader),
 }
 
 impl Node {
@@ -140,29 +177,44 @@ impl Node {
         topic: &str,
         qos: &Qos,
     ) -> Result<Publisher<M>, EndpointError> {
-        let (topic_name, dds_topic, dds_qos) =
-            resolve_topic::<M>(self, topic, qos, EndpointKind::Writer)?;
-        let writer = self
-            .context()
-            .inner()
-            .publisher
-            .create_datawriter_no_key::<M, CDRSerializerAdapter<M>>(&dds_topic, Some(dds_qos))
-            .map_err(|e| EndpointError::Dds {
-                kind: "writer",
-                topic: topic_name.to_string(),
-                reason: e.to_string(),
-            })?;
+        let (topic_name, dds_qos) = resolve_topic(self, topic, qos, EndpointKind::Writer)?;
+        let dds_name = topic_name.to_dds_topic_name(qos.avoid_ros_namespace_conventions);
+        let fail = |reason: String| EndpointError::Dds {
+            kind: "writer",
+            topic: topic_name.to_string(),
+            reason,
+        };
+        let (writer, gid) = match &self.context().inner().dds {
+            Dds::RustDds(p) => {
+                let dds_topic = rustdds_topic::<M>(p, &dds_name, &dds_qos)?;
+                let writer = p
+                    .publisher
+                    .create_datawriter_no_key::<M, CDRSerializerAdapter<M>>(
+                        &dds_topic,
+                        Some(dds_qos),
+                    )
+                    .map_err(|e| fail(e.to_string()))?;
+                let gid = gid_from_guid(writer.guid());
+                (TypedWriter::RustDds(writer), gid)
+            }
+            #[cfg(feature = "cyclone")]
+            Dds::Cyclone(p) => {
+                let (writer, gid) = crate::cyclone::endpoints::RawWriter::create(
+                    p,
+                    &dds_name,
+                    &M::dds_type_name(),
+                    &dds_qos,
+                    M::type_hash().to_user_data().as_bytes(),
+                )
+                .map_err(fail)?;
+                (TypedWriter::Cyclone(writer), gid)
+            }
+        };
         Ok(Publisher {
             registration: Registration::new(
                 self,
                 EndpointSide::Writer,
-                local_endpoint::<M>(
-                    self,
-                    gid_from_guid(writer.guid()),
-                    EndpointKind::Writer,
-                    &topic_name,
-                    qos,
-                ),
+                local_endpoint::<M>(self, gid, EndpointKind::Writer, &topic_name, qos),
             ),
             topic: topic_name,
             qos: *qos,
@@ -176,29 +228,44 @@ impl Node {
         topic: &str,
         qos: &Qos,
     ) -> Result<Subscription<M>, EndpointError> {
-        let (topic_name, dds_topic, dds_qos) =
-            resolve_topic::<M>(self, topic, qos, EndpointKind::Reader)?;
-        let reader = self
-            .context()
-            .inner()
-            .subscriber
-            .create_datareader_no_key::<M, CDRDeserializerAdapter<M>>(&dds_topic, Some(dds_qos))
-            .map_err(|e| EndpointError::Dds {
-                kind: "reader",
-                topic: topic_name.to_string(),
-                reason: e.to_string(),
-            })?;
+        let (topic_name, dds_qos) = resolve_topic(self, topic, qos, EndpointKind::Reader)?;
+        let dds_name = topic_name.to_dds_topic_name(qos.avoid_ros_namespace_conventions);
+        let fail = |reason: String| EndpointError::Dds {
+            kind: "reader",
+            topic: topic_name.to_string(),
+            reason,
+        };
+        let (reader, gid) = match &self.context().inner().dds {
+            Dds::RustDds(p) => {
+                let dds_topic = rustdds_topic::<M>(p, &dds_name, &dds_qos)?;
+                let reader = p
+                    .subscriber
+                    .create_datareader_no_key::<M, CDRDeserializerAdapter<M>>(
+                        &dds_topic,
+                        Some(dds_qos),
+                    )
+                    .map_err(|e| fail(e.to_string()))?;
+                let gid = gid_from_guid(reader.guid());
+                (TypedReader::RustDds(reader), gid)
+            }
+            #[cfg(feature = "cyclone")]
+            Dds::Cyclone(p) => {
+                let (reader, gid) = crate::cyclone::endpoints::RawReader::create(
+                    p,
+                    &dds_name,
+                    &M::dds_type_name(),
+                    &dds_qos,
+                    M::type_hash().to_user_data().as_bytes(),
+                )
+                .map_err(fail)?;
+                (TypedReader::Cyclone(reader), gid)
+            }
+        };
         Ok(Subscription {
             registration: Registration::new(
                 self,
                 EndpointSide::Reader,
-                local_endpoint::<M>(
-                    self,
-                    gid_from_guid(reader.guid()),
-                    EndpointKind::Reader,
-                    &topic_name,
-                    qos,
-                ),
+                local_endpoint::<M>(self, gid, EndpointKind::Reader, &topic_name, qos),
             ),
             topic: topic_name,
             qos: *qos,
@@ -210,10 +277,21 @@ impl Node {
 impl<M: Message> Publisher<M> {
     /// Publishes one message.
     pub fn publish(&self, message: M) -> Result<(), PublishError> {
-        self.writer.write(message, None).map_err(|e| PublishError {
+        let fail = |reason: String| PublishError {
             topic: self.topic.to_string(),
-            reason: e.to_string(),
-        })
+            reason,
+        };
+        match &self.writer {
+            TypedWriter::RustDds(writer) => {
+                writer.write(message, None).map_err(|e| fail(e.to_string()))
+            }
+            #[cfg(feature = "cyclone")]
+            TypedWriter::Cyclone(writer) => {
+                let body =
+                    horus_ros_msgs::cdr::to_cdr_body(&message).map_err(|e| fail(e.to_string()))?;
+                writer.write(&body).map(|_| ()).map_err(fail)
+            }
+        }
     }
 
     /// The writer's GID.
@@ -232,24 +310,30 @@ impl<M: Message> Publisher<M> {
     }
 }
 
-/// Receives messages of type `M` from one topic.
-pub struct Subscription<M: Message> {
-    // Dropped first: withdrawn from ros_discovery_info before the DDS reader is deleted.
-    registration: Registration,
-    topic: TopicName,
-    qos: Qos,
-    reader: no_key::DataReader<M, CDRDeserializerAdapter<M>>,
-}
-
 impl<M: Message> Subscription<M> {
     /// Takes the next message, if one has arrived (non-blocking).
     pub fn try_take(&mut self) -> Result<Option<M>, TakeError> {
-        match self.reader.take_next_sample() {
-            Ok(sample) => Ok(sample.map(|s| s.into_value())),
-            Err(e) => Err(TakeError {
-                topic: self.topic.to_string(),
-                reason: e.to_string(),
-            }),
+        let fail = |reason: String| TakeError {
+            topic: self.topic.to_string(),
+            reason,
+        };
+        match &mut self.reader {
+            TypedReader::RustDds(reader) => match reader.take_next_sample() {
+                Ok(sample) => Ok(sample.map(|s| s.into_value())),
+                Err(e) => Err(fail(e.to_string())),
+            },
+            #[cfg(feature = "cyclone")]
+            TypedReader::Cyclone(reader) => {
+                let Some(sample) = reader.take().map_err(fail)? else {
+                    return Ok(None);
+                };
+                let decoded = if sample.big_endian {
+                    horus_ros_msgs::cdr::from_cdr_body::<M, byteorder::BigEndian>(&sample.body)
+                } else {
+                    horus_ros_msgs::cdr::from_cdr_body::<M, byteorder::LittleEndian>(&sample.body)
+                };
+                decoded.map(Some).map_err(|e| fail(e.to_string()))
+            }
         }
     }
 

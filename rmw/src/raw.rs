@@ -13,8 +13,9 @@ use rustdds::mio1 as mio;
 use rustdds::no_key::{DataReader, DataWriter};
 use rustdds::{RTPSEntity, SampleIdentity, SequenceNumber, TopicKind, WriteOptionsBuilder};
 
+use crate::context::Dds;
 use crate::dds::raw::{RawAdapter, RawPayload};
-use crate::dds::{gid_from_guid, guid_from_gid};
+use crate::dds::{gid_from_guid, guid_from_gid, RustddsParticipant};
 use crate::discovery::DiscoveredEndpoint;
 use crate::entities::EndpointSide;
 use crate::node::{Node, Registration};
@@ -77,15 +78,65 @@ pub struct RawEndpointSpec {
     pub type_hash: TypeHash,
     /// The QoS.
     pub qos: Qos,
+    /// For a service's request/reply endpoint: the id of its client or server, announced in
+    /// USER_DATA before the type hash (rmw_cyclonedds `rmw_init_cs`).
+    pub service_id: Option<ServiceEndpointId>,
+}
+
+impl RawEndpointSpec {
+    /// The USER_DATA a backend that announces it gives this endpoint:
+    /// `[clientid=…;|serviceid=…;]typehash=RIHS01_…;` (rmw_cyclonedds `create_readwrite_qos`).
+    pub fn user_data(&self) -> String {
+        let mut s = self.service_id.map(|id| id.user_data()).unwrap_or_default();
+        s.push_str(&self.type_hash.to_user_data());
+        s
+    }
+}
+
+/// Whether a service endpoint belongs to a client or a server.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum ServiceEndpointRole {
+    /// A client's request writer and reply reader (`clientid=`).
+    Client,
+    /// A server's request reader and reply writer (`serviceid=`).
+    Server,
+}
+
+/// The id shared by the two endpoints of one service client or server (rmw_cyclonedds
+/// `client_service_id_t`); see [`Context::new_service_endpoint_id`](crate::Context::new_service_endpoint_id).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct ServiceEndpointId {
+    /// Client or server.
+    pub role: ServiceEndpointRole,
+    /// The 16 bytes: participant GUID prefix + big-endian counter.
+    pub id: [u8; 16],
+}
+
+impl ServiceEndpointId {
+    /// `clientid=…;` or `serviceid=…;`, the id written as rmw_cyclonedds `csid_to_string` does:
+    /// lower-case hex bytes joined by `.`, no zero padding except that the first is right-aligned
+    /// in two characters (`std::setw(2)` with the default space fill), e.g. ` 1.10.a.…`.
+    pub fn user_data(&self) -> String {
+        use std::fmt::Write;
+        let key = match self.role {
+            ServiceEndpointRole::Client => "clientid",
+            ServiceEndpointRole::Server => "serviceid",
+        };
+        let mut s = format!("{key}={:>2x}", self.id[0]);
+        for b in &self.id[1..] {
+            let _ = write!(s, ".{b:x}");
+        }
+        s.push(';');
+        s
+    }
 }
 
 fn create_topic(
-    node: &Node,
+    participant: &RustddsParticipant,
     spec: &RawEndpointSpec,
     dds_qos: &rustdds::QosPolicies,
 ) -> Result<rustdds::Topic, EndpointError> {
-    node.context()
-        .inner()
+    participant
         .participant
         .create_topic(
             spec.dds_topic_name.clone(),
@@ -106,6 +157,11 @@ fn describe(
     gid: Gid,
     kind: EndpointKind,
 ) -> DiscoveredEndpoint {
+    let user_data = if node.context().backend().announces_user_data() {
+        spec.user_data().into_bytes()
+    } else {
+        Vec::new()
+    };
     DiscoveredEndpoint {
         gid,
         participant_gid: node.context().gid(),
@@ -114,7 +170,7 @@ fn describe(
         dds_type_name: spec.dds_type_name.clone(),
         qos: spec.qos.effective(kind),
         type_hash: spec.type_hash,
-        user_data: Vec::new(),
+        user_data,
     }
 }
 
@@ -135,7 +191,15 @@ pub struct RawWriter {
     // Dropped first: withdrawn from ros_discovery_info before the writer is deleted.
     registration: Registration,
     topic: String,
-    writer: DataWriter<RawPayload, RawAdapter>,
+    writer: WriterImpl,
+}
+
+// One per entity, used in place: boxing the larger variant would buy nothing.
+#[allow(clippy::large_enum_variant)]
+enum WriterImpl {
+    RustDds(DataWriter<RawPayload, RawAdapter>),
+    #[cfg(feature = "cyclone")]
+    Cyclone(crate::cyclone::endpoints::RawWriter),
 }
 
 impl std::fmt::Debug for RawWriter {
@@ -149,9 +213,19 @@ impl std::fmt::Debug for RawWriter {
 /// Reads raw CDR bodies with their sample identities.
 pub struct RawReader {
     registration: Registration,
-    poll: mio::Poll,
     topic: String,
-    reader: DataReader<RawPayload, RawAdapter>,
+    reader: ReaderImpl,
+}
+
+// One per entity, used in place: boxing the larger variant would buy nothing.
+#[allow(clippy::large_enum_variant)]
+enum ReaderImpl {
+    RustDds {
+        poll: mio::Poll,
+        reader: DataReader<RawPayload, RawAdapter>,
+    },
+    #[cfg(feature = "cyclone")]
+    Cyclone(crate::cyclone::endpoints::RawReader),
 }
 
 impl std::fmt::Debug for RawReader {
@@ -159,6 +233,17 @@ impl std::fmt::Debug for RawReader {
         f.debug_struct("RawReader")
             .field("gid", &self.gid())
             .finish()
+    }
+}
+
+fn dds_error<'a>(
+    kind: &'static str,
+    spec: &'a RawEndpointSpec,
+) -> impl Fn(String) -> EndpointError + 'a {
+    move |reason| EndpointError::Dds {
+        kind,
+        topic: spec.dds_topic_name.clone(),
+        reason,
     }
 }
 
@@ -172,18 +257,29 @@ impl Node {
                     name: spec.dds_topic_name.clone(),
                     source,
                 })?;
-        let topic = create_topic(self, spec, &dds_qos)?;
-        let writer = self
-            .context()
-            .inner()
-            .publisher
-            .create_datawriter_no_key::<RawPayload, RawAdapter>(&topic, Some(dds_qos))
-            .map_err(|e| EndpointError::Dds {
-                kind: "writer",
-                topic: spec.dds_topic_name.clone(),
-                reason: e.to_string(),
-            })?;
-        let gid = gid_from_guid(writer.guid());
+        let (writer, gid) = match &self.context().inner().dds {
+            Dds::RustDds(p) => {
+                let topic = create_topic(p, spec, &dds_qos)?;
+                let writer = p
+                    .publisher
+                    .create_datawriter_no_key::<RawPayload, RawAdapter>(&topic, Some(dds_qos))
+                    .map_err(|e| dds_error("writer", spec)(e.to_string()))?;
+                let gid = gid_from_guid(writer.guid());
+                (WriterImpl::RustDds(writer), gid)
+            }
+            #[cfg(feature = "cyclone")]
+            Dds::Cyclone(p) => {
+                let (writer, gid) = crate::cyclone::endpoints::RawWriter::create(
+                    p,
+                    &spec.dds_topic_name,
+                    &spec.dds_type_name,
+                    &dds_qos,
+                    spec.user_data().as_bytes(),
+                )
+                .map_err(dds_error("writer", spec))?;
+                (WriterImpl::Cyclone(writer), gid)
+            }
+        };
         let registration = Registration::new(
             self,
             EndpointSide::Writer,
@@ -205,29 +301,36 @@ impl Node {
                     name: spec.dds_topic_name.clone(),
                     source,
                 })?;
-        let topic = create_topic(self, spec, &dds_qos)?;
-        let mut reader = self
-            .context()
-            .inner()
-            .subscriber
-            .create_datareader_no_key::<RawPayload, RawAdapter>(&topic, Some(dds_qos))
-            .map_err(|e| EndpointError::Dds {
-                kind: "reader",
-                topic: spec.dds_topic_name.clone(),
-                reason: e.to_string(),
-            })?;
-        let gid = gid_from_guid(reader.guid());
-        let fail = |e: std::io::Error| EndpointError::Dds {
-            kind: "poll",
-            topic: spec.dds_topic_name.clone(),
-            reason: e.to_string(),
+        let (reader, gid) = match &self.context().inner().dds {
+            Dds::RustDds(p) => {
+                let topic = create_topic(p, spec, &dds_qos)?;
+                let mut reader = p
+                    .subscriber
+                    .create_datareader_no_key::<RawPayload, RawAdapter>(&topic, Some(dds_qos))
+                    .map_err(|e| dds_error("reader", spec)(e.to_string()))?;
+                let gid = gid_from_guid(reader.guid());
+                let fail = |e: std::io::Error| dds_error("poll", spec)(e.to_string());
+                let poll = mio::Poll::new().map_err(fail)?;
+                // rustdds' mio 1 sources are drained by take/try_recv, so edge-triggered waking
+                // works (its mio 0.6 readiness fires only once: it is never drained).
+                poll.registry()
+                    .register(&mut reader, DATA, mio::Interest::READABLE)
+                    .map_err(fail)?;
+                (ReaderImpl::RustDds { poll, reader }, gid)
+            }
+            #[cfg(feature = "cyclone")]
+            Dds::Cyclone(p) => {
+                let (reader, gid) = crate::cyclone::endpoints::RawReader::create(
+                    p,
+                    &spec.dds_topic_name,
+                    &spec.dds_type_name,
+                    &dds_qos,
+                    spec.user_data().as_bytes(),
+                )
+                .map_err(dds_error("reader", spec))?;
+                (ReaderImpl::Cyclone(reader), gid)
+            }
         };
-        let poll = mio::Poll::new().map_err(fail)?;
-        // rustdds' mio 1 sources are drained by take/try_recv, so edge-triggered waking works
-        // (its mio 0.6 readiness fires only once: it is never drained).
-        poll.registry()
-            .register(&mut reader, DATA, mio::Interest::READABLE)
-            .map_err(fail)?;
         let registration = Registration::new(
             self,
             EndpointSide::Reader,
@@ -235,7 +338,6 @@ impl Node {
         );
         Ok(RawReader {
             registration,
-            poll,
             topic: spec.dds_topic_name.clone(),
             reader,
         })
@@ -251,32 +353,57 @@ impl RawWriter {
     /// Writes `body` (a CDR_LE body) and returns the sample's identity. With `related`, the sample
     /// carries it as `related_sample_identity` (under both PIDs 0x0083 and 0x800f); with `only_to`,
     /// it is sent to that one matched reader only.
+    ///
+    /// On the Cyclone backend, `related` is refused (Cyclone DDS cannot send it), `only_to` is
+    /// ignored (the sample goes to every matched reader) and the sequence number is counted by
+    /// the writer itself (one per write, from 1, as RTPS numbers them).
     pub fn write(
         &self,
         body: Vec<u8>,
         related: Option<SampleId>,
         only_to: Option<Gid>,
     ) -> Result<SampleId, PublishError> {
-        let mut options = WriteOptionsBuilder::new();
-        if let Some(r) = related {
-            options = options.related_sample_identity(r.to_dds());
+        let fail = |reason: String| PublishError {
+            topic: self.topic.clone(),
+            reason,
+        };
+        match &self.writer {
+            WriterImpl::RustDds(writer) => {
+                let mut options = WriteOptionsBuilder::new();
+                if let Some(r) = related {
+                    options = options.related_sample_identity(r.to_dds());
+                }
+                if let Some(reader) = only_to {
+                    options = options.to_single_reader(guid_from_gid(reader));
+                }
+                writer
+                    .write_with_options(
+                        RawPayload {
+                            big_endian: false,
+                            body,
+                        },
+                        options.build(),
+                    )
+                    .map(SampleId::from_dds)
+                    .map_err(|e| fail(e.to_string()))
+            }
+            #[cfg(feature = "cyclone")]
+            WriterImpl::Cyclone(writer) => {
+                if related.is_some() {
+                    return Err(fail(
+                        "the Cyclone backend cannot send related_sample_identity \
+                         (Cyclone DDS has no API for it)"
+                            .to_owned(),
+                    ));
+                }
+                let _ = only_to;
+                let sequence_number = writer.write(&body).map_err(fail)?;
+                Ok(SampleId {
+                    writer: self.gid(),
+                    sequence_number,
+                })
+            }
         }
-        if let Some(reader) = only_to {
-            options = options.to_single_reader(guid_from_gid(reader));
-        }
-        self.writer
-            .write_with_options(
-                RawPayload {
-                    big_endian: false,
-                    body,
-                },
-                options.build(),
-            )
-            .map(SampleId::from_dds)
-            .map_err(|e| PublishError {
-                topic: self.topic.clone(),
-                reason: e.to_string(),
-            })
     }
 }
 
@@ -288,31 +415,55 @@ impl RawReader {
 
     /// Takes the next sample, if any (non-blocking). A sample the DDS layer could not decode is
     /// reported as an error and dropped; the next call goes on with the following one.
+    ///
+    /// On the Cyclone backend, samples carry no `related_sample_identity` and their sequence
+    /// number is [`SampleId::UNKNOWN_SEQUENCE_NUMBER`] (Cyclone DDS reports neither).
     pub fn take(&mut self) -> Result<Option<RawSample>, TakeError> {
-        match self.reader.take_next_sample() {
-            Ok(Some(sample)) => {
-                let info = sample.sample_info();
-                let id = SampleId::from_dds(info.sample_identity());
-                let related = info.related_sample_identity().map(SampleId::from_dds);
-                let payload = sample.into_value();
-                Ok(Some(RawSample {
-                    body: payload.body,
-                    big_endian: payload.big_endian,
-                    id,
-                    related,
-                }))
-            }
-            Ok(None) => Ok(None),
-            Err(e) => Err(TakeError {
-                topic: self.topic.clone(),
-                reason: e.to_string(),
-            }),
+        let fail = |reason: String| TakeError {
+            topic: self.topic.clone(),
+            reason,
+        };
+        match &mut self.reader {
+            ReaderImpl::RustDds { reader, .. } => match reader.take_next_sample() {
+                Ok(Some(sample)) => {
+                    let info = sample.sample_info();
+                    let id = SampleId::from_dds(info.sample_identity());
+                    let related = info.related_sample_identity().map(SampleId::from_dds);
+                    let payload = sample.into_value();
+                    Ok(Some(RawSample {
+                        body: payload.body,
+                        big_endian: payload.big_endian,
+                        id,
+                        related,
+                    }))
+                }
+                Ok(None) => Ok(None),
+                Err(e) => Err(fail(e.to_string())),
+            },
+            #[cfg(feature = "cyclone")]
+            ReaderImpl::Cyclone(reader) => match reader.take() {
+                Ok(Some(sample)) => Ok(Some(RawSample {
+                    body: sample.body,
+                    big_endian: sample.big_endian,
+                    id: SampleId {
+                        writer: sample.writer,
+                        sequence_number: SampleId::UNKNOWN_SEQUENCE_NUMBER,
+                    },
+                    related: None,
+                })),
+                Ok(None) => Ok(None),
+                Err(reason) => Err(fail(reason)),
+            },
         }
     }
 
     /// Waits until data may be there, at most `timeout`; returns whether something was
     /// signalled. Take until `None` after it: wake-ups are edge-triggered.
     pub fn wait(&mut self, timeout: Duration) -> bool {
-        wait_on(&mut self.poll, timeout)
+        match &mut self.reader {
+            ReaderImpl::RustDds { poll, .. } => wait_on(poll, timeout),
+            #[cfg(feature = "cyclone")]
+            ReaderImpl::Cyclone(reader) => reader.wait(timeout),
+        }
     }
 }

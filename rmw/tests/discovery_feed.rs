@@ -6,7 +6,7 @@ use std::time::Duration;
 use horus_ros_msgs::builtin_interfaces::msg::Time;
 use horus_ros_msgs::Message;
 use horus_ros_rmw::qos::{EndpointKind, Qos};
-use horus_ros_rmw::{Context, DiscoveryEvent, DiscoveryFeedError, VendorId};
+use horus_ros_rmw::{Context, DiscoveryEvent, DiscoveryFeedError};
 
 const DOMAIN: u32 = 36;
 
@@ -49,7 +49,7 @@ fn own_entities_are_reported_as_snapshot_then_changes() {
     match next(&mut feed) {
         DiscoveryEvent::ParticipantDiscovered(p) => {
             assert_eq!(p.gid, context.gid());
-            assert_eq!(p.vendor_id, VendorId::RUSTDDS);
+            assert_eq!(p.vendor_id, context.vendor_id());
         }
         other => panic!("expected our participant first, got {other:?}"),
     }

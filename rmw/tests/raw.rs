@@ -14,6 +14,7 @@ fn spec(topic: &str) -> RawEndpointSpec {
         dds_type_name: horus_ros_msgs::builtin_interfaces::msg::Time::dds_type_name(),
         type_hash: TypeHash::ZERO,
         qos: Qos::services_default(),
+        service_id: None,
     }
 }
 
@@ -59,8 +60,18 @@ fn raw_samples_carry_identity_and_related_identity() {
         sequence_number: SampleId::UNKNOWN_SEQUENCE_NUMBER,
     };
     let body = vec![1, 0, 0, 0, 2, 0, 0, 0];
+    let carries_identity = context.backend().carries_sample_identity();
+    if !carries_identity {
+        // Cyclone DDS cannot send related_sample_identity: refused, nothing sent.
+        let refused = writer.write(body.clone(), Some(related), None);
+        assert!(
+            refused.is_err_and(|e| e.reason.contains("related_sample_identity")),
+            "a related identity must be refused on {}",
+            context.backend()
+        );
+    }
     let sent = writer
-        .write(body.clone(), Some(related), None)
+        .write(body.clone(), carries_identity.then_some(related), None)
         .expect("write");
     assert_eq!(sent.writer, writer.gid());
     let second = writer
@@ -81,8 +92,18 @@ fn raw_samples_carry_identity_and_related_identity() {
     }
     assert_eq!(got[0].body, body);
     assert!(!got[0].big_endian);
-    assert_eq!(got[0].id, sent);
-    assert_eq!(got[0].related, Some(related));
-    assert_eq!(got[1].id, second);
+    assert_eq!(got[1].body, vec![9, 9, 9, 9]);
     assert_eq!(got[1].related, None);
+    if carries_identity {
+        assert_eq!(got[0].id, sent);
+        assert_eq!(got[0].related, Some(related));
+        assert_eq!(got[1].id, second);
+    } else {
+        // The writer is known; sequence numbers and related identities are not reported.
+        for sample in &got {
+            assert_eq!(sample.id.writer, writer.gid());
+            assert_eq!(sample.id.sequence_number, SampleId::UNKNOWN_SEQUENCE_NUMBER);
+        }
+        assert_eq!(got[0].related, None);
+    }
 }

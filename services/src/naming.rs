@@ -3,7 +3,7 @@
 use horus_ros_msgs::{Message, Service, TypeHash};
 use horus_ros_rmw::names::ServiceName;
 use horus_ros_rmw::qos::Qos;
-use horus_ros_rmw::{Node, RawEndpointSpec};
+use horus_ros_rmw::{Node, RawEndpointSpec, ServiceEndpointRole};
 
 use crate::SetupError;
 
@@ -46,11 +46,13 @@ impl ServiceTopics {
         node: &Node,
         name: &str,
         qos: &Qos,
+        role: ServiceEndpointRole,
     ) -> Result<Self, SetupError> {
         Self::resolve_parts(
             node,
             name,
             qos,
+            role,
             (S::Request::dds_type_name(), S::Request::type_hash()),
             (S::Response::dds_type_name(), S::Response::type_hash()),
         )
@@ -62,6 +64,7 @@ impl ServiceTopics {
         node: &Node,
         name: &str,
         qos: &Qos,
+        role: ServiceEndpointRole,
         request: (String, TypeHash),
         response: (String, TypeHash),
     ) -> Result<Self, SetupError> {
@@ -76,18 +79,22 @@ impl ServiceTopics {
         if qos.history == horus_ros_rmw::qos::HistoryPolicy::KeepLast {
             qos.depth = qos.depth.max(MIN_SERVICE_HISTORY_DEPTH);
         }
+        // One id for both endpoints (announced as `clientid=`/`serviceid=` where USER_DATA is).
+        let service_id = Some(node.context().new_service_endpoint_id(role));
         Ok(Self {
             request: RawEndpointSpec {
                 dds_topic_name: name.to_dds_request_topic_name(avoid),
                 dds_type_name: request.0,
                 type_hash: request.1,
                 qos,
+                service_id,
             },
             reply: RawEndpointSpec {
                 dds_topic_name: name.to_dds_reply_topic_name(avoid),
                 dds_type_name: response.0,
                 type_hash: response.1,
                 qos,
+                service_id,
             },
             name,
         })

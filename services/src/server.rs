@@ -107,7 +107,12 @@ impl<S: Service> ServiceServerBuilder<S> {
         let handler = self.handler.ok_or(SetupError::NoHandler)?;
         let runtime = Runtime::for_service::<S>(self.node.as_ref())?;
         let name = self.name.unwrap_or_else(default_service_name::<S>);
-        let topics = ServiceTopics::resolve::<S>(&runtime.node, &name, &self.qos)?;
+        let topics = ServiceTopics::resolve::<S>(
+            &runtime.node,
+            &name,
+            &self.qos,
+            horus_ros_rmw::ServiceEndpointRole::Server,
+        )?;
         let requests = runtime.node.create_raw_reader(&topics.request)?;
         let replies = runtime.node.create_raw_writer(&topics.reply)?;
         let shared = Arc::new(ServerShared::default());
@@ -122,6 +127,7 @@ impl<S: Service> ServiceServerBuilder<S> {
                 topics.reply.dds_topic_name.clone(),
                 reply_writer,
                 self.flavour,
+                runtime.node.context().backend(),
             ),
             handler,
             poll_interval: self.poll_interval,

@@ -2,14 +2,17 @@
 //! [`DdsServiceServer`](crate::DdsServiceServer)) share: reading a request in its client's wire
 //! convention, and answering it in that convention once the client can hear the reply.
 
-use std::sync::Arc;
+use std::collections::HashSet;
+use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
 use horus_ros_graph::Graph;
 use horus_ros_rmw::names::ServiceName;
-use horus_ros_rmw::{Gid, PublishError, RawSample, RawWriter, SampleId};
+use horus_ros_rmw::{Backend, Gid, PublishError, RawSample, RawWriter, SampleId};
 
-use crate::wire::{encode, is_reader, CycloneHeader, WireFlavour, HORUS_CLIENT_MARKER};
+use crate::wire::{
+    encode, is_horus_client_id, is_reader, CycloneHeader, WireFlavour, HORUS_CLIENT_MARKER,
+};
 
 /// How long a reply waits for the client's reply reader to be matched before it is sent anyway
 /// (rmw_fastrtps and rmw_cyclonedds wait too, so that a fresh client's first reply is not lost).
@@ -80,6 +83,9 @@ pub(crate) struct ServerWire {
     reply_topic: String,
     reply_writer: Gid,
     flavour: Option<WireFlavour>,
+    backend: Backend,
+    /// Request writers already told about (once each) as unanswerable on this backend.
+    refused: Mutex<HashSet<Gid>>,
 }
 
 impl ServerWire {
@@ -91,6 +97,7 @@ impl ServerWire {
         reply_topic: String,
         reply_writer: Gid,
         flavour: Option<WireFlavour>,
+        backend: Backend,
     ) -> Self {
         Self {
             graph,
@@ -98,6 +105,8 @@ impl ServerWire {
             reply_topic,
             reply_writer,
             flavour,
+            backend,
+            refused: Mutex::new(HashSet::new()),
         }
     }
 
@@ -109,9 +118,25 @@ impl ServerWire {
     /// Reads a request's correlation data in its client's convention; `None` (logged) if it is
     /// malformed.
     pub(crate) fn interpret(&self, sample: RawSample) -> Option<Request> {
-        let flavour = self.flavour.unwrap_or_else(|| {
-            WireFlavour::for_vendor(self.graph.participant_vendor(sample.id.writer))
-        });
+        let vendor = self.graph.participant_vendor(sample.id.writer);
+        let flavour = match WireFlavour::choose(self.backend, vendor, self.flavour) {
+            Ok(flavour) => flavour,
+            Err(why) => {
+                let first = self
+                    .refused
+                    .lock()
+                    .unwrap_or_else(|p| p.into_inner())
+                    .insert(sample.id.writer);
+                if first {
+                    tracing::warn!(
+                        service = %self.service,
+                        client = %sample.id.writer,
+                        "requests from this client cannot be answered and are dropped: {why}"
+                    );
+                }
+                return None;
+            }
+        };
         let (route, offset) = match flavour {
             WireFlavour::CycloneDds => {
                 let Some((header, message)) = CycloneHeader::split(&sample.body, sample.big_endian)
@@ -206,6 +231,25 @@ impl ServerWire {
                     recipient: Recipient::ParticipantOf(request_writer),
                     deadline,
                 }),
+                Err(message) if is_horus_client_id(header.guid) => {
+                    let body = match encode(&message) {
+                        Ok(body) => body,
+                        Err(e) => {
+                            tracing::warn!(service = %self.service, "could not encode an error reply: {e}");
+                            return None;
+                        }
+                    };
+                    let header = CycloneHeader {
+                        seq: header.seq.saturating_neg(),
+                        ..header
+                    };
+                    Some(Reply {
+                        body: header.prepend(&body),
+                        related: None,
+                        recipient: Recipient::ParticipantOf(request_writer),
+                        deadline,
+                    })
+                }
                 Err(message) => {
                     tracing::warn!(
                         service = %self.service,

@@ -14,7 +14,7 @@
 //! Fast DDS and Cyclone DDS cannot call each other's services (ros2/rmw_cyclonedds#184), so the
 //! convention is chosen per peer from its participant's vendor id.
 
-use horus_ros_rmw::{Gid, VendorId};
+use horus_ros_rmw::{Backend, Gid, VendorId};
 use serde::de::DeserializeOwned;
 use serde::Serialize;
 
@@ -37,6 +37,37 @@ impl WireFlavour {
             Self::CycloneDds
         } else {
             Self::FastRtps
+        }
+    }
+
+    /// The convention to use with a peer of `vendor` from a context on `backend`, given an
+    /// explicit choice `forced`; `Err` (a message) when the backend cannot speak the one needed.
+    ///
+    /// A backend that carries `related_sample_identity` (RustDDS) follows the peer. One that
+    /// does not (Cyclone DDS) speaks only rmw_cyclonedds' convention — as rmw_cyclonedds itself
+    /// (ros2/rmw_cyclonedds#184) — which horus-ros peers on any backend understand; Fast DDS
+    /// peers (rmw_fastrtps) do not.
+    pub fn choose(
+        backend: Backend,
+        vendor: Option<VendorId>,
+        forced: Option<Self>,
+    ) -> Result<Self, String> {
+        if backend.carries_sample_identity() {
+            return Ok(forced.unwrap_or_else(|| Self::for_vendor(vendor)));
+        }
+        match forced {
+            Some(Self::FastRtps) => Err(format!(
+                "the rmw_fastrtps service convention needs related_sample_identity, which the \
+                 {backend} backend cannot carry; use the rustdds backend (HORUS_ROS_BACKEND=rustdds)"
+            )),
+            Some(Self::CycloneDds) => Ok(Self::CycloneDds),
+            None if vendor == Some(VendorId::FAST_DDS) => Err(format!(
+                "the peer runs Fast DDS (rmw_fastrtps), whose service convention needs \
+                 related_sample_identity, which the {backend} backend cannot carry (neither can \
+                 rmw_cyclonedds: ros2/rmw_cyclonedds#184); use the rustdds backend \
+                 (HORUS_ROS_BACKEND=rustdds)"
+            )),
+            None => Ok(Self::CycloneDds),
         }
     }
 }
@@ -81,15 +112,30 @@ impl CycloneHeader {
     }
 }
 
-/// A 64-bit client id for the Cyclone header, derived from the request writer's GID (FNV-1a), so
-/// clients of one server do not collide.
+/// The top 16 bits of a horus-ros client's id in rmw_cyclonedds' header ("HO"): a horus-ros
+/// server answers such a client's failed handler with an error reply (negated sequence number,
+/// the message as a CDR string), as it does through [`HORUS_CLIENT_MARKER`] in the other
+/// convention. rmw_cyclonedds ids are writer instance handles, pseudo-random 64-bit values: one
+/// in 65,536 carries the mark by chance, and would then receive (and drop, as a reply to no
+/// request) such an error reply instead of none.
+pub(crate) const HORUS_CLIENT_ID_MARK: u64 = 0x484f;
+
+/// A 64-bit client id for the Cyclone header: [`HORUS_CLIENT_ID_MARK`] in the top 16 bits, the
+/// low 48 bits of an FNV-1a hash of the request writer's GID below (so clients of one server do
+/// not collide).
 pub(crate) fn client_id(writer: Gid) -> u64 {
-    writer
+    let hash = writer
         .as_bytes()
         .iter()
         .fold(0xcbf2_9ce4_8422_2325u64, |h, b| {
             (h ^ u64::from(*b)).wrapping_mul(0x0100_0000_01b3)
-        })
+        });
+    (HORUS_CLIENT_ID_MARK << 48) | (hash & 0xffff_ffff_ffff)
+}
+
+/// Whether a Cyclone header's client id is a horus-ros client's.
+pub(crate) fn is_horus_client_id(id: u64) -> bool {
+    id >> 48 == HORUS_CLIENT_ID_MARK
 }
 
 /// Whether a GID names a data reader (entity kinds 0x04/0x07, user or built-in).
@@ -152,6 +198,40 @@ mod tests {
             WireFlavour::FastRtps
         );
         assert_eq!(WireFlavour::for_vendor(None), WireFlavour::FastRtps);
+    }
+
+    #[test]
+    fn a_backend_without_sample_identity_speaks_only_the_cyclone_convention() {
+        let fast = Some(VendorId::FAST_DDS);
+        assert_eq!(
+            WireFlavour::choose(Backend::RustDds, fast, None),
+            Ok(WireFlavour::FastRtps)
+        );
+        assert_eq!(
+            WireFlavour::choose(Backend::RustDds, fast, Some(WireFlavour::CycloneDds)),
+            Ok(WireFlavour::CycloneDds)
+        );
+        for vendor in [Some(VendorId::CYCLONE_DDS), Some(VendorId::RUSTDDS), None] {
+            assert_eq!(
+                WireFlavour::choose(Backend::Cyclone, vendor, None),
+                Ok(WireFlavour::CycloneDds)
+            );
+        }
+        let refused = WireFlavour::choose(Backend::Cyclone, fast, None);
+        assert!(refused.is_err_and(|m| m.contains("rmw_fastrtps") && m.contains("rustdds")));
+        assert!(WireFlavour::choose(Backend::Cyclone, None, Some(WireFlavour::FastRtps)).is_err());
+    }
+
+    #[test]
+    fn client_ids_carry_the_horus_mark() {
+        let mut a = [0u8; 16];
+        a[15] = 3;
+        let mut b = a;
+        b[15] = 4;
+        let (ia, ib) = (client_id(Gid::from_bytes(a)), client_id(Gid::from_bytes(b)));
+        assert_ne!(ia, ib);
+        assert!(is_horus_client_id(ia) && is_horus_client_id(ib));
+        assert!(!is_horus_client_id(0x0123_4567_89ab_cdef));
     }
 
     #[test]

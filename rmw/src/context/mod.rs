@@ -4,14 +4,15 @@
 pub mod env;
 
 use std::collections::BTreeMap;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU32, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard};
 
-use rustdds::{DomainParticipant, QosPolicyBuilder, RTPSEntity};
-
-use crate::dds::{self, discovery_info::DiscoveryInfoWriter};
+use crate::backend::{Backend, BackendError};
+use crate::dds::{self, RustddsParticipant};
 use crate::discovery::{DiscoveredEndpoint, DiscoveredParticipant, DiscoveryEvent, VendorId};
 use crate::entities::{EndpointSide, LocalEntities, NodeKey};
+use crate::local_sink::LocalSink;
+use crate::raw::{ServiceEndpointId, ServiceEndpointRole};
 use crate::Gid;
 use env::{DiscoveryOptions, DomainId, DomainIdError};
 use horus_ros_msgs::rmw_dds_common::ParticipantEntitiesInfo;
@@ -22,6 +23,9 @@ pub enum ContextError {
     /// `ROS_DOMAIN_ID` (or the domain given) is not valid.
     #[error(transparent)]
     DomainId(#[from] DomainIdError),
+    /// The backend asked for (by the builder or `HORUS_ROS_BACKEND`) cannot be used.
+    #[error(transparent)]
+    Backend(#[from] BackendError),
     /// The DDS participant could not be created (e.g. no free ports).
     #[error("could not create the DDS participant in domain {domain}: {reason}")]
     Participant {
@@ -38,7 +42,12 @@ pub enum ContextError {
 pub struct ContextBuilder {
     domain_id: Option<u32>,
     discovery: Option<DiscoveryOptions>,
+    backend: Option<Backend>,
+    enclave: Option<String>,
 }
+
+/// rcl's environment variable overriding the security enclave (`ROS_SECURITY_ENCLAVE_OVERRIDE`).
+pub const ENCLAVE_OVERRIDE_ENV: &str = "ROS_SECURITY_ENCLAVE_OVERRIDE";
 
 impl ContextBuilder {
     /// Uses this domain instead of `ROS_DOMAIN_ID` (checked at [`build`](Self::build)).
@@ -53,9 +62,24 @@ impl ContextBuilder {
         self
     }
 
+    /// Runs on this DDS implementation instead of the one `HORUS_ROS_BACKEND` names (default
+    /// RustDDS).
+    pub fn backend(mut self, backend: Backend) -> Self {
+        self.backend = Some(backend);
+        self
+    }
+
+    /// Announces this security enclave (participant USER_DATA `enclave=…;`) instead of
+    /// `ROS_SECURITY_ENCLAVE_OVERRIDE` or `/`.
+    pub fn enclave(mut self, enclave: impl Into<String>) -> Self {
+        self.enclave = Some(enclave.into());
+        self
+    }
+
     /// Creates the participant. Warnings (deprecated or unsupported settings) go to `tracing`.
     pub fn build(self) -> Result<Context, ContextError> {
-        let environment = env::read_environment(|k| std::env::var(k).ok())?;
+        let get = |k: &str| std::env::var(k).ok();
+        let environment = env::read_environment(get)?;
         let domain = match self.domain_id {
             Some(d) => DomainId::new(d)?,
             None => environment.domain_id,
@@ -64,7 +88,18 @@ impl ContextBuilder {
         for w in &environment.warnings {
             tracing::warn!("{w}");
         }
-        Context::create(domain, discovery)
+        let backend = match self.backend {
+            Some(b) => b,
+            None => Backend::from_env_with(get)?.unwrap_or_default(),
+        };
+        if !backend.is_available() {
+            return Err(BackendError::NotBuiltIn { backend }.into());
+        }
+        let enclave = self
+            .enclave
+            .or_else(|| get(ENCLAVE_OVERRIDE_ENV).filter(|e| !e.is_empty()))
+            .unwrap_or_else(|| "/".to_owned());
+        Context::create(domain, discovery, backend, enclave)
     }
 }
 
@@ -76,20 +111,73 @@ pub struct Context {
     inner: Arc<ContextInner>,
 }
 
-/// Fields drop in declaration order: endpoints and the publisher/subscriber go before the
-/// participant they belong to (rustdds logs errors when the participant goes first).
+/// The DDS side of a context, one variant per backend.
+// One per entity, used in place: boxing the larger variant would buy nothing.
+#[allow(clippy::large_enum_variant)]
+pub(crate) enum Dds {
+    /// RustDDS.
+    RustDds(RustddsParticipant),
+    /// Cyclone DDS.
+    #[cfg(feature = "cyclone")]
+    Cyclone(crate::cyclone::CycloneParticipant),
+}
+
+impl Dds {
+    fn create(
+        backend: Backend,
+        domain: DomainId,
+        discovery: &DiscoveryOptions,
+        enclave: &str,
+    ) -> Result<(Self, Vec<String>), String> {
+        match backend {
+            Backend::RustDds => {
+                let (p, warnings) = RustddsParticipant::create(domain, discovery)?;
+                if enclave != "/" {
+                    tracing::debug!(
+                        "enclave {enclave}: the rustdds backend cannot announce it (no USER_DATA)"
+                    );
+                }
+                Ok((Self::RustDds(p), warnings))
+            }
+            #[cfg(feature = "cyclone")]
+            Backend::Cyclone => {
+                let p = crate::cyclone::CycloneParticipant::create(domain, discovery, enclave)?;
+                Ok((Self::Cyclone(p), Vec::new()))
+            }
+            #[cfg(not(feature = "cyclone"))]
+            Backend::Cyclone => Err(BackendError::NotBuiltIn { backend }.to_string()),
+        }
+    }
+
+    fn gid(&self) -> Gid {
+        match self {
+            Self::RustDds(p) => p.gid(),
+            #[cfg(feature = "cyclone")]
+            Self::Cyclone(p) => p.gid(),
+        }
+    }
+
+    fn publish_discovery_info(&self, message: ParticipantEntitiesInfo) {
+        match self {
+            Self::RustDds(p) => p.publish_discovery_info(message),
+            #[cfg(feature = "cyclone")]
+            Self::Cyclone(p) => p.publish_discovery_info(&message),
+        }
+    }
+}
+
+/// Fields drop in declaration order: the DDS participant goes after the local bookkeeping.
 pub(crate) struct ContextInner {
-    discovery_writer: DiscoveryInfoWriter,
-    pub(crate) publisher: rustdds::Publisher,
-    pub(crate) subscriber: rustdds::Subscriber,
-    pub(crate) participant: DomainParticipant,
+    pub(crate) dds: Dds,
     pub(crate) domain: DomainId,
     pub(crate) discovery: DiscoveryOptions,
+    pub(crate) backend: Backend,
+    pub(crate) enclave: String,
     pub(crate) gid: Gid,
     local: Mutex<LocalState>,
     feed_open: AtomicBool,
-    /// The status listener, registered once, kept between feeds.
-    status_poll: Mutex<Option<dds::discovery_feed::StatusPoll>>,
+    /// rmw_cyclonedds' per-context client/service counter (`client_service_id`).
+    service_endpoint_ids: AtomicU32,
 }
 
 /// What this participant itself holds: its nodes, its endpoints, and where to report changes to
@@ -97,7 +185,7 @@ pub(crate) struct ContextInner {
 pub(crate) struct LocalState {
     entities: LocalEntities,
     endpoints: BTreeMap<Gid, DiscoveredEndpoint>,
-    sink: Option<dds::discovery_feed::LocalSink>,
+    sink: Option<LocalSink>,
 }
 
 impl LocalState {
@@ -114,6 +202,7 @@ impl LocalState {
 impl std::fmt::Debug for Context {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("Context")
+            .field("backend", &self.inner.backend)
             .field("domain", &self.inner.domain)
             .field("discovery", &self.inner.discovery)
             .field("gid", &self.inner.gid)
@@ -133,42 +222,71 @@ impl Context {
         ContextBuilder::default()
     }
 
-    fn create(domain: DomainId, discovery: DiscoveryOptions) -> Result<Self, ContextError> {
-        let fail = |e: rustdds::dds::CreateError| ContextError::Participant {
-            domain,
-            reason: e.to_string(),
-        };
-        let (participant, warnings) =
-            dds::participant::create_participant(domain, &discovery).map_err(fail)?;
+    fn create(
+        domain: DomainId,
+        discovery: DiscoveryOptions,
+        backend: Backend,
+        enclave: String,
+    ) -> Result<Self, ContextError> {
+        let (dds, warnings) = Dds::create(backend, domain, &discovery, &enclave)
+            .map_err(|reason| ContextError::Participant { domain, reason })?;
         for w in warnings {
             tracing::warn!("{w}");
         }
-        let qos = QosPolicyBuilder::new().build();
-        let publisher = participant.create_publisher(&qos).map_err(fail)?;
-        let subscriber = participant.create_subscriber(&qos).map_err(fail)?;
-        let topic = dds::discovery_info::topic(&participant).map_err(fail)?;
-        let discovery_writer = DiscoveryInfoWriter::new(&publisher, &topic).map_err(fail)?;
-        let gid = dds::gid_from_guid(participant.guid());
+        let gid = dds.gid();
         let local = Mutex::new(LocalState {
             entities: LocalEntities::new(gid),
             endpoints: BTreeMap::new(),
             sink: None,
         });
-        tracing::debug!(%domain, participant = %gid, "created DDS participant");
+        tracing::debug!(%domain, %backend, participant = %gid, "created DDS participant");
         Ok(Self {
             inner: Arc::new(ContextInner {
+                dds,
                 domain,
                 discovery,
-                participant,
-                publisher,
-                subscriber,
+                backend,
+                enclave,
                 gid,
                 local,
-                discovery_writer,
                 feed_open: AtomicBool::new(false),
-                status_poll: Mutex::new(None),
+                service_endpoint_ids: AtomicU32::new(0),
             }),
         })
+    }
+
+    /// The DDS implementation this context runs on.
+    pub fn backend(&self) -> Backend {
+        self.inner.backend
+    }
+
+    /// The security enclave announced (`/` unless set).
+    pub fn enclave(&self) -> &str {
+        &self.inner.enclave
+    }
+
+    /// The RTPS vendor id of this context's own participant.
+    pub fn vendor_id(&self) -> VendorId {
+        match self.inner.backend {
+            Backend::RustDds => VendorId::RUSTDDS,
+            Backend::Cyclone => VendorId::CYCLONE_DDS,
+        }
+    }
+
+    /// A new id for one service client or server (its request and reply endpoints share it),
+    /// announced in their USER_DATA as `clientid=…;` / `serviceid=…;` by backends that announce
+    /// USER_DATA. As rmw_cyclonedds `get_unique_csid`: the participant's 12-byte GUID prefix
+    /// followed by a per-context counter (from 1), big-endian.
+    pub fn new_service_endpoint_id(&self, role: ServiceEndpointRole) -> ServiceEndpointId {
+        let n = self
+            .inner
+            .service_endpoint_ids
+            .fetch_add(1, Ordering::Relaxed)
+            .wrapping_add(1);
+        let mut id = [0u8; 16];
+        id[..12].copy_from_slice(&self.inner.gid.as_bytes()[..12]);
+        id[12..].copy_from_slice(&n.to_be_bytes());
+        ServiceEndpointId { role, id }
     }
 
     /// The domain this context is in.
@@ -206,7 +324,7 @@ impl ContextInner {
     /// Publishes the participant's new message and reports it to the feed. Called under the
     /// lock, so that messages leave in the order of the changes.
     fn announce(&self, local: &mut LocalState, message: ParticipantEntitiesInfo) {
-        self.discovery_writer.publish(message.clone());
+        self.dds.publish_discovery_info(message.clone());
         local.report(DiscoveryEvent::ParticipantEntities(message));
     }
 
@@ -260,7 +378,7 @@ impl ContextInner {
 /// Why a [`DiscoveryFeed`] could not be opened.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 pub enum DiscoveryFeedError {
-    /// The context already has a feed: rustdds keeps one discovery event queue per participant.
+    /// The context already has a feed (rustdds keeps one discovery event queue per participant).
     #[error("this context already has a discovery feed")]
     AlreadyOpen,
     /// The wake-up machinery (an OS poll instance) could not be set up.
@@ -269,8 +387,8 @@ pub enum DiscoveryFeedError {
         /// What the OS said.
         reason: String,
     },
-    /// The `ros_discovery_info` reader could not be created.
-    #[error("could not create the ros_discovery_info reader: {reason}")]
+    /// A reader (`ros_discovery_info` or a built-in topic) could not be created.
+    #[error("could not create a discovery reader: {reason}")]
     Reader {
         /// What the DDS layer said.
         reason: String,
@@ -283,16 +401,26 @@ pub enum DiscoveryFeedError {
 /// Dropping the feed allows opening another.
 pub struct DiscoveryFeed {
     /// Always `Some` until dropped.
-    feed: Option<dds::discovery_feed::DdsDiscoveryFeed>,
+    feed: Option<FeedImpl>,
     context: Context,
+}
+
+/// The backend side of a discovery feed.
+// One per entity, used in place: boxing the larger variant would buy nothing.
+#[allow(clippy::large_enum_variant)]
+enum FeedImpl {
+    RustDds(dds::discovery_feed::DdsDiscoveryFeed),
+    #[cfg(feature = "cyclone")]
+    Cyclone(crate::cyclone::feed::CycloneDiscoveryFeed),
 }
 
 impl Drop for DiscoveryFeed {
     fn drop(&mut self) {
         let inner = &self.context.inner;
         inner.local().sink = None;
-        if let Some(feed) = self.feed.take() {
-            *lock(&inner.status_poll) = Some(feed.close());
+        match (self.feed.take(), &inner.dds) {
+            (Some(FeedImpl::RustDds(feed)), Dds::RustDds(p)) => p.close_feed(feed),
+            (feed, _) => drop(feed),
         }
         inner.feed_open.store(false, Ordering::SeqCst);
     }
@@ -314,68 +442,46 @@ impl std::fmt::Debug for DiscoveryFeed {
 impl DiscoveryFeed {
     /// The next event, if one is waiting (non-blocking).
     pub fn try_next(&mut self) -> Option<DiscoveryEvent> {
-        self.feed.as_mut().and_then(|f| f.try_next())
+        match self.feed.as_mut()? {
+            FeedImpl::RustDds(f) => f.try_next(),
+            #[cfg(feature = "cyclone")]
+            FeedImpl::Cyclone(f) => f.try_next(),
+        }
     }
 
     /// The next event, waiting for it at most `timeout` (woken by the DDS layer, no polling).
     pub fn next_timeout(&mut self, timeout: std::time::Duration) -> Option<DiscoveryEvent> {
-        self.feed.as_mut().and_then(|f| f.next_timeout(timeout))
+        match self.feed.as_mut()? {
+            FeedImpl::RustDds(f) => f.next_timeout(timeout),
+            #[cfg(feature = "cyclone")]
+            FeedImpl::Cyclone(f) => f.next_timeout(timeout),
+        }
     }
 }
 
 impl Context {
-    /// Opens the context's discovery feed (one per context). Events that happened since the
-    /// participant was created are delivered too: rustdds queues them from the start.
+    /// Opens the context's discovery feed (one per context). What was discovered since the
+    /// participant was created is delivered too.
     pub fn discovery_feed(&self) -> Result<DiscoveryFeed, DiscoveryFeedError> {
-        if self
-            .inner
-            .feed_open
-            .swap(true, std::sync::atomic::Ordering::SeqCst)
-        {
+        if self.inner.feed_open.swap(true, Ordering::SeqCst) {
             return Err(DiscoveryFeedError::AlreadyOpen);
         }
-        let fail = |e: rustdds::dds::CreateError| {
-            self.inner
-                .feed_open
-                .store(false, std::sync::atomic::Ordering::SeqCst);
-            DiscoveryFeedError::Reader {
-                reason: e.to_string(),
-            }
+        let opened = match &self.inner.dds {
+            Dds::RustDds(p) => p
+                .open_feed(self.inner.gid)
+                .map(|(f, sink)| (FeedImpl::RustDds(f), sink)),
+            #[cfg(feature = "cyclone")]
+            Dds::Cyclone(p) => p.open_feed().map(|(f, sink)| (FeedImpl::Cyclone(f), sink)),
         };
-        let topic = dds::discovery_info::topic(&self.inner.participant).map_err(fail)?;
-        let reader = self
-            .inner
-            .subscriber
-            .create_datareader_no_key(&topic, Some(dds::discovery_info::reader_qos()))
-            .map_err(fail)?;
-        let reopened = lock(&self.inner.status_poll).take();
-        let status = match reopened {
-            Some(status) => status,
-            None => dds::discovery_feed::StatusPoll::new(self.inner.participant.status_listener())
-                .map_err(|e| {
-                    self.inner.feed_open.store(false, Ordering::SeqCst);
-                    DiscoveryFeedError::Poll {
-                        reason: e.to_string(),
-                    }
-                })?,
-        };
-        let snapshot =
-            dds::discovery_feed::endpoint_snapshot(&self.inner.participant, self.inner.gid);
-        let (feed, sink) =
-            dds::discovery_feed::DdsDiscoveryFeed::new(status, reader, self.inner.gid, snapshot)
-                .map_err(|(status, e)| {
-                    *lock(&self.inner.status_poll) = Some(status);
-                    self.inner.feed_open.store(false, Ordering::SeqCst);
-                    DiscoveryFeedError::Poll {
-                        reason: e.to_string(),
-                    }
-                })?;
+        let (feed, sink) = opened.inspect_err(|_| {
+            self.inner.feed_open.store(false, Ordering::SeqCst);
+        })?;
         // The snapshot of what this participant holds, then every later change, in order.
         let mut local = self.inner.local();
         let _ = sink.send(DiscoveryEvent::ParticipantDiscovered(
             DiscoveredParticipant {
                 gid: self.inner.gid,
-                vendor_id: VendorId::RUSTDDS,
+                vendor_id: self.vendor_id(),
             },
         ));
         for endpoint in local.endpoints.values() {

@@ -18,6 +18,7 @@ use rustdds::{
 
 use super::gid_from_guid;
 use crate::discovery::{DiscoveredEndpoint, DiscoveredParticipant, DiscoveryEvent, VendorId};
+use crate::local_sink::{LocalSink, Wake};
 use crate::qos::{EndpointKind, Qos};
 use crate::Gid;
 
@@ -32,23 +33,13 @@ const LOCAL: mio::Token = mio::Token(2);
 type InfoReader =
     no_key::DataReader<ParticipantEntitiesInfo, CDRDeserializerAdapter<ParticipantEntitiesInfo>>;
 
-/// Where the context reports its own changes to an open feed: a channel plus a waker of the
-/// feed's poll.
-#[derive(Clone)]
-pub(crate) struct LocalSink {
-    tx: mpsc::Sender<DiscoveryEvent>,
-    waker: Arc<mio::Waker>,
-}
+/// Wakes the feed's poll from the context's side.
+struct MioWake(mio::Waker);
 
-impl LocalSink {
-    /// Sends `event` to the feed; `false` if the feed is gone.
-    pub(crate) fn send(&self, event: DiscoveryEvent) -> bool {
-        let sent = self.tx.send(event).is_ok();
-        if sent {
-            // A failed wake only delays the event until the feed's next wake-up.
-            let _ = self.waker.wake();
-        }
-        sent
+impl Wake for MioWake {
+    fn wake(&self) {
+        // A failed wake only delays the event until the feed's next wake-up.
+        let _ = self.0.wake();
     }
 }
 
@@ -57,7 +48,7 @@ impl LocalSink {
 /// handed back when a feed closes.
 pub(crate) struct StatusPoll {
     poll: mio::Poll,
-    waker: Arc<mio::Waker>,
+    waker: Arc<MioWake>,
     listener: DomainParticipantStatusListener,
 }
 
@@ -67,7 +58,7 @@ impl StatusPoll {
         let poll = mio::Poll::new()?;
         poll.registry()
             .register(&mut listener, STATUS, mio::Interest::READABLE)?;
-        let waker = Arc::new(mio::Waker::new(poll.registry(), LOCAL)?);
+        let waker = Arc::new(MioWake(mio::Waker::new(poll.registry(), LOCAL)?));
         Ok(Self {
             poll,
             waker,
@@ -101,11 +92,7 @@ impl DdsDiscoveryFeed {
         {
             return Err((status, e));
         }
-        let (tx, local) = mpsc::channel();
-        let sink = LocalSink {
-            tx,
-            waker: Arc::clone(&status.waker),
-        };
+        let (sink, local) = LocalSink::new(Arc::clone(&status.waker) as Arc<dyn Wake>);
         let feed = Self {
             status,
             reader,

@@ -1,13 +1,21 @@
 //! The rustdds backend: everything that touches rustdds lives below this module, so the rest of
-//! horus-ros sees only our own types (a second backend can sit beside it).
+//! horus-ros sees only our own types (the Cyclone backend sits beside it, in `cyclone/`).
 
 pub(crate) mod discovery_feed;
 pub(crate) mod discovery_info;
 pub(crate) mod participant;
 pub(crate) mod raw;
 
-use horus_ros_msgs::rmw_dds_common::Gid;
-use rustdds::GUID;
+use std::sync::{Mutex, MutexGuard};
+
+use horus_ros_msgs::rmw_dds_common::{Gid, ParticipantEntitiesInfo};
+use rustdds::{DomainParticipant, QosPolicyBuilder, RTPSEntity, GUID};
+
+use crate::context::env::{DiscoveryOptions, DomainId};
+use crate::context::DiscoveryFeedError;
+use crate::local_sink::LocalSink;
+use discovery_feed::{DdsDiscoveryFeed, StatusPoll};
+use discovery_info::DiscoveryInfoWriter;
 
 /// The GID of a DDS entity: its 16-byte GUID (12-byte prefix + 4-byte entity id), as rmw_dds_common
 /// `convert_gid_to_message` / rmw_cyclonedds `convert_guid_to_gid` fill Jazzy's 16-byte GID.
@@ -18,4 +26,96 @@ pub(crate) fn gid_from_guid(guid: GUID) -> Gid {
 /// The DDS GUID a GID stands for.
 pub(crate) fn guid_from_gid(gid: Gid) -> rustdds::GUID {
     rustdds::GUID::from_bytes(*gid.as_bytes())
+}
+
+/// A context's rustdds participant and what hangs off it.
+///
+/// Fields drop in declaration order: endpoints and the publisher/subscriber go before the
+/// participant they belong to (rustdds logs errors when the participant goes first).
+pub(crate) struct RustddsParticipant {
+    discovery_writer: DiscoveryInfoWriter,
+    pub(crate) publisher: rustdds::Publisher,
+    pub(crate) subscriber: rustdds::Subscriber,
+    pub(crate) participant: DomainParticipant,
+    /// The status listener, registered once, kept between feeds.
+    status_poll: Mutex<Option<StatusPoll>>,
+}
+
+impl RustddsParticipant {
+    /// Creates the participant, its publisher/subscriber and the `ros_discovery_info` writer;
+    /// also returns the warnings for discovery settings rustdds cannot honour.
+    pub(crate) fn create(
+        domain: DomainId,
+        discovery: &DiscoveryOptions,
+    ) -> Result<(Self, Vec<String>), String> {
+        let fail = |e: rustdds::dds::CreateError| e.to_string();
+        let (participant, warnings) =
+            participant::create_participant(domain, discovery).map_err(fail)?;
+        let qos = QosPolicyBuilder::new().build();
+        let publisher = participant.create_publisher(&qos).map_err(fail)?;
+        let subscriber = participant.create_subscriber(&qos).map_err(fail)?;
+        let topic = discovery_info::topic(&participant).map_err(fail)?;
+        let discovery_writer = DiscoveryInfoWriter::new(&publisher, &topic).map_err(fail)?;
+        Ok((
+            Self {
+                discovery_writer,
+                publisher,
+                subscriber,
+                participant,
+                status_poll: Mutex::new(None),
+            },
+            warnings,
+        ))
+    }
+
+    /// The participant's GID.
+    pub(crate) fn gid(&self) -> Gid {
+        gid_from_guid(self.participant.guid())
+    }
+
+    /// Publishes the participant's `ros_discovery_info` message.
+    pub(crate) fn publish_discovery_info(&self, message: ParticipantEntitiesInfo) {
+        self.discovery_writer.publish(message);
+    }
+
+    /// Opens the discovery feed: status events (queued by rustdds since the participant was
+    /// created), a `ros_discovery_info` reader and a snapshot of the endpoints already known.
+    pub(crate) fn open_feed(
+        &self,
+        own_gid: Gid,
+    ) -> Result<(DdsDiscoveryFeed, LocalSink), DiscoveryFeedError> {
+        let reader_error = |e: rustdds::dds::CreateError| DiscoveryFeedError::Reader {
+            reason: e.to_string(),
+        };
+        let topic = discovery_info::topic(&self.participant).map_err(reader_error)?;
+        let reader = self
+            .subscriber
+            .create_datareader_no_key(&topic, Some(discovery_info::reader_qos()))
+            .map_err(reader_error)?;
+        let status = match lock(&self.status_poll).take() {
+            Some(status) => status,
+            None => StatusPoll::new(self.participant.status_listener()).map_err(|e| {
+                DiscoveryFeedError::Poll {
+                    reason: e.to_string(),
+                }
+            })?,
+        };
+        let snapshot = discovery_feed::endpoint_snapshot(&self.participant, own_gid);
+        DdsDiscoveryFeed::new(status, reader, own_gid, snapshot).map_err(|(status, e)| {
+            *lock(&self.status_poll) = Some(status);
+            DiscoveryFeedError::Poll {
+                reason: e.to_string(),
+            }
+        })
+    }
+
+    /// Closes a feed, keeping its registered status listener for the next one.
+    pub(crate) fn close_feed(&self, feed: DdsDiscoveryFeed) {
+        *lock(&self.status_poll) = Some(feed.close());
+    }
+}
+
+/// Locks a mutex whose data stays consistent even if a holder panicked.
+fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
+    m.lock().unwrap_or_else(|p| p.into_inner())
 }

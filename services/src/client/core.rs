@@ -109,7 +109,12 @@ impl<C: Codec> ClientCore<C> {
             .name
             .clone()
             .unwrap_or_else(default_service_name::<S>);
-        let topics = ServiceTopics::resolve::<S>(&runtime.node, &name, &options.qos)?;
+        let topics = ServiceTopics::resolve::<S>(
+            &runtime.node,
+            &name,
+            &options.qos,
+            horus_ros_rmw::ServiceEndpointRole::Client,
+        )?;
         Self::with_codec(runtime, topics, codec, options)
     }
 
@@ -207,14 +212,16 @@ impl<C: Codec> ClientCore<C> {
         self.servers().into_iter().find_map(|(reader, writer)| {
             graph.matched_since(self.request_writer, reader)?;
             let reply_match = graph.matched_since(self.reply_reader, writer)?;
-            let flavour = self
-                .flavour
-                .unwrap_or_else(|| WireFlavour::for_vendor(graph.participant_vendor(reader)));
+            let backend = self.runtime.node.context().backend();
+            let flavour =
+                WireFlavour::choose(backend, graph.participant_vendor(reader), self.flavour)
+                    .ok()?;
             // An rmw_cyclonedds server waits for a client's reply reader only when the client
-            // announces `clientid=` in USER_DATA, which rustdds cannot send: give its writer time
-            // to match our reader (it learns of it about when we learn of its writer).
-            let settled =
-                flavour != WireFlavour::CycloneDds || reply_match.elapsed() >= CYCLONE_MATCH_SETTLE;
+            // announces `clientid=` in USER_DATA, which rustdds cannot send: then give its writer
+            // time to match our reader (it learns of it about when we learn of its writer).
+            let settled = flavour != WireFlavour::CycloneDds
+                || backend.announces_user_data()
+                || reply_match.elapsed() >= CYCLONE_MATCH_SETTLE;
             settled.then_some(ReadyServer { flavour })
         })
     }
@@ -225,6 +232,9 @@ impl<C: Codec> ClientCore<C> {
         loop {
             if let Some(ready) = self.ready_server() {
                 return Ok(ready);
+            }
+            if let Some(why) = self.unusable_servers() {
+                return Err(ServiceError::Transport(why));
             }
             let now = Instant::now();
             if now >= deadline {
@@ -237,8 +247,26 @@ impl<C: Codec> ClientCore<C> {
         }
     }
 
+    /// Why no server can be called from this backend, when every server on the graph follows a
+    /// convention the backend cannot speak (`None` if there is none, or one that can be called).
+    fn unusable_servers(&self) -> Option<String> {
+        let graph = &self.runtime.graph;
+        let backend = self.runtime.node.context().backend();
+        let mut why = None;
+        for (reader, _) in self.servers() {
+            match WireFlavour::choose(backend, graph.participant_vendor(reader), self.flavour) {
+                Ok(_) => return None,
+                Err(reason) => why = Some(reason),
+            }
+        }
+        why.map(|reason| format!("no server of {} can be called: {reason}", self.name))
+    }
+
     /// The error for a call that found no usable server.
     pub(crate) fn not_ready_error(&self) -> ServiceError {
+        if let Some(why) = self.unusable_servers() {
+            return ServiceError::Transport(why);
+        }
         if self.any_server_endpoint() {
             ServiceError::Timeout
         } else {
@@ -353,11 +381,22 @@ impl<C: Codec> ClientCore<C> {
                 if header.guid != self.client_id {
                     return false;
                 }
-                let key = RequestKey {
-                    flavour: WireFlavour::CycloneDds,
-                    sequence: header.seq,
-                };
-                (key, self.codec.decode(message, sample.big_endian))
+                if header.seq < 0 {
+                    // A horus-ros server's error reply: the handler's message as a CDR string.
+                    let message = decode::<String>(message, sample.big_endian)
+                        .unwrap_or_else(|_| "the service handler failed".to_owned());
+                    let key = RequestKey {
+                        flavour: WireFlavour::CycloneDds,
+                        sequence: header.seq.saturating_neg(),
+                    };
+                    (key, Err(ServiceError::ServiceFailed(message)))
+                } else {
+                    let key = RequestKey {
+                        flavour: WireFlavour::CycloneDds,
+                        sequence: header.seq,
+                    };
+                    (key, self.codec.decode(message, sample.big_endian))
+                }
             }
         };
         let mut pending = lock(&self.pending);

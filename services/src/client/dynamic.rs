@@ -62,6 +62,7 @@ impl DynamicServiceClientBuilder {
             &runtime.node,
             &name,
             &self.options.qos,
+            horus_ros_rmw::ServiceEndpointRole::Client,
             (self.request.dds_type_name, self.request.type_hash),
             (self.response.dds_type_name, self.response.type_hash),
         )?;

@@ -89,7 +89,12 @@ impl<S: Service> DdsServiceServerBuilder<S> {
     pub fn build(self) -> Result<DdsServiceServer<S>, SetupError> {
         let runtime = Runtime::for_service::<S>(self.node.as_ref())?;
         let name = self.name.unwrap_or_else(default_service_name::<S>);
-        let topics = ServiceTopics::resolve::<S>(&runtime.node, &name, &self.qos)?;
+        let topics = ServiceTopics::resolve::<S>(
+            &runtime.node,
+            &name,
+            &self.qos,
+            horus_ros_rmw::ServiceEndpointRole::Server,
+        )?;
         let reader = runtime.node.create_raw_reader(&topics.request)?;
         let writer = runtime.node.create_raw_writer(&topics.reply)?;
         let shared = Arc::new(Shared {
@@ -101,6 +106,7 @@ impl<S: Service> DdsServiceServerBuilder<S> {
                 topics.reply.dds_topic_name,
                 writer.gid(),
                 self.flavour,
+                runtime.node.context().backend(),
             ),
             _runtime: runtime,
             queue: Mutex::new(VecDeque::new()),

@@ -1,0 +1,166 @@
+//! Raw CDR writers and readers on blob topics: the Cyclone side of `RawWriter`/`RawReader` and of
+//! the typed publishers and subscriptions.
+
+use std::sync::atomic::{AtomicI64, Ordering};
+use std::sync::Arc;
+use std::time::Duration;
+
+use horus_ros_msgs::cdr::{CDR_BE_ID, CDR_LE_HEADER, CDR_LE_ID};
+use horus_ros_msgs::rmw_dds_common::Gid;
+use horus_ros_rmw_cyclone as cyc;
+
+use super::{gid, qos, CycloneParticipant, LocalEndpoints};
+use crate::qos::EndpointKind;
+
+/// A raw writer, listed with the context's live endpoints while it exists.
+pub(crate) struct RawWriter {
+    writer: cyc::Writer,
+    last_sequence_number: AtomicI64,
+    local_endpoints: Arc<LocalEndpoints>,
+    gid: Gid,
+}
+
+impl RawWriter {
+    /// Creates a writer of `topic_name`/`type_name` with these policies and USER_DATA.
+    pub(crate) fn create(
+        p: &CycloneParticipant,
+        topic_name: &str,
+        type_name: &str,
+        policies: &rustdds::QosPolicies,
+        user_data: &[u8],
+    ) -> Result<(Self, Gid), String> {
+        let fail = |e: cyc::Error| e.to_string();
+        let topic = p
+            .participant
+            .blob_topic(topic_name, type_name)
+            .map_err(fail)?;
+        let writer = p
+            .participant
+            .writer(&topic, &qos::endpoint_qos(policies), user_data)
+            .map_err(fail)?;
+        let entity = writer.entity();
+        let gid = gid(entity.guid().map_err(fail)?);
+        p.local_endpoints.insert(gid, &entity, EndpointKind::Writer);
+        Ok((
+            Self {
+                writer,
+                last_sequence_number: AtomicI64::new(0),
+                local_endpoints: Arc::clone(&p.local_endpoints),
+                gid,
+            },
+            gid,
+        ))
+    }
+
+    /// Writes a CDR_LE body; returns the sample's sequence number (counted here, as RTPS does:
+    /// one per write, from 1).
+    pub(crate) fn write(&self, body: &[u8]) -> Result<i64, String> {
+        let mut cdr = Vec::with_capacity(4 + body.len());
+        cdr.extend_from_slice(&CDR_LE_HEADER);
+        cdr.extend_from_slice(body);
+        self.writer.write(&cdr).map_err(|e| e.to_string())?;
+        Ok(self.last_sequence_number.fetch_add(1, Ordering::Relaxed) + 1)
+    }
+}
+
+impl Drop for RawWriter {
+    fn drop(&mut self) {
+        self.local_endpoints.remove(self.gid);
+    }
+}
+
+/// A sample taken from a [`RawReader`].
+pub(crate) struct Sample {
+    /// The CDR body (after the encapsulation header).
+    pub(crate) body: Vec<u8>,
+    /// CDR_BE rather than CDR_LE.
+    pub(crate) big_endian: bool,
+    /// The writer's GID (all zero if the writer was gone when the sample was taken).
+    pub(crate) writer: Gid,
+}
+
+/// A raw reader with its own waitset (level-triggered on data), listed with the context's live
+/// endpoints while it exists.
+pub(crate) struct RawReader {
+    waiter: cyc::Waiter,
+    reader: cyc::Reader,
+    local_endpoints: Arc<LocalEndpoints>,
+    gid: Gid,
+}
+
+impl RawReader {
+    /// Creates a reader of `topic_name`/`type_name` with these policies and USER_DATA.
+    pub(crate) fn create(
+        p: &CycloneParticipant,
+        topic_name: &str,
+        type_name: &str,
+        policies: &rustdds::QosPolicies,
+        user_data: &[u8],
+    ) -> Result<(Self, Gid), String> {
+        let fail = |e: cyc::Error| e.to_string();
+        let topic = p
+            .participant
+            .blob_topic(topic_name, type_name)
+            .map_err(fail)?;
+        let reader = p
+            .participant
+            .reader(&topic, &qos::endpoint_qos(policies), user_data)
+            .map_err(fail)?;
+        let mut waiter = cyc::Waiter::new().map_err(fail)?;
+        waiter.attach_reader(&reader, 0).map_err(fail)?;
+        let entity = reader.entity();
+        let gid = gid(entity.guid().map_err(fail)?);
+        p.local_endpoints.insert(gid, &entity, EndpointKind::Reader);
+        Ok((
+            Self {
+                waiter,
+                reader,
+                local_endpoints: Arc::clone(&p.local_endpoints),
+                gid,
+            },
+            gid,
+        ))
+    }
+
+    /// Takes the next sample, if any. A sample in an encoding other than plain CDR is consumed
+    /// and reported as an error.
+    pub(crate) fn take(&self) -> Result<Option<Sample>, String> {
+        let Some(sample) = self.reader.take().map_err(|e| e.to_string())? else {
+            return Ok(None);
+        };
+        let writer = sample.writer_guid.map(gid).unwrap_or_default();
+        let Some((header, body)) = sample.cdr.split_first_chunk::<4>() else {
+            return Err(format!(
+                "sample of {} bytes is shorter than its encapsulation header",
+                sample.cdr.len()
+            ));
+        };
+        let big_endian = match [header[0], header[1]] {
+            CDR_LE_ID => false,
+            CDR_BE_ID => true,
+            other => return Err(format!("unsupported CDR encapsulation {other:02x?}")),
+        };
+        Ok(Some(Sample {
+            body: body.to_vec(),
+            big_endian,
+            writer,
+        }))
+    }
+
+    /// Waits until a sample is there, at most `timeout`.
+    pub(crate) fn wait(&self, timeout: Duration) -> bool {
+        match self.waiter.wait(timeout) {
+            Ok(triggered) => !triggered.is_empty(),
+            Err(e) => {
+                tracing::debug!("waiting for data failed: {e}");
+                false
+            }
+        }
+    }
+}
+
+impl Drop for RawReader {
+    fn drop(&mut self) {
+        self.local_endpoints.remove(self.gid);
+    }
+}

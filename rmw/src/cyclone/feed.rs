@@ -1,0 +1,380 @@
+//! The Cyclone discovery feed: DCPSParticipant / DCPSPublication / DCPSSubscription (remote
+//! USER_DATA included), other participants' `ros_discovery_info`, the matches of our own
+//! endpoints, and the context's own changes, all waited on with one waitset in the caller's
+//! thread (no code of ours runs on Cyclone's threads).
+
+use std::collections::{HashMap, HashSet, VecDeque};
+use std::sync::{mpsc, Arc};
+use std::time::{Duration, Instant};
+
+use horus_ros_msgs::rmw_dds_common::{Gid, ParticipantEntitiesInfo};
+use horus_ros_msgs::user_data::parse_type_hash_from_user_data;
+use horus_ros_msgs::TypeHash;
+use horus_ros_rmw_cyclone::{self as cyc, BuiltinSample, BuiltinTopic, StatusMask};
+
+use super::{gid, qos, CycloneParticipant, LocalEndpoints};
+use crate::context::DiscoveryFeedError;
+use crate::discovery::{DiscoveredEndpoint, DiscoveredParticipant, DiscoveryEvent, VendorId};
+use crate::local_sink::{LocalSink, Wake};
+use crate::qos::EndpointKind;
+
+const GUARD: usize = 0;
+const PARTICIPANTS: usize = 1;
+const PUBLICATIONS: usize = 2;
+const SUBSCRIPTIONS: usize = 3;
+const INFO: usize = 4;
+/// Tokens of our own endpoints' matched statuses start here.
+const FIRST_ENDPOINT_TOKEN: usize = 16;
+
+/// Most `ros_discovery_info` samples taken in one go.
+const MAX_INFO_SAMPLES: usize = 4096;
+
+/// Wakes the feed's waitset from the context's side.
+struct GuardWake(cyc::GuardCondition);
+
+impl Wake for GuardWake {
+    fn wake(&self) {
+        if let Err(e) = self.0.trigger() {
+            tracing::debug!("could not wake the discovery feed: {e}");
+        }
+    }
+}
+
+/// One of our endpoints whose matches are watched.
+struct Watched {
+    gid: Gid,
+    entity: cyc::WeakEntity,
+    kind: EndpointKind,
+    matched: HashSet<Gid>,
+}
+
+/// The Cyclone side of a discovery feed.
+pub(crate) struct CycloneDiscoveryFeed {
+    waiter: cyc::Waiter,
+    guard: Arc<GuardWake>,
+    participants: cyc::BuiltinReader,
+    publications: cyc::BuiltinReader,
+    subscriptions: cyc::BuiltinReader,
+    info: cyc::Reader,
+    local: mpsc::Receiver<DiscoveryEvent>,
+    local_endpoints: Arc<LocalEndpoints>,
+    watched: HashMap<usize, Watched>,
+    token_of: HashMap<Gid, usize>,
+    next_token: usize,
+    own_gid: Gid,
+    known_participants: HashSet<Gid>,
+    known_endpoints: HashSet<Gid>,
+    pending: VecDeque<DiscoveryEvent>,
+}
+
+impl CycloneDiscoveryFeed {
+    /// Creates the built-in readers (which also deliver what was discovered before), the
+    /// `ros_discovery_info` reader and the waitset.
+    pub(crate) fn new(
+        p: &CycloneParticipant,
+        info_topic: &cyc::Topic,
+    ) -> Result<(Self, LocalSink), DiscoveryFeedError> {
+        let reader = |e: cyc::Error| DiscoveryFeedError::Reader {
+            reason: e.to_string(),
+        };
+        let poll = |e: cyc::Error| DiscoveryFeedError::Poll {
+            reason: e.to_string(),
+        };
+        let participants = p
+            .participant
+            .builtin_reader(BuiltinTopic::Participant)
+            .map_err(reader)?;
+        let publications = p
+            .participant
+            .builtin_reader(BuiltinTopic::Publication)
+            .map_err(reader)?;
+        let subscriptions = p
+            .participant
+            .builtin_reader(BuiltinTopic::Subscription)
+            .map_err(reader)?;
+        let info = p
+            .participant
+            .reader(info_topic, &qos::discovery_info(0), b"")
+            .map_err(reader)?;
+        let guard = Arc::new(GuardWake(cyc::GuardCondition::new().map_err(poll)?));
+        let mut waiter = cyc::Waiter::new().map_err(poll)?;
+        waiter.attach_guard(&guard.0, GUARD).map_err(poll)?;
+        waiter
+            .attach_builtin(&participants, PARTICIPANTS)
+            .map_err(poll)?;
+        waiter
+            .attach_builtin(&publications, PUBLICATIONS)
+            .map_err(poll)?;
+        waiter
+            .attach_builtin(&subscriptions, SUBSCRIPTIONS)
+            .map_err(poll)?;
+        waiter.attach_reader(&info, INFO).map_err(poll)?;
+        let (sink, local) = LocalSink::new(Arc::clone(&guard) as Arc<dyn Wake>);
+        Ok((
+            Self {
+                waiter,
+                guard,
+                participants,
+                publications,
+                subscriptions,
+                info,
+                local,
+                local_endpoints: Arc::clone(&p.local_endpoints),
+                watched: HashMap::new(),
+                token_of: HashMap::new(),
+                next_token: FIRST_ENDPOINT_TOKEN,
+                own_gid: p.gid(),
+                known_participants: HashSet::new(),
+                known_endpoints: HashSet::new(),
+                pending: VecDeque::new(),
+            },
+            sink,
+        ))
+    }
+
+    /// The next event, if any (non-blocking).
+    pub(crate) fn try_next(&mut self) -> Option<DiscoveryEvent> {
+        if self.pending.is_empty() {
+            self.drain(None);
+        }
+        self.pending.pop_front()
+    }
+
+    /// The next event, waiting at most `timeout` for one.
+    pub(crate) fn next_timeout(&mut self, timeout: Duration) -> Option<DiscoveryEvent> {
+        let deadline = Instant::now() + timeout;
+        loop {
+            if let Some(event) = self.try_next() {
+                return Some(event);
+            }
+            let now = Instant::now();
+            if now >= deadline {
+                return None;
+            }
+            match self.waiter.wait(deadline - now) {
+                Ok(triggered) => self.drain(Some(&triggered)),
+                Err(e) => {
+                    tracing::warn!("waiting for discovery events failed: {e}");
+                    return None;
+                }
+            }
+        }
+    }
+
+    /// Moves everything waiting into `pending`; `triggered` says which statuses fired (all
+    /// watched endpoints are checked when unknown).
+    fn drain(&mut self, triggered: Option<&[usize]>) {
+        if let Err(e) = self.guard.0.take() {
+            tracing::debug!("could not reset the discovery feed's guard: {e}");
+        }
+        // Our own changes first: they were made before anything discovery reports about them.
+        while let Ok(event) = self.local.try_recv() {
+            match &event {
+                DiscoveryEvent::EndpointDiscovered(e) => self.watch(e.gid),
+                DiscoveryEvent::EndpointLost { gid, .. } => self.unwatch(*gid),
+                _ => {}
+            }
+            self.pending.push_back(event);
+        }
+        self.take_builtin(BuiltinTopic::Participant);
+        self.take_builtin(BuiltinTopic::Publication);
+        self.take_builtin(BuiltinTopic::Subscription);
+        self.take_info();
+        let tokens: Vec<usize> = match triggered {
+            Some(t) => t
+                .iter()
+                .copied()
+                .filter(|t| *t >= FIRST_ENDPOINT_TOKEN)
+                .collect(),
+            None => self.watched.keys().copied().collect(),
+        };
+        for token in tokens {
+            self.check_matches(token);
+        }
+    }
+
+    /// Starts watching one of our endpoints' matches.
+    fn watch(&mut self, gid: Gid) {
+        if self.token_of.contains_key(&gid) {
+            return;
+        }
+        let Some((entity, kind)) = self.local_endpoints.get(gid) else {
+            return; // already gone again
+        };
+        let token = self.next_token;
+        self.next_token += 1;
+        let mask = match kind {
+            EndpointKind::Writer => StatusMask::PUBLICATION_MATCHED,
+            EndpointKind::Reader => StatusMask::SUBSCRIPTION_MATCHED,
+        };
+        if let Err(e) = self.waiter.attach_status(&entity, mask, token) {
+            tracing::warn!(endpoint = %gid, "cannot watch an endpoint's matches: {e}");
+            return;
+        }
+        self.token_of.insert(gid, token);
+        self.watched.insert(
+            token,
+            Watched {
+                gid,
+                entity: entity.downgrade(),
+                kind,
+                matched: HashSet::new(),
+            },
+        );
+        // Matches made before the watch started.
+        self.check_matches(token);
+    }
+
+    fn unwatch(&mut self, gid: Gid) {
+        if let Some(token) = self.token_of.remove(&gid) {
+            self.watched.remove(&token);
+            if let Err(e) = self.waiter.detach(token) {
+                tracing::debug!(endpoint = %gid, "detaching a watched endpoint: {e}");
+            }
+        }
+    }
+
+    /// Reports the endpoint's new matches (a match ends when either endpoint is lost).
+    fn check_matches(&mut self, token: usize) {
+        let Some(w) = self.watched.get_mut(&token) else {
+            return;
+        };
+        let Some(entity) = w.entity.upgrade() else {
+            return;
+        };
+        let mask = match w.kind {
+            EndpointKind::Writer => StatusMask::PUBLICATION_MATCHED,
+            EndpointKind::Reader => StatusMask::SUBSCRIPTION_MATCHED,
+        };
+        // Resets the status condition; the list below is the truth.
+        let _ = entity.take_status(mask);
+        let matched = match w.kind {
+            EndpointKind::Writer => entity.matched_subscriptions(),
+            EndpointKind::Reader => entity.matched_publications(),
+        };
+        let matched = match matched {
+            Ok(m) => m,
+            Err(e) => {
+                tracing::debug!(endpoint = %w.gid, "reading matches failed: {e}");
+                return;
+            }
+        };
+        let now: HashSet<Gid> = matched.iter().map(|m| gid(m.guid)).collect();
+        for remote in &now {
+            if !w.matched.contains(remote) {
+                self.pending.push_back(DiscoveryEvent::Matched {
+                    local: w.gid,
+                    remote: *remote,
+                });
+            }
+        }
+        w.matched = now;
+    }
+
+    fn take_builtin(&mut self, topic: BuiltinTopic) {
+        let reader = match topic {
+            BuiltinTopic::Participant => &self.participants,
+            BuiltinTopic::Publication => &self.publications,
+            BuiltinTopic::Subscription => &self.subscriptions,
+        };
+        let samples = match reader.take() {
+            Ok(s) => s,
+            Err(e) => {
+                tracing::warn!("reading a built-in discovery topic failed: {e}");
+                return;
+            }
+        };
+        for sample in samples {
+            if let Some(event) = self.convert(sample) {
+                self.pending.push_back(event);
+            }
+        }
+    }
+
+    fn convert(&mut self, sample: BuiltinSample) -> Option<DiscoveryEvent> {
+        let own_prefix = self.own_gid.prefix();
+        match sample {
+            BuiltinSample::Participant(p) => {
+                let g = gid(p.guid);
+                // Our own participant is reported by the context itself.
+                if g.prefix() == own_prefix {
+                    return None;
+                }
+                if p.alive {
+                    self.known_participants.insert(g).then(|| {
+                        DiscoveryEvent::ParticipantDiscovered(DiscoveredParticipant {
+                            gid: g,
+                            vendor_id: VendorId(p.guid.vendor_hint()),
+                        })
+                    })
+                } else {
+                    self.known_participants
+                        .remove(&g)
+                        .then_some(DiscoveryEvent::ParticipantLost { gid: g })
+                }
+            }
+            BuiltinSample::Publication(e) => self.endpoint(e, EndpointKind::Writer),
+            BuiltinSample::Subscription(e) => self.endpoint(e, EndpointKind::Reader),
+        }
+    }
+
+    fn endpoint(&mut self, e: cyc::EndpointInfo, kind: EndpointKind) -> Option<DiscoveryEvent> {
+        let g = gid(e.guid);
+        // Our own endpoints are reported by the context itself.
+        if g.prefix() == self.own_gid.prefix() {
+            return None;
+        }
+        if !e.alive {
+            return self
+                .known_endpoints
+                .remove(&g)
+                .then_some(DiscoveryEvent::EndpointLost { gid: g, kind });
+        }
+        if !self.known_endpoints.insert(g) {
+            return None; // an update of one already reported
+        }
+        let type_hash = parse_type_hash_from_user_data(&e.user_data).unwrap_or_else(|err| {
+            tracing::debug!(topic = %e.topic_name, "unusable type hash in USER_DATA: {err}");
+            TypeHash::ZERO
+        });
+        let qos = match &e.qos {
+            Some(q) => qos::discovered(q, kind),
+            None => crate::qos::Qos::unknown(),
+        };
+        Some(DiscoveryEvent::EndpointDiscovered(DiscoveredEndpoint {
+            gid: g,
+            participant_gid: gid(e.participant_guid),
+            kind,
+            dds_topic_name: e.topic_name,
+            dds_type_name: e.type_name,
+            qos,
+            type_hash,
+            user_data: e.user_data,
+        }))
+    }
+
+    fn take_info(&mut self) {
+        for _ in 0..MAX_INFO_SAMPLES {
+            match self.info.take() {
+                Ok(Some(sample)) => {
+                    match horus_ros_msgs::cdr::from_cdr::<ParticipantEntitiesInfo>(&sample.cdr) {
+                        // As rmw_dds_common's reader (ignore local): ours is reported by the
+                        // context itself.
+                        Ok(info) if info.gid == self.own_gid => {}
+                        Ok(info) => self
+                            .pending
+                            .push_back(DiscoveryEvent::ParticipantEntities(info)),
+                        Err(e) => {
+                            tracing::warn!("dropped a malformed ros_discovery_info sample: {e}")
+                        }
+                    }
+                }
+                Ok(None) => return,
+                Err(e) => {
+                    tracing::warn!("reading ros_discovery_info failed: {e}");
+                    return;
+                }
+            }
+        }
+    }
+}
