@@ -365,6 +365,9 @@ impl QosBox {
             c::dds_qset_deadline(self.0, duration_to_dds(q.deadline));
             c::dds_qset_lifespan(self.0, duration_to_dds(q.lifespan));
             c::dds_qset_liveliness(self.0, liveliness, duration_to_dds(q.liveliness_lease));
+            // As rmw_cyclonedds `create_readwrite_qos` (jazzy): no autodispose of unregistered
+            // instances (set on readers too, where Cyclone ignores it).
+            c::dds_qset_writer_data_lifecycle(self.0, false);
         }
     }
 }

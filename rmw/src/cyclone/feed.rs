@@ -94,7 +94,11 @@ impl CycloneDiscoveryFeed {
             .map_err(reader)?;
         let info = p
             .participant
-            .reader(info_topic, &qos::discovery_info(0), b"")
+            .reader(
+                info_topic,
+                &qos::discovery_info(0),
+                super::discovery_info_user_data().as_bytes(),
+            )
             .map_err(reader)?;
         let guard = Arc::new(GuardWake(cyc::GuardCondition::new().map_err(poll)?));
         let mut waiter = cyc::Waiter::new().map_err(poll)?;

@@ -55,6 +55,13 @@ impl LocalEndpoints {
     }
 }
 
+/// The USER_DATA of the `ros_discovery_info` reader and writer: rmw_cyclonedds creates them as
+/// ordinary endpoints (`create_publisher` / `create_subscription`), so they carry the type hash.
+pub(crate) fn discovery_info_user_data() -> String {
+    use horus_ros_msgs::Message;
+    ParticipantEntitiesInfo::type_hash().to_user_data()
+}
+
 /// A context's Cyclone participant and its `ros_discovery_info` writer.
 pub(crate) struct CycloneParticipant {
     info_writer: cyc::Writer,
@@ -92,7 +99,11 @@ impl CycloneParticipant {
             .blob_topic(TOPIC_NAME, TYPE_NAME)
             .map_err(fail)?;
         let info_writer = participant
-            .writer(&info_topic, &qos::discovery_info(1), b"")
+            .writer(
+                &info_topic,
+                &qos::discovery_info(1),
+                discovery_info_user_data().as_bytes(),
+            )
             .map_err(fail)?;
         let gid = gid(participant.guid().map_err(fail)?);
         Ok(Self {
