@@ -34,7 +34,7 @@ pub enum GraphStartError {
 /// Applies one discovery event to the cache; returns whether the cache changed.
 pub fn apply_discovery_event(cache: &mut GraphCache, event: DiscoveryEvent) -> bool {
     match event {
-        DiscoveryEvent::ParticipantDiscovered(p) => cache.add_participant(p.gid, None),
+        DiscoveryEvent::ParticipantDiscovered(p) => cache.add_participant(p.gid, p.enclave),
         DiscoveryEvent::ParticipantLost { gid } => cache.remove_participant(gid),
         DiscoveryEvent::EndpointDiscovered(e) => cache.add_entity(EndpointEntry {
             gid: e.gid,

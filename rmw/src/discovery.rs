@@ -27,6 +27,9 @@ pub struct DiscoveredParticipant {
     pub gid: Gid,
     /// Who implemented its DDS stack.
     pub vendor_id: VendorId,
+    /// Its security enclave, from its USER_DATA `enclave=…;` (rmw_cyclonedds and rmw_fastrtps
+    /// announce it); `None` when not told (the rustdds backend cannot read participant USER_DATA).
+    pub enclave: Option<String>,
 }
 
 /// A reader or writer found by SEDP (or created locally).

@@ -482,6 +482,7 @@ impl Context {
             DiscoveredParticipant {
                 gid: self.inner.gid,
                 vendor_id: self.vendor_id(),
+                enclave: Some(self.inner.enclave.clone()),
             },
         ));
         for endpoint in local.endpoints.values() {

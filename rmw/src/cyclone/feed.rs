@@ -40,6 +40,14 @@ impl Wake for GuardWake {
     }
 }
 
+/// The enclave a participant announces in USER_DATA (`enclave=…;`), as rmw_dds_common's
+/// discovery reads it.
+fn enclave(user_data: &[u8]) -> Option<String> {
+    let kv = horus_ros_msgs::user_data::parse_key_value(user_data);
+    kv.get("enclave")
+        .map(|v| String::from_utf8_lossy(v).into_owned())
+}
+
 /// One of our endpoints whose matches are watched.
 struct Watched {
     gid: Gid,
@@ -309,6 +317,7 @@ impl CycloneDiscoveryFeed {
                         DiscoveryEvent::ParticipantDiscovered(DiscoveredParticipant {
                             gid: g,
                             vendor_id: VendorId(p.guid.vendor_hint()),
+                            enclave: enclave(&p.user_data),
                         })
                     })
                 } else {

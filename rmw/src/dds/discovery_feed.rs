@@ -174,6 +174,8 @@ impl DdsDiscoveryFeed {
                 DiscoveryEvent::ParticipantDiscovered(DiscoveredParticipant {
                     gid: gid_from_guid(dpd.guid),
                     vendor_id: VendorId(dpd.vendor_id.vendor_id),
+                    // rustdds 0.15 does not expose participant USER_DATA.
+                    enclave: None,
                 }),
             ),
             DomainParticipantStatusEvent::ParticipantLost { id, .. } => {
