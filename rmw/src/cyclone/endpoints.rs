@@ -12,6 +12,14 @@ use horus_ros_rmw_cyclone as cyc;
 use super::{gid, qos, CycloneParticipant, LocalEndpoints};
 use crate::qos::EndpointKind;
 
+/// The blob topic `topic_name` of type `type_name` (each endpoint gets its own topic entity;
+/// Cyclone shares what lies behind same-named ones).
+fn topic(p: &CycloneParticipant, topic_name: &str, type_name: &str) -> Result<cyc::Topic, String> {
+    p.participant
+        .blob_topic(topic_name, type_name)
+        .map_err(|e| e.to_string())
+}
+
 /// A raw writer, listed with the context's live endpoints while it exists.
 pub(crate) struct RawWriter {
     writer: cyc::Writer,
@@ -30,13 +38,13 @@ impl RawWriter {
         user_data: &[u8],
     ) -> Result<(Self, Gid), String> {
         let fail = |e: cyc::Error| e.to_string();
-        let topic = p
-            .participant
-            .blob_topic(topic_name, type_name)
-            .map_err(fail)?;
         let writer = p
             .participant
-            .writer(&topic, &qos::endpoint_qos(policies), user_data)
+            .writer(
+                &topic(p, topic_name, type_name)?,
+                &qos::endpoint_qos(policies),
+                user_data,
+            )
             .map_err(fail)?;
         let entity = writer.entity();
         let gid = gid(entity.guid().map_err(fail)?);
@@ -98,13 +106,13 @@ impl RawReader {
         user_data: &[u8],
     ) -> Result<(Self, Gid), String> {
         let fail = |e: cyc::Error| e.to_string();
-        let topic = p
-            .participant
-            .blob_topic(topic_name, type_name)
-            .map_err(fail)?;
         let reader = p
             .participant
-            .reader(&topic, &qos::endpoint_qos(policies), user_data)
+            .reader(
+                &topic(p, topic_name, type_name)?,
+                &qos::endpoint_qos(policies),
+                user_data,
+            )
             .map_err(fail)?;
         let mut waiter = cyc::Waiter::new().map_err(fail)?;
         waiter.attach_reader(&reader, 0).map_err(fail)?;

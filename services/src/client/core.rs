@@ -348,6 +348,29 @@ impl<C: Codec> ClientCore<C> {
         lock(&self.replies).wait(timeout);
     }
 
+    /// The call a reply with `sequence` belongs to, and its outcome: a negative sequence number
+    /// is a horus-ros server's error reply (the handler's message as a CDR string).
+    fn outcome(
+        &self,
+        flavour: WireFlavour,
+        sequence: i64,
+        body: &[u8],
+        big_endian: bool,
+    ) -> (RequestKey, Result<C::Response, ServiceError>) {
+        if sequence < 0 {
+            let message = decode::<String>(body, big_endian)
+                .unwrap_or_else(|_| "the service handler failed".to_owned());
+            let key = RequestKey {
+                flavour,
+                sequence: sequence.saturating_neg(),
+            };
+            (key, Err(ServiceError::ServiceFailed(message)))
+        } else {
+            let key = RequestKey { flavour, sequence };
+            (key, self.codec.decode(body, big_endian))
+        }
+    }
+
     fn route(&self, sample: RawSample) -> bool {
         let (key, outcome) = match sample.related {
             Some(related) => {
@@ -355,22 +378,12 @@ impl<C: Codec> ClientCore<C> {
                 if related.writer != self.reply_reader && related.writer != self.request_writer {
                     return false;
                 }
-                if related.sequence_number < 0 {
-                    // A horus-ros server's error reply: the handler's message as a CDR string.
-                    let message = decode::<String>(&sample.body, sample.big_endian)
-                        .unwrap_or_else(|_| "the service handler failed".to_owned());
-                    let key = RequestKey {
-                        flavour: WireFlavour::FastRtps,
-                        sequence: related.sequence_number.saturating_neg(),
-                    };
-                    (key, Err(ServiceError::ServiceFailed(message)))
-                } else {
-                    let key = RequestKey {
-                        flavour: WireFlavour::FastRtps,
-                        sequence: related.sequence_number,
-                    };
-                    (key, self.codec.decode(&sample.body, sample.big_endian))
-                }
+                self.outcome(
+                    WireFlavour::FastRtps,
+                    related.sequence_number,
+                    &sample.body,
+                    sample.big_endian,
+                )
             }
             None => {
                 // rmw_cyclonedds `rmw_take_response`: ours iff the header carries our id.
@@ -381,22 +394,12 @@ impl<C: Codec> ClientCore<C> {
                 if header.guid != self.client_id {
                     return false;
                 }
-                if header.seq < 0 {
-                    // A horus-ros server's error reply: the handler's message as a CDR string.
-                    let message = decode::<String>(message, sample.big_endian)
-                        .unwrap_or_else(|_| "the service handler failed".to_owned());
-                    let key = RequestKey {
-                        flavour: WireFlavour::CycloneDds,
-                        sequence: header.seq.saturating_neg(),
-                    };
-                    (key, Err(ServiceError::ServiceFailed(message)))
-                } else {
-                    let key = RequestKey {
-                        flavour: WireFlavour::CycloneDds,
-                        sequence: header.seq,
-                    };
-                    (key, self.codec.decode(message, sample.big_endian))
-                }
+                self.outcome(
+                    WireFlavour::CycloneDds,
+                    header.seq,
+                    message,
+                    sample.big_endian,
+                )
             }
         };
         let mut pending = lock(&self.pending);
