@@ -467,3 +467,41 @@ impl RawReader {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn service_ids_are_written_as_rmw_cyclonedds_writes_them() {
+        let mut id = [0u8; 16];
+        id[..4].copy_from_slice(&[0x01, 0x10, 0x0a, 0xff]);
+        id[15] = 3;
+        let client = ServiceEndpointId {
+            role: ServiceEndpointRole::Client,
+            id,
+        };
+        assert_eq!(
+            client.user_data(),
+            "clientid= 1.10.a.ff.0.0.0.0.0.0.0.0.0.0.0.3;"
+        );
+        id[0] = 0xab;
+        let server = ServiceEndpointId {
+            role: ServiceEndpointRole::Server,
+            id,
+        };
+        assert!(server.user_data().starts_with("serviceid=ab.10.a.ff."));
+        let spec = RawEndpointSpec {
+            dds_topic_name: "rq/xRequest".to_owned(),
+            dds_type_name: "x::srv::dds_::X_Request_".to_owned(),
+            type_hash: TypeHash::ZERO,
+            qos: Qos::services_default(),
+            service_id: Some(client),
+        };
+        assert_eq!(
+            spec.user_data(),
+            client.user_data(),
+            "no hash, no typehash="
+        );
+    }
+}
