@@ -50,9 +50,29 @@ fn context(domain: u32) -> Context {
 }
 
 /// Our endpoints as another process sees them through DDS discovery: the history depth is not
-/// announced (UNKNOWN), and rustdds sends no type hash (INVALID).
+/// announced (UNKNOWN), and the type hash only by a backend that announces USER_DATA (Cyclone;
+/// rustdds sends none, shown as INVALID).
 const OURS_HISTORY_TOPIC: &str = "UNKNOWN";
 const OURS_HISTORY_SERVICE: &str = "UNKNOWN (0)";
+
+/// The `Topic type hash` line value for an endpoint of ours announcing `hash`: the hash where
+/// the backend announces USER_DATA, else INVALID.
+fn ours_hash_text(ctx: &Context, hash: &str) -> String {
+    if ctx.backend().announces_user_data() {
+        hash.to_owned()
+    } else {
+        "INVALID".to_owned()
+    }
+}
+
+/// The JSON `type_hash` of an endpoint of ours announcing `hash` (null where none is announced).
+fn ours_hash_json(ctx: &Context, hash: &str) -> Value {
+    if ctx.backend().announces_user_data() {
+        Value::from(hash)
+    } else {
+        Value::Null
+    }
+}
 
 #[test]
 fn service_verbs() {
@@ -634,9 +654,11 @@ fn topic_verbs() {
          Topic type hash: {hash}\nEndpoint type: PUBLISHER\nGID: {theirs_gid}\n{}",
         topic_qos("RELIABLE", "UNKNOWN", "VOLATILE")
     );
+    // Our endpoints' hash: announced in USER_DATA on Cyclone, absent (INVALID) on rustdds.
+    let ours_hash = ours_hash_text(&ctx, &hash);
     let ours = format!(
         "Node name: horus_node\nNode namespace: /\nTopic type: builtin_interfaces/msg/Time\n\
-         Topic type hash: INVALID\nEndpoint type: PUBLISHER\nGID: {}\n{}",
+         Topic type hash: {ours_hash}\nEndpoint type: PUBLISHER\nGID: {}\n{}",
         publisher.gid(),
         topic_qos("RELIABLE", OURS_HISTORY_TOPIC, "TRANSIENT_LOCAL")
     );
@@ -648,7 +670,7 @@ fn topic_verbs() {
     let verbose = format!(
         "Type: builtin_interfaces/msg/Time\n\nPublisher count: 2\n\n{}\n{}\nSubscription count: 1\n\n\
          Node name: horus_node\nNode namespace: /\nTopic type: builtin_interfaces/msg/Time\n\
-         Topic type hash: INVALID\nEndpoint type: SUBSCRIPTION\nGID: {}\n{}\n",
+         Topic type hash: {ours_hash}\nEndpoint type: SUBSCRIPTION\nGID: {}\n{}\n",
         publishers[0].1,
         publishers[1].1,
         subscription.gid(),
@@ -717,10 +739,11 @@ fn topic_verbs() {
     assert_eq!(sub["gid"], subscription.gid().to_string());
     assert_eq!(sub["node_name"], "horus_node");
     assert_eq!(sub["endpoint_type"], "SUBSCRIPTION");
-    assert_eq!(sub["type_hash"], Value::Null);
+    assert_eq!(sub["type_hash"], ours_hash_json(&ctx, &hash));
     assert_eq!(sub["qos"]["reliability"], "BEST_EFFORT");
     let ours = find(&info["publishers"], &publisher.gid().to_string());
     assert_eq!(ours["qos"]["durability"], "TRANSIENT_LOCAL");
+    assert_eq!(ours["type_hash"], ours_hash_json(&ctx, &hash));
     expect_failure(
         D,
         &["--json", "topic", "info", "/nope"],

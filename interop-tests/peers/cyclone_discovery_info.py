@@ -5,11 +5,15 @@ Cyclone's own DDS discovery (DCPSParticipant / DCPSPublication / DCPSSubscriptio
 then prints one JSON document on stdout:
 
   {"discovery_info": [{"gid": "01.0f...", "nodes": [{"namespace", "name", "readers", "writers"}]}],
-   "publications": [{"guid", "participant", "topic", "type", "user_data"}], "subscriptions": [...]}
+   "publications": [{"guid", "participant", "topic", "type", "user_data"}], "subscriptions": [...],
+   "participants": [{"guid", "user_data"}]}
+
+(USER_DATA as text, "" when absent: what rmw_cyclonedds parses `enclave=`, `typehash=`,
+`clientid=` / `serviceid=` from.)
 
 It stops as soon as a participant announces node NAMESPACE/NAME with at least READERS readers and
-WRITERS writers that are all visible through DDS discovery, or when TIMEOUT seconds have passed
-(then it prints what it saw and exits with status 3).
+WRITERS writers that are all visible through DDS discovery (the participant too), or when TIMEOUT
+seconds have passed (then it prints what it saw and exits with status 3).
 
 usage: cyclone_discovery_info.py DOMAIN NAMESPACE NAME READERS WRITERS TIMEOUT
 """
@@ -20,6 +24,7 @@ import time
 
 from cyclonedds.builtin import (
     BuiltinDataReader,
+    BuiltinTopicDcpsParticipant,
     BuiltinTopicDcpsPublication,
     BuiltinTopicDcpsSubscription,
 )
@@ -32,7 +37,7 @@ from ros_types import ParticipantEntitiesInfo, dotted
 
 
 def user_data(sample) -> str:
-    """The endpoint's USER_DATA as text ("" when absent or empty)."""
+    """The participant's or endpoint's USER_DATA as text ("" when absent or empty)."""
     try:
         value = sample.qos[Policy.Userdata]
     except Exception:  # the policy is absent from the discovered QoS
@@ -56,9 +61,10 @@ def main() -> int:
     reader = DataReader(dp, topic, qos=qos)
     pubs_reader = BuiltinDataReader(dp, BuiltinTopicDcpsPublication)
     subs_reader = BuiltinDataReader(dp, BuiltinTopicDcpsSubscription)
+    participants_reader = BuiltinDataReader(dp, BuiltinTopicDcpsParticipant)
 
     infos = {}
-    pubs, subs = {}, {}
+    pubs, subs, participants = {}, {}, {}
     own_prefix = dp.guid.bytes[:12]
     ok = False
     while time.monotonic() < deadline:
@@ -70,6 +76,9 @@ def main() -> int:
         for s in subs_reader.take(N=1000):
             if s.key.bytes[:12] != own_prefix:
                 subs[dotted(s.key.bytes)] = s
+        for s in participants_reader.take(N=100):
+            if s.key.bytes[:12] != own_prefix:
+                participants[dotted(s.key.bytes)] = s
         for info in infos.values():
             for node in info.node_entities_info_seq:
                 if node.node_namespace != namespace or node.node_name != name:
@@ -81,6 +90,7 @@ def main() -> int:
                     and len(writers) >= want_writers
                     and all(r in subs for r in readers)
                     and all(w in pubs for w in writers)
+                    and dotted(bytes(info.gid.data)) in participants
                 ):
                     ok = True
         if ok:
@@ -117,6 +127,9 @@ def main() -> int:
         ],
         "publications": endpoints(pubs),
         "subscriptions": endpoints(subs),
+        "participants": [
+            {"guid": guid, "user_data": user_data(s)} for guid, s in sorted(participants.items())
+        ],
     }
     print(json.dumps(doc), flush=True)
     return 0 if ok else 3

@@ -7,6 +7,11 @@
 //!   request, which must name our client's reply reader, as rmw_fastrtps would compute it.
 //! - The Fast DDS client (which waits for our server as `rmw_service_server_is_available` does)
 //!   calls our server and accepts our replies as `__rmw_take_response` does.
+//!
+//! Both need `related_sample_identity`, which only a backend that carries sample identities
+//! (rustdds) can send and read. On the Cyclone backend (like rmw_cyclonedds itself) the tests
+//! check the refusal instead: our client's call fails at once with a `Transport` error naming
+//! rmw_fastrtps and the rustdds backend, and the Fast DDS client gets no answer from our server.
 
 use std::time::{Duration, Instant};
 
@@ -16,6 +21,9 @@ use interop_tests::fastdds::{FastDdsPeer, Served};
 use serde_json::Value;
 
 const SECOND: Duration = Duration::from_secs(1);
+
+/// How long a refusal may take once the server is on the graph ("at once": no call timeout).
+const REFUSAL_LIMIT: Duration = Duration::from_secs(2);
 
 fn node(domain: u32, name: &str) -> (Context, Node) {
     let context = Context::builder()
@@ -31,14 +39,15 @@ fn our_client_calls_a_fastdds_server() {
     const DOMAIN: u32 = 62;
     const SERVICE: &str = "/fast_ns/add_two_ints";
     const CALLS: i64 = 5;
-    let (_context, node) = node(DOMAIN, "horus_caller");
+    let (context, node) = node(DOMAIN, "horus_caller");
+    let refusing = !context.backend().carries_sample_identity();
     let started = Instant::now();
     let mut peer = FastDdsPeer::start(
         DOMAIN,
         "/fast_ns",
         "fast_server",
         SERVICE,
-        Duration::from_secs(15),
+        Duration::from_secs(if refusing { 8 } else { 15 }),
     )
     .expect("build and start the Fast DDS peer");
     let created = peer
@@ -64,6 +73,10 @@ fn our_client_calls_a_fastdds_server() {
         .build()
         .expect("client");
     let (request_writer, reply_reader) = client.gids();
+    if refusing {
+        client_is_refused(&context, &mut client, &mut peer);
+        return;
+    }
     assert!(
         client.wait_for_service(10 * SECOND),
         "the Fast DDS server never became usable; peer output:\n{}",
@@ -120,12 +133,71 @@ fn our_client_calls_a_fastdds_server() {
     );
 }
 
+/// On a backend without sample identities: once the Fast DDS server is on the graph, a call
+/// fails at once with a `Transport` error saying why and what to use instead, nothing is sent,
+/// and `wait_for_service` reports the server unusable without waiting out its timeout.
+fn client_is_refused(
+    context: &Context,
+    client: &mut ServiceClient<AddTwoInts>,
+    peer: &mut FastDdsPeer,
+) {
+    let deadline = Instant::now() + 10 * SECOND;
+    while !client.server_available() {
+        assert!(
+            Instant::now() < deadline,
+            "the Fast DDS server never showed up on the graph; peer output:\n{}",
+            peer.output()
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    let backend = context.backend();
+    for k in 0..3 {
+        let asked = Instant::now();
+        let refused = client.call(AddTwoIntsRequest { a: k, b: 1 }, 5 * SECOND);
+        let took = asked.elapsed();
+        match &refused {
+            Err(ServiceError::Transport(message)) => {
+                assert!(
+                    message.contains("rmw_fastrtps") && message.contains("rustdds"),
+                    "the refusal on {backend} must name rmw_fastrtps and the rustdds backend: \
+                     {message}"
+                );
+            }
+            other => panic!(
+                "call {k} on the {backend} backend: expected a Transport refusal, got {other:?}; \
+                 peer output:\n{}",
+                peer.output()
+            ),
+        }
+        assert!(took < REFUSAL_LIMIT, "call {k} refused only after {took:?}");
+    }
+    assert_eq!(client.pending_requests(), 0);
+    let asked = Instant::now();
+    assert!(!client.wait_for_service(10 * SECOND));
+    assert!(
+        asked.elapsed() < REFUSAL_LIMIT,
+        "wait_for_service took {:?}",
+        asked.elapsed()
+    );
+    // Nothing reached the Fast DDS server: it never printed a served request.
+    let quiet_until = Instant::now() + SECOND;
+    while Instant::now() < quiet_until {
+        if let Some(line) = peer.next_line(Duration::from_millis(100)) {
+            assert!(
+                Served::parse(&line).is_none(),
+                "the Fast DDS server got a request from the {backend} backend: {line}"
+            );
+        }
+    }
+}
+
 #[test]
 fn a_fastdds_client_calls_our_server() {
     const DOMAIN: u32 = 63;
     const SERVICE: &str = "/horus_ns/add_two_ints";
     const CALLS: u32 = 5;
-    let (_context, node) = node(DOMAIN, "horus_server");
+    let (context, node) = node(DOMAIN, "horus_server");
+    let refusing = !context.backend().carries_sample_identity();
     let server = ServiceServerBuilder::<AddTwoInts>::new()
         .node(&node)
         .name(SERVICE)
@@ -139,7 +211,8 @@ fn a_fastdds_client_calls_our_server() {
         "/fast_ns",
         "fast_client",
         SERVICE,
-        Duration::from_secs(12),
+        // Refused, the client waits for its first reply until this ends.
+        Duration::from_secs(if refusing { 6 } else { 12 }),
         CALLS,
     )
     .expect("build and start the Fast DDS peer");
@@ -154,17 +227,39 @@ fn a_fastdds_client_calls_our_server() {
     let (code, lines) = peer.finish(15 * SECOND).expect("wait for the peer");
     let output = peer.output();
     eprintln!("the peer finished {:?} after it started", started.elapsed());
-    assert_eq!(
-        code,
-        Some(0),
-        "the Fast DDS client failed; output:\n{output}"
-    );
 
     let parsed: Vec<Value> = lines
         .iter()
         .map(|l| serde_json::from_str(l).unwrap_or(Value::Null))
         .collect();
     let replies: Vec<&Value> = parsed.iter().filter(|v| v.get("sum").is_some()).collect();
+    let summary = parsed
+        .iter()
+        .find_map(|v| v.get("summary"))
+        .unwrap_or_else(|| panic!("no summary; output:\n{output}"));
+    if refusing {
+        // Our server was there for it (matched as rmw_fastrtps checks), but its request, which
+        // needs an answer through related_sample_identity, was dropped: no reply ever came, and
+        // the handler never ran.
+        assert_eq!(
+            code,
+            Some(1),
+            "the Fast DDS client must get no reply; output:\n{output}"
+        );
+        assert!(replies.is_empty(), "output:\n{output}");
+        assert_eq!(summary["calls"], CALLS, "{output}");
+        assert_eq!(summary["available"], true, "{output}");
+        assert_eq!(summary["answered"], 0, "{output}");
+        assert_eq!(summary["correct"], 0, "{output}");
+        assert_eq!(server.served_count(), 0);
+        assert_eq!(server.failed_count(), 0);
+        return;
+    }
+    assert_eq!(
+        code,
+        Some(0),
+        "the Fast DDS client failed; output:\n{output}"
+    );
     assert_eq!(replies.len(), CALLS as usize, "output:\n{output}");
     for (k, reply) in replies.iter().enumerate() {
         let i = k as i64 + 1;
@@ -175,10 +270,6 @@ fn a_fastdds_client_calls_our_server() {
         // request writer's k-th), which our reply's related_sample_identity carried back.
         assert_eq!(reply["sequence_number"], i, "output:\n{output}");
     }
-    let summary = parsed
-        .iter()
-        .find_map(|v| v.get("summary"))
-        .unwrap_or_else(|| panic!("no summary; output:\n{output}"));
     assert_eq!(summary["calls"], CALLS, "{output}");
     assert_eq!(summary["correct"], CALLS, "{output}");
     assert_eq!(summary["available"], true, "{output}");
