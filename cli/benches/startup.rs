@@ -1,7 +1,10 @@
 //! Startup-to-answer time of `horus-ros service list` on a warm graph, against ros2cli's
-//! documented default (`--spin-time 0.5` s of discovery wait, plus starting Python).
+//! documented default (`--spin-time 0.5` s of discovery wait, plus starting Python), on each
+//! backend built in: rustdds (domain 139) and Cyclone DDS (domain 140). Each backend gets its own
+//! warm graph on that backend, and the CLI is chosen with `HORUS_ROS_BACKEND` in its environment.
+//! Cyclone DDS runs with the environment's `CYCLONEDDS_URI`, else a loopback-only configuration.
 //!
-//! Joins DDS domain 139, so it must run inside the private network namespace:
+//! Joins DDS domains, so it must run inside the private network namespace:
 //!
 //! ```text
 //! cargo bench -p horus-ros-cli --bench startup --no-run
@@ -27,9 +30,15 @@ use std::time::{Duration, Instant};
 
 use horus_ros_msgs::builtin_interfaces::msg::Time;
 use horus_ros_rmw::qos::Qos;
+use horus_ros_rmw::{Backend, BACKEND_ENV};
 use horus_ros_services::prelude::*;
 
+/// The domain of the first backend; the next ones use the following domains.
 const DOMAIN: u32 = 139;
+/// The Cyclone DDS configuration used when `CYCLONEDDS_URI` is unset: loopback, with multicast.
+const CYCLONE_LOOPBACK: &str = "<CycloneDDS><Domain Id=\"any\"><General><Interfaces>\
+    <NetworkInterface name=\"lo\" multicast=\"true\"/></Interfaces>\
+    <AllowMulticast>true</AllowMulticast></General></Domain></CycloneDDS>";
 const SERVICES: [&str; 3] = ["/bench/add_a", "/bench/add_b", "/bench/add_c"];
 /// ros2cli's documented default `--spin-time` (ros2cli `node/strategy.py`, `DirectNode`).
 const ROS2CLI_SPIN_TIME: Duration = Duration::from_millis(500);
@@ -95,15 +104,22 @@ fn ms(d: Duration) -> f64 {
     d.as_secs_f64() * 1000.0
 }
 
-/// Runs `program args` `runs` times; the time of each run and how many printed `expected`
-/// (any output counts when `expected` is `None`) and exited 0.
-fn time_runs(program: &Path, args: &[&str], runs: usize, expected: Option<&str>) -> (Stats, usize) {
+/// Runs `program args` `runs` times (with `HORUS_ROS_BACKEND=backend`); the time of each run and
+/// how many printed `expected` (any output counts when `expected` is `None`) and exited 0.
+fn time_runs(
+    program: &Path,
+    args: &[&str],
+    backend: Backend,
+    runs: usize,
+    expected: Option<&str>,
+) -> (Stats, usize) {
     let mut times = Vec::with_capacity(runs);
     let mut correct = 0;
     for _ in 0..runs {
         let start = Instant::now();
         let out = Command::new(program)
             .args(args)
+            .env(BACKEND_ENV, backend.name())
             .stdin(Stdio::null())
             .stderr(Stdio::null())
             .output();
@@ -129,10 +145,11 @@ struct WarmGraph {
 }
 
 impl WarmGraph {
-    /// Starts it and waits until its nodes, servers and publisher exist.
-    fn start() -> std::io::Result<Self> {
+    /// Starts it on `backend` in `domain` and waits until its nodes, servers and publisher exist.
+    fn start(backend: Backend, domain: u32) -> std::io::Result<Self> {
         let mut child = Command::new(std::env::current_exe()?)
-            .env(WARM_GRAPH_ENV, "1")
+            .env(WARM_GRAPH_ENV, domain.to_string())
+            .env(BACKEND_ENV, backend.name())
             .stdin(Stdio::piped())
             .stdout(Stdio::piped())
             .stderr(Stdio::inherit())
@@ -157,10 +174,15 @@ impl WarmGraph {
         let _ = self.child.wait();
     }
 
-    /// The child's side: one context with four nodes (three AddTwoInts servers and a publisher),
+    /// The child's side: one context (in the domain [`WARM_GRAPH_ENV`] gives, on the backend
+    /// `HORUS_ROS_BACKEND` names) with four nodes (three AddTwoInts servers and a publisher),
     /// kept until stdin closes.
     fn serve() -> ExitCode {
-        let context = match Context::builder().domain_id(DOMAIN).build() {
+        let domain = std::env::var(WARM_GRAPH_ENV)
+            .ok()
+            .and_then(|d| d.parse().ok())
+            .unwrap_or(DOMAIN);
+        let context = match Context::builder().domain_id(domain).build() {
             Ok(c) => c,
             Err(e) => {
                 eprintln!("startup bench: no context: {e}");
@@ -203,6 +225,49 @@ impl Drop for WarmGraph {
     }
 }
 
+/// The figures of one backend.
+struct BackendRun {
+    /// `service list --spin-time 0` and its complete answers.
+    no_wait: (Stats, usize),
+    /// `service list` and its correct answers.
+    list: (Stats, usize),
+}
+
+/// Starts a warm graph on `backend` in `domain`, waits until the CLI on that backend sees it,
+/// then times the `service list` series.
+fn run_backend(
+    bin: &Path,
+    backend: Backend,
+    domain: u32,
+    runs: usize,
+) -> Result<BackendRun, String> {
+    let mut warm = WarmGraph::start(backend, domain)
+        .map_err(|e| format!("could not start the warm graph: {e}"))?;
+    let expected: String = SERVICES.iter().map(|s| format!("{s}\n")).collect();
+    let domain = domain.to_string();
+    let list = ["--domain-id", domain.as_str(), "service", "list"];
+
+    // Warm: wait until a run sees the whole graph (at most 20 s).
+    let deadline = Instant::now() + Duration::from_secs(20);
+    while time_runs(bin, &list, backend, 1, Some(&expected)).1 != 1 {
+        if Instant::now() >= deadline {
+            return Err("`horus-ros service list` never showed the warm graph".to_owned());
+        }
+    }
+    let no_wait_args = [
+        "--domain-id",
+        domain.as_str(),
+        "--spin-time",
+        "0",
+        "service",
+        "list",
+    ];
+    let no_wait = time_runs(bin, &no_wait_args, backend, runs, Some(&expected));
+    let list = time_runs(bin, &list, backend, runs, Some(&expected));
+    warm.stop();
+    Ok(BackendRun { no_wait, list })
+}
+
 fn main() -> ExitCode {
     if std::env::var_os(WARM_GRAPH_ENV).is_some() {
         return WarmGraph::serve();
@@ -217,6 +282,11 @@ fn main() -> ExitCode {
         );
         return ExitCode::from(2);
     }
+    // Inherited by the warm graphs and the CLI runs (read when a Cyclone context is created).
+    let cyclone_uri_set = std::env::var_os("CYCLONEDDS_URI").is_some();
+    if !cyclone_uri_set {
+        std::env::set_var("CYCLONEDDS_URI", CYCLONE_LOOPBACK);
+    }
     let runs: usize = std::env::var("HORUS_ROS_BENCH_RUNS")
         .ok()
         .and_then(|v| v.parse().ok())
@@ -224,58 +294,28 @@ fn main() -> ExitCode {
         .max(1);
     let bin = Path::new(env!("CARGO_BIN_EXE_horus-ros"));
 
-    // The warm graph, up before the first run.
-    let mut warm = match WarmGraph::start() {
-        Ok(w) => w,
-        Err(e) => {
-            eprintln!("startup bench: could not start the warm graph: {e}");
-            return ExitCode::FAILURE;
-        }
-    };
-    let expected: String = SERVICES.iter().map(|s| format!("{s}\n")).collect();
-    let domain = DOMAIN.to_string();
-    let list = ["--domain-id", domain.as_str(), "service", "list"];
-
-    // Warm: wait until a run sees the whole graph (at most 20 s).
-    let deadline = Instant::now() + Duration::from_secs(20);
-    loop {
-        if time_runs(bin, &list, 1, Some(&expected)).1 == 1 {
-            break;
-        }
-        if Instant::now() >= deadline {
-            eprintln!("startup bench: `horus-ros service list` never showed the warm graph");
-            return ExitCode::FAILURE;
-        }
-    }
-
     println!(
-        "startup bench: `horus-ros service list` on a warm graph (domain {DOMAIN}: 4 nodes, \
-         3 services, 1 topic), {runs} runs each, release build, end to end (spawn → exit)"
+        "startup bench: `horus-ros service list` on a warm graph (4 nodes, 3 services, 1 topic, \
+         on the same backend as the CLI), {runs} runs each, release build, end to end \
+         (spawn → exit); Cyclone DDS configuration: {}",
+        if cyclone_uri_set {
+            "CYCLONEDDS_URI from the environment"
+        } else {
+            "loopback only (CYCLONEDDS_URI was unset)"
+        }
     );
-    let (start_only, _) = time_runs(bin, &["--version"], runs, None);
+    let (start_only, _) = time_runs(bin, &["--version"], Backend::RustDds, runs, None);
     println!(
         "  process start only   (`horus-ros --version`):            {}",
         start_only.line()
     );
-    let no_wait_args = [
-        "--domain-id",
-        domain.as_str(),
-        "--spin-time",
-        "0",
-        "service",
-        "list",
-    ];
-    let (no_wait, no_wait_ok) = time_runs(bin, &no_wait_args, runs, Some(&expected));
-    println!(
-        "  join, no wait        (`service list --spin-time 0`):     {}  complete answers {no_wait_ok}/{runs}",
-        no_wait.line()
+    let python = time_runs(
+        Path::new("python3"),
+        &["-c", "import sys"],
+        Backend::RustDds,
+        runs,
+        None,
     );
-    let (list_stats, list_ok) = time_runs(bin, &list, runs, Some(&expected));
-    println!(
-        "  service list         (default --spin-time 0.5):          {}  correct answers {list_ok}/{runs}",
-        list_stats.line()
-    );
-    let python = time_runs(Path::new("python3"), &["-c", "import sys"], runs, None);
     let python_median = if python.1 == runs {
         println!(
             "  bare Python start    (`python3 -c 'import sys'`):        {}",
@@ -290,11 +330,47 @@ fn main() -> ExitCode {
         None
     };
 
-    let median = list_stats.median();
-    println!(
-        "  of which discovery wait (median service list − median --spin-time 0): {:.1} ms",
-        ms(median.saturating_sub(no_wait.median()))
-    );
+    let mut failed = false;
+    let mut goal_lines = Vec::new();
+    for (i, backend) in Backend::ALL.into_iter().enumerate() {
+        let domain = DOMAIN + i as u32;
+        if !backend.is_available() {
+            println!("backend {backend}: not built in (feature `cyclone`), not measured");
+            continue;
+        }
+        println!("backend {backend} (HORUS_ROS_BACKEND={backend}, domain {domain}):");
+        let run = match run_backend(bin, backend, domain, runs) {
+            Ok(run) => run,
+            Err(e) => {
+                println!("  not measured: {e}");
+                failed = true;
+                continue;
+            }
+        };
+        let (no_wait, no_wait_ok) = &run.no_wait;
+        let (list_stats, list_ok) = &run.list;
+        println!(
+            "  join, no wait        (`service list --spin-time 0`):     {}  complete answers {no_wait_ok}/{runs}",
+            no_wait.line()
+        );
+        println!(
+            "  service list         (default --spin-time 0.5):          {}  correct answers {list_ok}/{runs}",
+            list_stats.line()
+        );
+        let median = list_stats.median();
+        println!(
+            "  of which discovery wait (median service list − median --spin-time 0): {:.1} ms",
+            ms(median.saturating_sub(no_wait.median()))
+        );
+        let met = median < GOAL && *list_ok == runs;
+        goal_lines.push(format!(
+            "goal: < 300 ms — {} on {backend} (median {:.1} ms, p90 {:.1} ms, {list_ok}/{runs} answers correct)",
+            if met { "MET" } else { "NOT MET" },
+            ms(median),
+            ms(list_stats.percentile(90)),
+        ));
+    }
+
     match python_median {
         Some(p) => println!(
             "ros2cli reference (`ros2 service list`, no daemon): documented --spin-time 0.5 s + \
@@ -308,13 +384,12 @@ fn main() -> ExitCode {
              + Python start (not measured: no python3)"
         ),
     }
-    let met = median < GOAL && list_ok == runs;
-    println!(
-        "goal: < 300 ms — {} (median {:.1} ms, p90 {:.1} ms, {list_ok}/{runs} answers correct)",
-        if met { "MET" } else { "NOT MET" },
-        ms(median),
-        ms(list_stats.percentile(90)),
-    );
-    warm.stop();
-    ExitCode::SUCCESS
+    for line in goal_lines {
+        println!("{line}");
+    }
+    if failed {
+        ExitCode::FAILURE
+    } else {
+        ExitCode::SUCCESS
+    }
 }

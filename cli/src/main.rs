@@ -53,6 +53,39 @@ pub struct Global {
     /// Print the result as JSON (query commands).
     #[arg(long, global = true)]
     pub json: bool,
+
+    /// DDS implementation to join with: rustdds (pure Rust; speaks both service conventions) or
+    /// cyclone (Cyclone DDS as rmw_cyclonedds_cpp: USER_DATA, ROS_STATIC_PEERS, CYCLONEDDS_URI;
+    /// rmw_cyclonedds services only).
+    #[arg(
+        long,
+        global = true,
+        value_enum,
+        ignore_case = true,
+        value_name = "BACKEND",
+        env = "HORUS_ROS_BACKEND",
+        default_value_t = BackendArg::Rustdds
+    )]
+    pub backend: BackendArg,
+}
+
+/// The values of `--backend` (the names `HORUS_ROS_BACKEND` takes).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum BackendArg {
+    /// RustDDS.
+    Rustdds,
+    /// Cyclone DDS.
+    #[value(alias = "cyclonedds")]
+    Cyclone,
+}
+
+impl From<BackendArg> for horus_ros_rmw::Backend {
+    fn from(b: BackendArg) -> Self {
+        match b {
+            BackendArg::Rustdds => Self::RustDds,
+            BackendArg::Cyclone => Self::Cyclone,
+        }
+    }
 }
 
 #[derive(Debug, Subcommand)]

@@ -38,7 +38,7 @@ impl Session {
 
     /// Joins the domain without waiting.
     pub fn join(global: &Global) -> Result<Self, CliError> {
-        let mut builder = Context::builder();
+        let mut builder = Context::builder().backend(global.backend.into());
         if let Some(d) = global.domain_id {
             builder = builder.domain_id(d);
         }

@@ -1,5 +1,7 @@
 //! Safe binding layer over [Cyclone DDS](https://cyclonedds.io) 11 (through the `cyclors`
-//! crate, which builds Cyclone from source) for horus-ros' second DDS backend (issue 6).
+//! crate, which builds Cyclone from source): the layer under horus-ros' Cyclone DDS backend
+//! (`horus-ros-rmw`'s cargo feature `cyclone`, chosen per context with
+//! `ContextBuilder::backend(Backend::Cyclone)` or `HORUS_ROS_BACKEND=cyclone`).
 //!
 //! What it offers, all with owned Rust values and RAII:
 //! - [`config`]: the domain XML rmw_cyclonedds_cpp (Jazzy) builds from
@@ -16,14 +18,18 @@
 //!   [`GuardCondition`]s. No listener is ever installed, so no code of ours (let alone user
 //!   code) runs on Cyclone's threads.
 //!
-//! **All `unsafe` code of the future Cyclone backend is in this crate, in one private module
+//! **All `unsafe` code of the Cyclone backend is in this crate, in one private module
 //! (`sys`)**, with a `SAFETY:` comment per block; the crate denies `unsafe_code` everywhere else
 //! (the workspace forbids it outright; `forbid` could not be relaxed for one module, hence this
-//! crate's own `[lints]` table). Leaks are checked under valgrind by a test
-//! (`tests/leakcheck.rs` running `examples/leakcheck.rs`).
+//! crate's own `[lints]` table), and `horus-ros-rmw` keeps `unsafe_code = "forbid"`. Leaks are
+//! checked under valgrind by two tests: this crate's `tests/leakcheck.rs` (running
+//! `examples/leakcheck.rs`, every resource path of the binding) and `horus-ros-rmw`'s
+//! `tests/cyclone_leakcheck.rs` (running `examples/cyclone_leakcheck.rs`, the backend end to
+//! end: context, node, typed and raw endpoints, discovery feed).
 //!
-//! **Not yet wired into `horus-ros-rmw`**: the rmw backend built on it (cargo feature
-//! `cyclone`, selectable per context) is the next step of issue 6.
+//! What Cyclone DDS's C API cannot do, and so this layer cannot offer: `related_sample_identity`
+//! on written or received samples, sequence numbers of received samples, and writes directed at
+//! one reader. The backend therefore speaks only the rmw_cyclonedds service convention.
 //!
 //! ```no_run
 //! use horus_ros_rmw_cyclone::{config, Domain, EndpointQos, Participant};

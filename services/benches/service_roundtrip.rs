@@ -8,17 +8,25 @@
 //! 1. a raw UDP ping-pong on 127.0.0.1 (two threads, blocking receive, 20-byte payload = the
 //!    CDR size of an AddTwoInts request), the floor any transport over loopback UDP sits on;
 //! 2. horus-ros `ServiceClient::call` to a `ServiceServer` (AddTwoInts), server and client in
-//!    two `Context`s (two DDS participants, as two processes would have), and in one `Context`;
+//!    two `Context`s (two DDS participants, as two processes would have), and in one `Context`,
+//!    on each backend: rustdds, and Cyclone DDS when built with the feature `cyclone`
+//!    (`cargo bench -p horus-ros-services --features cyclone`; scripts/bench does);
 //! 3. ros2-client 0.12's own service API (`ServiceMapping::Enhanced`, two ros2-client contexts,
 //!    `async_send_request` / `async_receive_response` against `async_receive_request` /
 //!    `async_send_response`, each side driven by a minimal thread-parking executor).
 //!
-//! Then prints p50 / p99 / calls per second of each and the goals of issue 4:
-//! p50 horus / UDP ≤ 1.5 and throughput horus / ros2-client ≥ 2.
+//! Then prints p50 / p99 / calls per second of each, each as a ratio to the raw UDP baseline of
+//! the same run, and the goals of issue 4: p50 horus / UDP ≤ 1.5 and throughput horus /
+//! ros2-client ≥ 2.
+//!
+//! The Cyclone DDS variants run with the environment's `CYCLONEDDS_URI`; when it is unset, the
+//! bench sets a loopback-only configuration (interface `lo`, multicast allowed), since the
+//! private namespace has no other interface.
 //!
 //! Environment: `HORUS_BENCH_CALLS` (measured calls per variant, default 30000),
 //! `HORUS_BENCH_ROUNDS` (default 10), `HORUS_BENCH_ONLY` (comma-separated subset of
-//! `udp,horus2,horus1,ros2`, for profiling one variant; the goal lines need all of them).
+//! `udp,horus2,horus1,cyclone2,cyclone1,ros2`, for profiling one variant; the ratio and goal
+//! lines need the baselines).
 
 use std::future::Future;
 use std::net::UdpSocket;
@@ -28,6 +36,7 @@ use std::task::{Poll, Wake, Waker};
 use std::thread::{self, JoinHandle, Thread};
 use std::time::{Duration, Instant};
 
+use horus_ros_rmw::Backend;
 use horus_ros_services::prelude::*;
 use serde::{Deserialize, Serialize};
 
@@ -43,6 +52,12 @@ const DISCOVERY_TIMEOUT: Duration = Duration::from_secs(20);
 const DOMAIN_HORUS_TWO: u32 = 61;
 const DOMAIN_HORUS_ONE: u32 = 62;
 const DOMAIN_ROS2_CLIENT: u16 = 63;
+const DOMAIN_CYCLONE_TWO: u32 = 64;
+const DOMAIN_CYCLONE_ONE: u32 = 65;
+/// The Cyclone DDS configuration used when `CYCLONEDDS_URI` is unset: loopback, with multicast.
+const CYCLONE_LOOPBACK: &str = "<CycloneDDS><Domain Id=\"any\"><General><Interfaces>\
+    <NetworkInterface name=\"lo\" multicast=\"true\"/></Interfaces>\
+    <AllowMulticast>true</AllowMulticast></General></Domain></CycloneDDS>";
 /// The UDP payload: CDR encapsulation (4) + two int64 (16), as an AddTwoInts request.
 const UDP_PAYLOAD: usize = 20;
 /// `a` of the request that tells the ros2-client server thread to stop.
@@ -93,15 +108,15 @@ fn refuse_outside_namespace() {
 // Statistics.
 
 struct Stats {
-    name: &'static str,
+    name: String,
     samples: Vec<Duration>,
     round_p50: Vec<Duration>,
 }
 
 impl Stats {
-    fn new(name: &'static str) -> Self {
+    fn new(name: impl Into<String>) -> Self {
         Self {
-            name,
+            name: name.into(),
             samples: Vec::new(),
             round_p50: Vec::new(),
         }
@@ -220,10 +235,11 @@ struct Horus {
 }
 
 impl Horus {
-    fn start(domain: u32, two_contexts: bool) -> Result<Self, String> {
+    fn start(backend: Backend, domain: u32, two_contexts: bool) -> Result<Self, String> {
         let context = || {
             Context::builder()
                 .domain_id(domain)
+                .backend(backend)
                 .build()
                 .map_err(|e| format!("context: {e}"))
         };
@@ -503,8 +519,77 @@ fn verdict(met: bool) -> &'static str {
     }
 }
 
+/// One horus-ros variant: its name in `HORUS_BENCH_ONLY`, backend, domain and whether server and
+/// client have a context each.
+struct HorusVariant {
+    key: &'static str,
+    backend: Backend,
+    domain: u32,
+    two_contexts: bool,
+}
+
+const HORUS_VARIANTS: [HorusVariant; 4] = [
+    HorusVariant {
+        key: "horus2",
+        backend: Backend::RustDds,
+        domain: DOMAIN_HORUS_TWO,
+        two_contexts: true,
+    },
+    HorusVariant {
+        key: "horus1",
+        backend: Backend::RustDds,
+        domain: DOMAIN_HORUS_ONE,
+        two_contexts: false,
+    },
+    HorusVariant {
+        key: "cyclone2",
+        backend: Backend::Cyclone,
+        domain: DOMAIN_CYCLONE_TWO,
+        two_contexts: true,
+    },
+    HorusVariant {
+        key: "cyclone1",
+        backend: Backend::Cyclone,
+        domain: DOMAIN_CYCLONE_ONE,
+        two_contexts: false,
+    },
+];
+
+impl HorusVariant {
+    fn name(&self) -> String {
+        format!(
+            "horus-ros {}, {}",
+            self.backend,
+            if self.two_contexts {
+                "2 contexts"
+            } else {
+                "1 context"
+            }
+        )
+    }
+}
+
+/// `value / baseline` as `12.3×`, or `n/a`.
+fn times(value: f64, baseline: f64) -> String {
+    if value > 0.0 && baseline > 0.0 {
+        let ratio = value / baseline;
+        if ratio < 1.0 {
+            format!("{ratio:.3}×")
+        } else {
+            format!("{ratio:.2}×")
+        }
+    } else {
+        "n/a".to_owned()
+    }
+}
+
 fn main() {
     refuse_outside_namespace();
+    // Before any thread starts (Cyclone DDS reads it when a context creates its domain).
+    let cyclone_uri_set = std::env::var_os("CYCLONEDDS_URI").is_some();
+    if !cyclone_uri_set {
+        std::env::set_var("CYCLONEDDS_URI", CYCLONE_LOOPBACK);
+    }
     thread::spawn(|| {
         thread::sleep(WATCHDOG);
         eprintln!("service_roundtrip: stalled for {WATCHDOG:?}; aborting");
@@ -526,10 +611,28 @@ fn main() {
          unknown (other processes may share these CPUs)",
         loadavg()
     );
+    println!(
+        "  backends: {}; Cyclone DDS configuration: {}",
+        Backend::ALL
+            .iter()
+            .map(|b| if b.is_available() {
+                b.to_string()
+            } else {
+                format!("{b} (not built in: feature `cyclone`)")
+            })
+            .collect::<Vec<_>>()
+            .join(", "),
+        if cyclone_uri_set {
+            "CYCLONEDDS_URI from the environment"
+        } else {
+            "loopback only (CYCLONEDDS_URI was unset)"
+        }
+    );
 
     let setup_start = Instant::now();
     let only = std::env::var("HORUS_BENCH_ONLY").unwrap_or_default();
     let wanted = |v: &str| only.is_empty() || only.split(',').any(|o| o.trim() == v);
+    let mut failed_setup = false;
     let mut udp = wanted("udp").then(|| {
         let mut udp = UdpPingPong::start().expect("UDP ping-pong on 127.0.0.1");
         for i in 0..WARMUP {
@@ -537,10 +640,31 @@ fn main() {
         }
         udp
     });
-    let mut horus_two = wanted("horus2")
-        .then(|| Horus::start(DOMAIN_HORUS_TWO, true).expect("horus-ros, two contexts"));
-    let mut horus_one = wanted("horus1")
-        .then(|| Horus::start(DOMAIN_HORUS_ONE, false).expect("horus-ros, one context"));
+    // (stats, the running variant, why it is not measured)
+    let mut horus: Vec<(Stats, Option<Horus>, Option<String>)> = HORUS_VARIANTS
+        .iter()
+        .map(|v| {
+            let stats = Stats::new(v.name());
+            if !wanted(v.key) {
+                return (stats, None, Some("not asked for (HORUS_BENCH_ONLY)".into()));
+            }
+            if !v.backend.is_available() {
+                return (
+                    stats,
+                    None,
+                    Some("not built in (build with --features cyclone)".into()),
+                );
+            }
+            match Horus::start(v.backend, v.domain, v.two_contexts) {
+                Ok(h) => (stats, Some(h), None),
+                Err(e) => {
+                    println!("  {} could not be benchmarked: {e}", v.name());
+                    failed_setup = true;
+                    (stats, None, Some(format!("setup failed: {e}")))
+                }
+            }
+        })
+        .collect();
     let mut ros2 = if wanted("ros2") {
         match Ros2Client::start() {
             Ok(r) => Some(r),
@@ -558,8 +682,6 @@ fn main() {
     );
 
     let mut udp_stats = Stats::new("raw UDP ping-pong 127.0.0.1");
-    let mut two_stats = Stats::new("horus-ros, 2 contexts");
-    let mut one_stats = Stats::new("horus-ros, 1 context");
     let mut ros2_stats = Stats::new("ros2-client Enhanced, 2 ctx");
     let mut ros2_error = None;
     let run_start = Instant::now();
@@ -567,11 +689,10 @@ fn main() {
         if let Some(u) = udp.as_mut() {
             udp_stats.add_round(measure(per_round, |i| u.round_trip(i)));
         }
-        if let Some(h) = horus_two.as_mut() {
-            two_stats.add_round(measure(per_round, |i| h.call(i)));
-        }
-        if let Some(h) = horus_one.as_mut() {
-            one_stats.add_round(measure(per_round, |i| h.call(i)));
+        for (stats, h, _) in &mut horus {
+            if let Some(h) = h.as_mut() {
+                stats.add_round(measure(per_round, |i| h.call(i)));
+            }
         }
         if let Some(r) = ros2.as_mut() {
             let mut failed = None;
@@ -591,8 +712,10 @@ fn main() {
     }
     let run_time = run_start.elapsed();
     drop(ros2);
-    drop(horus_one);
-    drop(horus_two);
+    // Last variant first (as before: one context, then two).
+    for (_, h, _) in horus.iter_mut().rev() {
+        drop(h.take());
+    }
     drop(udp);
 
     println!(
@@ -602,13 +725,24 @@ fn main() {
     );
     println!();
     println!(
-        "  {:<30} {:>10} {:>10} {:>12}   p50 per round (µs)",
-        "variant", "p50 µs", "p99 µs", "calls/s"
+        "  {:<32} {:>9} {:>9} {:>9} {:>9} {:>9} {:>11}   p50 per round (µs)",
+        "variant", "p50 µs", "p99 µs", "calls/s", "p50/UDP", "p99/UDP", "calls/s/UDP"
     );
-    let all = [&udp_stats, &two_stats, &one_stats, &ros2_stats];
-    for s in all {
+    let (udp_p50, udp_p99, udp_rate) = if udp_stats.samples.is_empty() {
+        (0.0, 0.0, 0.0)
+    } else {
+        (
+            micros(udp_stats.p50()),
+            micros(udp_stats.p99()),
+            udp_stats.per_second(),
+        )
+    };
+    let rows = std::iter::once((&udp_stats, None))
+        .chain(horus.iter().map(|(s, _, why)| (s, why.as_deref())))
+        .chain(std::iter::once((&ros2_stats, None)));
+    for (s, why) in rows {
         if s.samples.is_empty() {
-            println!("  {:<30} {:>10}", s.name, "n/a");
+            println!("  {:<32} {:>9}   {}", s.name, "n/a", why.unwrap_or(""));
             continue;
         }
         let rounds: Vec<String> = s
@@ -616,12 +750,16 @@ fn main() {
             .iter()
             .map(|d| format!("{:.0}", micros(*d)))
             .collect();
+        let (p50, p99, rate) = (micros(s.p50()), micros(s.p99()), s.per_second());
         println!(
-            "  {:<30} {:>10.1} {:>10.1} {:>12.0}   {}",
+            "  {:<32} {:>9.1} {:>9.1} {:>9.0} {:>9} {:>9} {:>11}   {}",
             s.name,
-            micros(s.p50()),
-            micros(s.p99()),
-            s.per_second(),
+            p50,
+            p99,
+            rate,
+            times(p50, udp_p50),
+            times(p99, udp_p99),
+            times(rate, udp_rate),
             rounds.join(" ")
         );
     }
@@ -630,7 +768,7 @@ fn main() {
     }
     println!();
 
-    for s in [&two_stats, &one_stats] {
+    for (s, _, _) in &horus {
         if s.samples.is_empty() || udp_stats.samples.is_empty() {
             println!(
                 "  p50 ratio horus/udp = n/a (goal ≤ 1.5) NOT MEASURED   [{}]",
@@ -638,14 +776,14 @@ fn main() {
             );
             continue;
         }
-        let ratio = micros(s.p50()) / micros(udp_stats.p50());
+        let ratio = micros(s.p50()) / udp_p50;
         println!(
             "  p50 ratio horus/udp = {ratio:.2} (goal ≤ 1.5) {}   [{}]",
             verdict(ratio <= 1.5),
             s.name
         );
     }
-    for s in [&two_stats, &one_stats] {
+    for (s, _, _) in &horus {
         if s.samples.is_empty() || ros2_stats.samples.is_empty() {
             println!(
                 "  throughput ratio horus/ros2-client = n/a (goal ≥ 2) NOT MEASURED   [{}]",
@@ -659,5 +797,8 @@ fn main() {
             verdict(ratio >= 2.0),
             s.name
         );
+    }
+    if failed_setup {
+        std::process::exit(1);
     }
 }
