@@ -61,6 +61,14 @@ fn own_entities_are_reported_as_snapshot_then_changes() {
             assert_eq!(e.dds_topic_name, "rt/ns/t");
             assert_eq!(e.dds_type_name, "builtin_interfaces::msg::dds_::Time_");
             assert_eq!(e.type_hash, Time::type_hash());
+            // What peers receive: rmw_cyclonedds' `typehash=` where the backend announces
+            // USER_DATA (Cyclone), nothing on rustdds.
+            let user_data = if context.backend().announces_user_data() {
+                format!("typehash={};", Time::type_hash()).into_bytes()
+            } else {
+                Vec::new()
+            };
+            assert_eq!(e.user_data, user_data, "on {}", context.backend());
         }
         other => panic!("expected our writer, got {other:?}"),
     }
