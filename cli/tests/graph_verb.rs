@@ -346,7 +346,16 @@ Services:
     let talker_doc = &nodes[3];
     assert_eq!(talker_doc["name"], "talker");
     assert_eq!(talker_doc["namespace"], "/graph_test");
-    assert!(talker_doc["enclave"].is_null() || talker_doc["enclave"].is_string());
+    // Enclaves come from participant USER_DATA: ours is announced and read on Cyclone (the CLI
+    // runs on the same backend, from HORUS_ROS_BACKEND), neither on rustdds; the Python peer
+    // announces none.
+    let our_enclave = if ctx.backend().announces_user_data() {
+        Value::from("/")
+    } else {
+        Value::Null
+    };
+    assert_eq!(talker_doc["enclave"], our_enclave, "{talker_doc}");
+    assert_eq!(nodes[0]["enclave"], Value::Null, "{}", nodes[0]);
     assert_eq!(talker_doc["publishers"][0]["name"], "/graph_test/chatter");
     assert_eq!(
         strings(&talker_doc["publishers"][0]["types"]),
