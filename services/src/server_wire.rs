@@ -11,7 +11,8 @@ use horus_ros_rmw::names::ServiceName;
 use horus_ros_rmw::{Backend, Gid, PublishError, RawSample, RawWriter, SampleId};
 
 use crate::wire::{
-    encode, is_horus_client_id, is_reader, CycloneHeader, WireFlavour, HORUS_CLIENT_MARKER,
+    encode, is_horus_client_id, is_reader, peer_vendor, CycloneHeader, WireFlavour,
+    HORUS_CLIENT_MARKER,
 };
 
 /// How long a reply waits for the client's reply reader to be matched before it is sent anyway
@@ -118,7 +119,7 @@ impl ServerWire {
     /// Reads a request's correlation data in its client's convention; `None` (logged) if it is
     /// malformed.
     pub(crate) fn interpret(&self, sample: RawSample) -> Option<Request> {
-        let vendor = self.graph.participant_vendor(sample.id.writer);
+        let vendor = peer_vendor(&self.graph, sample.id.writer);
         let flavour = match WireFlavour::choose(self.backend, vendor, self.flavour) {
             Ok(flavour) => flavour,
             Err(why) => {

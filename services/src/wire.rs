@@ -14,6 +14,7 @@
 //! Fast DDS and Cyclone DDS cannot call each other's services (ros2/rmw_cyclonedds#184), so the
 //! convention is chosen per peer from its participant's vendor id.
 
+use horus_ros_graph::Graph;
 use horus_ros_rmw::{Backend, Gid, VendorId};
 use serde::de::DeserializeOwned;
 use serde::Serialize;
@@ -70,6 +71,19 @@ impl WireFlavour {
             None => Ok(Self::CycloneDds),
         }
     }
+}
+
+/// The DDS vendor of the participant `peer` belongs to: as SPDP told the graph, or until then the
+/// vendor id that Fast DDS, Cyclone DDS and RustDDS put in the first two bytes of their GUID
+/// prefixes (other values are not trusted: not every vendor does this).
+pub(crate) fn peer_vendor(graph: &Graph, peer: Gid) -> Option<VendorId> {
+    graph.participant_vendor(peer).or_else(|| {
+        let bytes = peer.as_bytes();
+        let hint = VendorId([bytes[0], bytes[1]]);
+        [VendorId::FAST_DDS, VendorId::CYCLONE_DDS, VendorId::RUSTDDS]
+            .contains(&hint)
+            .then_some(hint)
+    })
 }
 
 /// Marks a request as coming from a horus-ros client, in the otherwise unused sequence number of

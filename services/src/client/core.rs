@@ -15,7 +15,9 @@ use horus_ros_rmw::{Gid, Node, RawReader, RawSample, RawWriter, SampleId};
 use super::codec::{Codec, Typed};
 use crate::naming::{default_service_name, ServiceTopics};
 use crate::runtime::Runtime;
-use crate::wire::{client_id, decode, CycloneHeader, WireFlavour, HORUS_CLIENT_MARKER};
+use crate::wire::{
+    client_id, decode, peer_vendor, CycloneHeader, WireFlavour, HORUS_CLIENT_MARKER,
+};
 use crate::{ServiceError, SetupError};
 
 /// rmw_cyclonedds numbers requests with one process-wide counter; so do we.
@@ -214,8 +216,7 @@ impl<C: Codec> ClientCore<C> {
             let reply_match = graph.matched_since(self.reply_reader, writer)?;
             let backend = self.runtime.node.context().backend();
             let flavour =
-                WireFlavour::choose(backend, graph.participant_vendor(reader), self.flavour)
-                    .ok()?;
+                WireFlavour::choose(backend, peer_vendor(graph, reader), self.flavour).ok()?;
             // An rmw_cyclonedds server waits for a client's reply reader only when the client
             // announces `clientid=` in USER_DATA, which rustdds cannot send: then give its writer
             // time to match our reader (it learns of it about when we learn of its writer).
@@ -254,7 +255,7 @@ impl<C: Codec> ClientCore<C> {
         let backend = self.runtime.node.context().backend();
         let mut why = None;
         for (reader, _) in self.servers() {
-            match WireFlavour::choose(backend, graph.participant_vendor(reader), self.flavour) {
+            match WireFlavour::choose(backend, peer_vendor(graph, reader), self.flavour) {
                 Ok(_) => return None,
                 Err(reason) => why = Some(reason),
             }
