@@ -54,9 +54,7 @@ pub struct Global {
     #[arg(long, global = true)]
     pub json: bool,
 
-    /// DDS implementation to join with: rustdds (pure Rust; speaks both service conventions) or
-    /// cyclone (Cyclone DDS as rmw_cyclonedds_cpp: USER_DATA, ROS_STATIC_PEERS, CYCLONEDDS_URI;
-    /// rmw_cyclonedds services only).
+    /// DDS implementation to join with (default: HORUS_ROS_BACKEND, else rustdds).
     #[arg(
         long,
         global = true,
@@ -72,9 +70,10 @@ pub struct Global {
 /// The values of `--backend` (the names `HORUS_ROS_BACKEND` takes).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 pub enum BackendArg {
-    /// RustDDS.
+    /// RustDDS, pure Rust: calls and serves both rmw_fastrtps and rmw_cyclonedds services.
     Rustdds,
-    /// Cyclone DDS.
+    /// Cyclone DDS, as rmw_cyclonedds_cpp (USER_DATA, ROS_STATIC_PEERS, CYCLONEDDS_URI); calls
+    /// and serves rmw_cyclonedds services only.
     #[value(alias = "cyclonedds")]
     Cyclone,
 }
