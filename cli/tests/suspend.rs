@@ -1,0 +1,65 @@
+//! A process on the Cyclone backend survives being suspended and resumed (Ctrl-Z, `fg`:
+//! SIGSTOP/SIGCONT): it is still on the graph afterwards, and a process that starts later still
+//! discovers it. (The rustdds backend's threads end on such an interrupted wait: README,
+//! "What the rustdds backend cannot do".)
+//!
+//! Domain 137. Run inside the private network namespace (`scripts/isolated`).
+
+mod common;
+
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+use common::horus;
+
+const D: u32 = 137;
+
+/// Whether `node list -a` on Cyclone shows `node` within `within`.
+fn listed_within(node: &str, within: Duration) -> bool {
+    let deadline = Instant::now() + within;
+    loop {
+        let run = horus(D, &["--backend", "cyclone", "node", "list", "-a"]);
+        if run.stdout.lines().any(|l| l == node) {
+            return true;
+        }
+        if Instant::now() >= deadline {
+            return false;
+        }
+        std::thread::sleep(Duration::from_millis(100));
+    }
+}
+
+fn signal(pid: u32, sig: &str) {
+    let status = Command::new("kill")
+        .args([sig, &pid.to_string()])
+        .status()
+        .expect("run kill");
+    assert!(status.success(), "kill {sig} {pid}");
+}
+
+#[test]
+fn a_suspended_and_resumed_process_stays_on_the_graph() {
+    let mut watch = Command::new(env!("CARGO_BIN_EXE_horus-ros"))
+        .args(["--backend", "cyclone", "--domain-id", &D.to_string()])
+        .args(["graph", "--watch"])
+        .env("RUST_LOG", "error")
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .expect("start horus-ros graph --watch");
+    let node = format!("/_horus_ros_{}", watch.id());
+    let seen_before = listed_within(&node, Duration::from_secs(10));
+
+    signal(watch.id(), "-STOP");
+    std::thread::sleep(Duration::from_secs(2));
+    signal(watch.id(), "-CONT");
+    std::thread::sleep(Duration::from_millis(500));
+    // Each `node list` is a new process: it must discover the resumed one from scratch.
+    let seen_after = listed_within(&node, Duration::from_secs(10));
+
+    signal(watch.id(), "-TERM");
+    let status = watch.wait().expect("wait for graph --watch");
+    assert!(seen_before, "{node} never appeared");
+    assert!(seen_after, "{node} left the graph after SIGSTOP/SIGCONT");
+    assert!(status.success(), "graph --watch ended with {status}");
+}
