@@ -52,6 +52,9 @@ fn check_endpoint(
     assert_eq!(e.qos.history, HistoryPolicy::Unknown, "{what}");
 }
 
+/// How long the Fast DDS peer stays.
+const PEER_LINGER: Duration = Duration::from_secs(7);
+
 #[test]
 fn feed_reports_a_fastdds_ros_participant() {
     // Our hashing agrees with the Jazzy values the peer announces.
@@ -72,7 +75,10 @@ fn feed_reports_a_fastdds_ros_participant() {
         "/fast_ns",
         "fast_node",
         SERVICE,
-        Duration::from_secs(3),
+        // Long enough for two of Fast DDS's heartbeats (3 s apart): a reader that matched just
+        // after the first (seen with Cyclone DDS readers) gets the transient-local
+        // ros_discovery_info sample at the next one.
+        PEER_LINGER,
     )
     .expect("build and start the Fast DDS peer");
     let created = peer
@@ -147,8 +153,8 @@ fn feed_reports_a_fastdds_ros_participant() {
     let mut participant_lost = false;
     // Every event the feed gave, for the failure message.
     let mut log = Vec::new();
-    // The peer leaves after 3 s; everything takes ~3.1 s.
-    let deadline = Instant::now() + Duration::from_secs(10);
+    // Everything is seen a little after the peer leaves.
+    let deadline = Instant::now() + PEER_LINGER + Duration::from_secs(7);
     while !(saw_participant
         && discovered.len() == endpoints.len()
         && saw_info
@@ -157,9 +163,10 @@ fn feed_reports_a_fastdds_ros_participant() {
     {
         assert!(
             Instant::now() < deadline,
-            "not everything seen within 10 s: participant={saw_participant} \
+            "not everything seen within {:?}: participant={saw_participant} \
              endpoints={discovered:?} ros_discovery_info={saw_info} lost={lost:?} \
              participant_lost={participant_lost}\nevents:\n{}",
+            PEER_LINGER + Duration::from_secs(7),
             log.join("\n")
         );
         let Some(event) = feed.try_next() else {
@@ -221,7 +228,7 @@ fn feed_reports_a_fastdds_ros_participant() {
                     saw_info = true;
                 }
             }
-            // The peer lingers 3 s, removes its node, then deletes its endpoints and participant.
+            // The peer lingers, removes its node, then deletes its endpoints and participant.
             DiscoveryEvent::EndpointLost { gid, kind } => {
                 let gid = gid.to_string();
                 if let Some((_, expected, ..)) = endpoints.iter().find(|(g, ..)| *g == gid) {
