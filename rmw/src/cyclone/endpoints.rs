@@ -20,6 +20,17 @@ fn topic(p: &CycloneParticipant, topic_name: &str, type_name: &str) -> Result<cy
         .map_err(|e| e.to_string())
 }
 
+/// The GID of a new endpoint of ours, listed with the context's live endpoints.
+fn register(
+    p: &CycloneParticipant,
+    entity: &cyc::Entity,
+    kind: EndpointKind,
+) -> Result<Gid, String> {
+    let gid = gid(entity.guid().map_err(|e| e.to_string())?);
+    p.local_endpoints.insert(gid, entity, kind);
+    Ok(gid)
+}
+
 /// A raw writer, listed with the context's live endpoints while it exists.
 pub(crate) struct RawWriter {
     writer: cyc::Writer,
@@ -46,9 +57,7 @@ impl RawWriter {
                 user_data,
             )
             .map_err(fail)?;
-        let entity = writer.entity();
-        let gid = gid(entity.guid().map_err(fail)?);
-        p.local_endpoints.insert(gid, &entity, EndpointKind::Writer);
+        let gid = register(p, &writer.entity(), EndpointKind::Writer)?;
         Ok((
             Self {
                 writer,
@@ -116,9 +125,7 @@ impl RawReader {
             .map_err(fail)?;
         let mut waiter = cyc::Waiter::new().map_err(fail)?;
         waiter.attach_reader(&reader, 0).map_err(fail)?;
-        let entity = reader.entity();
-        let gid = gid(entity.guid().map_err(fail)?);
-        p.local_endpoints.insert(gid, &entity, EndpointKind::Reader);
+        let gid = register(p, &reader.entity(), EndpointKind::Reader)?;
         Ok((
             Self {
                 waiter,

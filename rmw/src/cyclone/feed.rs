@@ -48,6 +48,14 @@ fn enclave(user_data: &[u8]) -> Option<String> {
         .map(|v| String::from_utf8_lossy(v).into_owned())
 }
 
+/// The status that changes when an endpoint of `kind` is matched or unmatched.
+fn matched_status(kind: EndpointKind) -> StatusMask {
+    match kind {
+        EndpointKind::Writer => StatusMask::PUBLICATION_MATCHED,
+        EndpointKind::Reader => StatusMask::SUBSCRIPTION_MATCHED,
+    }
+}
+
 /// One of our endpoints whose matches are watched.
 struct Watched {
     gid: Gid,
@@ -201,7 +209,7 @@ impl CycloneDiscoveryFeed {
             None => self.watched.keys().copied().collect(),
         };
         for token in tokens {
-            self.check_matches(token);
+            self.check_matches(token, false);
         }
     }
 
@@ -215,11 +223,10 @@ impl CycloneDiscoveryFeed {
         };
         let token = self.next_token;
         self.next_token += 1;
-        let mask = match kind {
-            EndpointKind::Writer => StatusMask::PUBLICATION_MATCHED,
-            EndpointKind::Reader => StatusMask::SUBSCRIPTION_MATCHED,
-        };
-        if let Err(e) = self.waiter.attach_status(&entity, mask, token) {
+        if let Err(e) = self
+            .waiter
+            .attach_status(&entity, matched_status(kind), token)
+        {
             tracing::warn!(endpoint = %gid, "cannot watch an endpoint's matches: {e}");
             return;
         }
@@ -234,7 +241,7 @@ impl CycloneDiscoveryFeed {
             },
         );
         // Matches made before the watch started.
-        self.check_matches(token);
+        self.check_matches(token, true);
     }
 
     fn unwatch(&mut self, gid: Gid) {
@@ -246,20 +253,23 @@ impl CycloneDiscoveryFeed {
         }
     }
 
-    /// Reports the endpoint's new matches (a match ends when either endpoint is lost).
-    fn check_matches(&mut self, token: usize) {
+    /// Reports the endpoint's new matches (a match ends when either endpoint is lost). The
+    /// matched list is read only when its matched status changed, unless `always`.
+    fn check_matches(&mut self, token: usize, always: bool) {
         let Some(w) = self.watched.get_mut(&token) else {
             return;
         };
         let Some(entity) = w.entity.upgrade() else {
             return;
         };
-        let mask = match w.kind {
-            EndpointKind::Writer => StatusMask::PUBLICATION_MATCHED,
-            EndpointKind::Reader => StatusMask::SUBSCRIPTION_MATCHED,
-        };
+        let mask = matched_status(w.kind);
         // Resets the status condition; the list below is the truth.
-        let _ = entity.take_status(mask);
+        let changed = entity
+            .take_status(mask)
+            .map_or(true, |set| set.contains(mask));
+        if !changed && !always {
+            return;
+        }
         let matched = match w.kind {
             EndpointKind::Writer => entity.matched_subscriptions(),
             EndpointKind::Reader => entity.matched_publications(),
