@@ -10,7 +10,7 @@ use horus_ros_msgs::TypeHash;
 use horus_ros_rmw::names::{is_hidden_name, DemangledTopic};
 use horus_ros_rmw::qos::EndpointKind;
 
-use crate::endpoint::{EndpointEntry, GuidPrefix};
+use crate::endpoint::{participant_gid_from_prefix, EndpointEntry, GuidPrefix};
 use crate::event::GraphEvent;
 use crate::query::{demangle_service_type, demangle_type};
 
@@ -207,6 +207,23 @@ impl Indexes {
     }
 }
 
+/// Why a [`GraphCache`] is not consistent yet (see [`GraphCache::unsettled`]).
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct Unsettled {
+    /// Participants (their GIDs, in order) whose `ros_discovery_info` has not arrived, among
+    /// those known from DDS discovery or from their endpoints.
+    pub unannounced: Vec<Gid>,
+    /// Endpoints listed in announced nodes that DDS discovery has not reported yet.
+    pub missing_endpoints: usize,
+}
+
+impl Unsettled {
+    /// Whether nothing is outstanding.
+    pub fn is_empty(&self) -> bool {
+        self.unannounced.is_empty() && self.missing_endpoints == 0
+    }
+}
+
 /// The ROS 2 graph as seen so far: participants, their nodes, and every reader and writer.
 ///
 /// A plain data structure fed by discovery events; no I/O, no locking (wrap it in a mutex to
@@ -388,13 +405,48 @@ impl GraphCache {
         true
     }
 
-    /// Whether what is known is consistent: every participant has sent its `ros_discovery_info`
-    /// and every endpoint its nodes list has been discovered. Participants that are not ROS
-    /// (no `ros_discovery_info`) keep this false. A discovery wait can stop once this holds.
+    /// Whether what is known is consistent: every participant, known from DDS discovery or
+    /// only from its endpoints, has sent its `ros_discovery_info`, and every endpoint its nodes
+    /// list has been discovered. Participants that are not ROS (no `ros_discovery_info`) keep
+    /// this false. A discovery wait can stop once this holds.
     pub fn is_consistent(&self) -> bool {
-        self.participants
+        self.unsettled().is_empty()
+    }
+
+    /// What keeps the cache from being [consistent](Self::is_consistent): the participants not
+    /// announced yet, and how many endpoints announced ones list that are not discovered yet.
+    pub fn unsettled(&self) -> Unsettled {
+        let mut unannounced: Vec<Gid> = self
+            .participants
+            .iter()
+            .filter(|(_, p)| !p.announced)
+            .map(|(prefix, _)| participant_gid_from_prefix(*prefix))
+            .collect();
+        // Endpoints can be discovered before their participant is reported (DDS delivers the
+        // two in any order): such a participant has not announced its nodes either.
+        unannounced.extend(
+            self.index
+                .by_participant
+                .keys()
+                .filter(|prefix| !self.participants.contains_key(*prefix))
+                .map(|prefix| participant_gid_from_prefix(*prefix)),
+        );
+        unannounced.sort();
+        let missing_endpoints = self
+            .participants
             .values()
-            .all(|p| p.announced && p.owner.keys().all(|gid| self.endpoints.contains_key(gid)))
+            .filter(|p| p.announced)
+            .map(|p| {
+                p.owner
+                    .keys()
+                    .filter(|gid| !self.endpoints.contains_key(gid))
+                    .count()
+            })
+            .sum();
+        Unsettled {
+            unannounced,
+            missing_endpoints,
+        }
     }
 
     /// Records the hash of a service type (e.g. `example_interfaces/srv/AddTwoInts`) for

@@ -24,7 +24,7 @@ mod query;
 #[cfg(test)]
 mod tests;
 
-pub use cache::GraphCache;
+pub use cache::{GraphCache, Unsettled};
 pub use endpoint::{participant_gid_from_prefix, EndpointEntry, GuidPrefix};
 pub use error::GraphError;
 pub use event::GraphEvent;

@@ -259,3 +259,26 @@ fn consistency_needs_every_participant_announced_and_its_endpoints_known() {
     );
     assert!(c.is_consistent());
 }
+
+#[test]
+fn endpoints_of_a_participant_not_reported_yet_keep_the_cache_unsettled() {
+    let mut c = GraphCache::new();
+    // DDS reported the endpoint before its participant: that participant has not announced.
+    c.add_entity(writer("w1", "p1", "rt/b", "std_msgs::msg::dds_::String_"));
+    let unsettled = c.unsettled();
+    assert_eq!(
+        unsettled.unannounced,
+        vec![participant_gid_from_prefix(gid("p1").prefix())]
+    );
+    assert_eq!(unsettled.missing_endpoints, 0);
+    assert!(!c.is_consistent());
+    c.update_participant_entities(msg("p1", vec![node("/", "n", &["r1"], &["w1"])]));
+    assert_eq!(c.unsettled().unannounced, vec![]);
+    assert_eq!(
+        c.unsettled().missing_endpoints,
+        1,
+        "r1 is listed, not discovered"
+    );
+    c.add_entity(reader("r1", "p1", "rt/a", "std_msgs::msg::dds_::String_"));
+    assert!(c.unsettled().is_empty());
+}
