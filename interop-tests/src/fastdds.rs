@@ -249,7 +249,21 @@ impl FastDdsPeer {
         service: &str,
         linger: Duration,
     ) -> Result<Self, String> {
-        Self::spawn(domain, namespace, node, service, linger, None)
+        Self::spawn(domain, namespace, node, service, linger, None, None)
+    }
+
+    /// Like [`start`](Self::start), with the peer's `ros_discovery_info` writer sending its
+    /// periodic heartbeat only every `period` (Fast DDS' default: 3 s): a reader that misses
+    /// the heartbeat the writer sends when it matches it then waits that long for the sample.
+    pub fn start_with_info_heartbeat(
+        domain: u32,
+        namespace: &str,
+        node: &str,
+        service: &str,
+        linger: Duration,
+        period: Duration,
+    ) -> Result<Self, String> {
+        Self::spawn(domain, namespace, node, service, linger, None, Some(period))
     }
 
     /// Like [`start`](Self::start), but calling: the peer's node has only an AddTwoInts client
@@ -264,7 +278,7 @@ impl FastDdsPeer {
         limit: Duration,
         count: u32,
     ) -> Result<Self, String> {
-        Self::spawn(domain, namespace, node, service, limit, Some(count))
+        Self::spawn(domain, namespace, node, service, limit, Some(count), None)
     }
 
     fn spawn(
@@ -274,6 +288,7 @@ impl FastDdsPeer {
         service: &str,
         linger: Duration,
         calls: Option<u32>,
+        info_heartbeat: Option<Duration>,
     ) -> Result<Self, String> {
         let binary = peer_binary()?;
         let mut args = vec![
@@ -286,7 +301,14 @@ impl FastDdsPeer {
         if let Some(count) = calls {
             args.extend(["call".to_owned(), count.to_string()]);
         }
-        let mut child = Command::new(&binary)
+        let mut command = Command::new(&binary);
+        if let Some(period) = info_heartbeat {
+            command.env(
+                "PEER_INFO_HEARTBEAT_PERIOD_S",
+                period.as_secs().max(1).to_string(),
+            );
+        }
+        let mut child = command
             .args(&args)
             .stdin(Stdio::null())
             .stdout(Stdio::piped())

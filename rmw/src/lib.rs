@@ -16,6 +16,7 @@ mod dds;
 pub mod discovery;
 mod entities;
 pub mod gid;
+mod late_joiner;
 mod local_sink;
 pub mod names;
 pub mod node;

@@ -762,6 +762,13 @@ int main(int argc, char ** argv)
   info_wqos.endpoint().history_memory_policy =
     eprosima::fastrtps::rtps::PREALLOCATED_WITH_REALLOC_MEMORY_MODE;
   info_wqos.data_sharing().off();
+  // PEER_INFO_HEARTBEAT_PERIOD_S: the ros_discovery_info writer's periodic heartbeat (Fast DDS'
+  // default is 3 s). A long one leaves a late-joining reader only the heartbeat the writer sends
+  // when it matches that reader (StatefulWriter::matched_reader_add).
+  if (const char * period = std::getenv("PEER_INFO_HEARTBEAT_PERIOD_S")) {
+    info_wqos.reliable_writer_qos().times.heartbeatPeriod.seconds =
+      static_cast<int32_t>(std::strtol(period, nullptr, 10));
+  }
   DataWriter * info_writer = publisher->create_datawriter(info_topic, info_wqos);
   DataReaderQos info_rqos = subscriber->get_default_datareader_qos();
   info_rqos.reliability().kind = eprosima::fastdds::dds::RELIABLE_RELIABILITY_QOS;

@@ -14,7 +14,9 @@ use horus_ros_rmw_cyclone::{self as cyc, BuiltinSample, BuiltinTopic, StatusMask
 
 use super::{gid, qos, CycloneParticipant, LocalEndpoints};
 use crate::context::DiscoveryFeedError;
+use crate::dds::discovery_info::{TOPIC_NAME, TYPE_NAME};
 use crate::discovery::{DiscoveredEndpoint, DiscoveredParticipant, DiscoveryEvent, VendorId};
+use crate::late_joiner::{Action, LateJoinerReader};
 use crate::local_sink::{LocalSink, Wake};
 use crate::qos::EndpointKind;
 
@@ -23,6 +25,7 @@ const PARTICIPANTS: usize = 1;
 const PUBLICATIONS: usize = 2;
 const SUBSCRIPTIONS: usize = 3;
 const INFO: usize = 4;
+const LATE_JOINER: usize = 5;
 /// Tokens of our own endpoints' matched statuses start here.
 const FIRST_ENDPOINT_TOKEN: usize = 16;
 
@@ -72,6 +75,13 @@ pub(crate) struct CycloneDiscoveryFeed {
     publications: cyc::BuiltinReader,
     subscriptions: cyc::BuiltinReader,
     info: cyc::Reader,
+    /// What creates the late-joiner `ros_discovery_info` reader.
+    participant: cyc::Participant,
+    late_topic: cyc::Topic,
+    /// The extra reader announced after a peer's `ros_discovery_info` writer was discovered
+    /// (see [`crate::late_joiner`]).
+    late_joiner: Option<cyc::Reader>,
+    late_joiner_state: LateJoinerReader,
     local: mpsc::Receiver<DiscoveryEvent>,
     local_endpoints: Arc<LocalEndpoints>,
     watched: HashMap<usize, Watched>,
@@ -116,6 +126,10 @@ impl CycloneDiscoveryFeed {
                 super::discovery_info_user_data().as_bytes(),
             )
             .map_err(reader)?;
+        let late_topic = p
+            .participant
+            .blob_topic(TOPIC_NAME, TYPE_NAME)
+            .map_err(reader)?;
         let guard = Arc::new(GuardWake(cyc::GuardCondition::new().map_err(poll)?));
         let mut waiter = cyc::Waiter::new().map_err(poll)?;
         waiter.attach_guard(&guard.0, GUARD).map_err(poll)?;
@@ -138,6 +152,10 @@ impl CycloneDiscoveryFeed {
                 publications,
                 subscriptions,
                 info,
+                participant: p.participant.clone(),
+                late_topic,
+                late_joiner: None,
+                late_joiner_state: LateJoinerReader::default(),
                 local,
                 local_endpoints: Arc::clone(&p.local_endpoints),
                 watched: HashMap::new(),
@@ -199,7 +217,13 @@ impl CycloneDiscoveryFeed {
         self.take_builtin(BuiltinTopic::Participant);
         self.take_builtin(BuiltinTopic::Publication);
         self.take_builtin(BuiltinTopic::Subscription);
-        self.take_info();
+        let samples = Self::take_info(&self.info, self.own_gid, &mut self.late_joiner_state);
+        self.pending.extend(samples);
+        if let Some(late) = &self.late_joiner {
+            let samples = Self::take_info(late, self.own_gid, &mut self.late_joiner_state);
+            self.pending.extend(samples);
+        }
+        self.update_late_joiner();
         let tokens: Vec<usize> = match triggered {
             Some(t) => t
                 .iter()
@@ -308,6 +332,17 @@ impl CycloneDiscoveryFeed {
         };
         for sample in samples {
             if let Some(event) = self.convert(sample) {
+                match &event {
+                    DiscoveryEvent::EndpointDiscovered(e)
+                        if e.kind == EndpointKind::Writer && e.dds_topic_name == TOPIC_NAME =>
+                    {
+                        self.late_joiner_state.writer_discovered(e.participant_gid)
+                    }
+                    DiscoveryEvent::ParticipantLost { gid } => {
+                        self.late_joiner_state.participant_lost(*gid)
+                    }
+                    _ => {}
+                }
                 self.pending.push_back(event);
             }
         }
@@ -376,28 +411,75 @@ impl CycloneDiscoveryFeed {
         }))
     }
 
-    fn take_info(&mut self) {
+    /// Takes the `ros_discovery_info` samples `reader` holds.
+    fn take_info(
+        reader: &cyc::Reader,
+        own_gid: Gid,
+        late_joiner: &mut LateJoinerReader,
+    ) -> Vec<DiscoveryEvent> {
+        let mut events = Vec::new();
         for _ in 0..MAX_INFO_SAMPLES {
-            match self.info.take() {
+            match reader.take() {
                 Ok(Some(sample)) => {
                     match horus_ros_msgs::cdr::from_cdr::<ParticipantEntitiesInfo>(&sample.cdr) {
                         // As rmw_dds_common's reader (ignore local): ours is reported by the
                         // context itself.
-                        Ok(info) if info.gid == self.own_gid => {}
-                        Ok(info) => self
-                            .pending
-                            .push_back(DiscoveryEvent::ParticipantEntities(info)),
+                        Ok(info) if info.gid == own_gid => {}
+                        Ok(info) => {
+                            late_joiner.heard(info.gid);
+                            events.push(DiscoveryEvent::ParticipantEntities(info));
+                        }
                         Err(e) => {
                             tracing::warn!("dropped a malformed ros_discovery_info sample: {e}")
                         }
                     }
                 }
-                Ok(None) => return,
+                Ok(None) => break,
                 Err(e) => {
                     tracing::warn!("reading ros_discovery_info failed: {e}");
-                    return;
+                    break;
                 }
             }
+        }
+        events
+    }
+
+    /// Announces, renews or drops the late-joiner reader as [`LateJoinerReader`] says.
+    fn update_late_joiner(&mut self) {
+        match self.late_joiner_state.action(self.late_joiner.is_some()) {
+            Action::Keep => {}
+            Action::Drop => self.drop_late_joiner(),
+            Action::Renew => {
+                self.drop_late_joiner();
+                let created = self.participant.reader(
+                    &self.late_topic,
+                    &qos::discovery_info(0),
+                    super::discovery_info_user_data().as_bytes(),
+                );
+                match created {
+                    Ok(reader) => match self.waiter.attach_reader(&reader, LATE_JOINER) {
+                        Ok(()) => self.late_joiner = Some(reader),
+                        Err(e) => tracing::debug!(
+                            "could not watch a late-joiner ros_discovery_info reader: {e}"
+                        ),
+                    },
+                    // Without it the samples still come, at the writers' next heartbeat.
+                    Err(e) => tracing::debug!(
+                        "could not create a late-joiner ros_discovery_info reader: {e}"
+                    ),
+                }
+            }
+        }
+    }
+
+    /// Drops the late-joiner reader, taking the samples it already holds first.
+    fn drop_late_joiner(&mut self) {
+        if let Some(old) = self.late_joiner.take() {
+            if let Err(e) = self.waiter.detach(LATE_JOINER) {
+                tracing::debug!("detaching the late-joiner reader: {e}");
+            }
+            let samples = Self::take_info(&old, self.own_gid, &mut self.late_joiner_state);
+            self.pending.extend(samples);
         }
     }
 }

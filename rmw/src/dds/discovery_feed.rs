@@ -18,6 +18,7 @@ use rustdds::{
 
 use super::gid_from_guid;
 use crate::discovery::{DiscoveredEndpoint, DiscoveredParticipant, DiscoveryEvent, VendorId};
+use crate::late_joiner::{Action, LateJoinerReader};
 use crate::local_sink::{LocalSink, Wake};
 use crate::qos::{EndpointKind, Qos};
 use crate::Gid;
@@ -29,6 +30,7 @@ const MAX_SAMPLES_PER_POLL: usize = 4096;
 const STATUS: mio::Token = mio::Token(0);
 const INFO: mio::Token = mio::Token(1);
 const LOCAL: mio::Token = mio::Token(2);
+const LATE_JOINER: mio::Token = mio::Token(3);
 
 type InfoReader =
     no_key::DataReader<ParticipantEntitiesInfo, CDRDeserializerAdapter<ParticipantEntitiesInfo>>;
@@ -67,10 +69,30 @@ impl StatusPoll {
     }
 }
 
+/// What creates `ros_discovery_info` readers: the late-joiner reader is created as the feed goes.
+pub(crate) struct InfoReaderFactory {
+    /// The participant's subscriber.
+    pub(crate) subscriber: rustdds::Subscriber,
+    /// The `ros_discovery_info` topic.
+    pub(crate) topic: rustdds::Topic,
+}
+
+impl InfoReaderFactory {
+    fn create(&self) -> Result<InfoReader, rustdds::dds::CreateError> {
+        self.subscriber
+            .create_datareader_no_key(&self.topic, Some(super::discovery_info::reader_qos()))
+    }
+}
+
 /// The rustdds side of a discovery feed.
 pub(crate) struct DdsDiscoveryFeed {
     status: StatusPoll,
     reader: InfoReader,
+    factory: InfoReaderFactory,
+    /// The extra reader announced after a peer's `ros_discovery_info` writer was discovered
+    /// (see [`crate::late_joiner`]).
+    late_joiner: Option<InfoReader>,
+    late_joiner_state: LateJoinerReader,
     local: mpsc::Receiver<DiscoveryEvent>,
     own_gid: Gid,
     pending: VecDeque<DiscoveryEvent>,
@@ -82,6 +104,7 @@ impl DdsDiscoveryFeed {
     pub(crate) fn new(
         status: StatusPoll,
         mut reader: InfoReader,
+        factory: InfoReaderFactory,
         own_gid: Gid,
         initial: Vec<DiscoveryEvent>,
     ) -> Result<(Self, LocalSink), (StatusPoll, std::io::Error)> {
@@ -93,9 +116,20 @@ impl DdsDiscoveryFeed {
             return Err((status, e));
         }
         let (sink, local) = LocalSink::new(Arc::clone(&status.waker) as Arc<dyn Wake>);
+        let mut late_joiner_state = LateJoinerReader::default();
+        for event in &initial {
+            if let DiscoveryEvent::EndpointDiscovered(e) = event {
+                if is_remote_info_writer(e, own_gid) {
+                    late_joiner_state.writer_discovered(e.participant_gid);
+                }
+            }
+        }
         let feed = Self {
             status,
             reader,
+            factory,
+            late_joiner: None,
+            late_joiner_state,
             local,
             own_gid,
             pending: initial.into(),
@@ -107,6 +141,9 @@ impl DdsDiscoveryFeed {
     pub(crate) fn close(mut self) -> StatusPoll {
         // Deregistering fails only for what was never registered; nothing to undo then.
         let _ = self.status.poll.registry().deregister(&mut self.reader);
+        if let Some(mut late) = self.late_joiner.take() {
+            let _ = self.status.poll.registry().deregister(&mut late);
+        }
         self.status
     }
 
@@ -147,23 +184,102 @@ impl DdsDiscoveryFeed {
         }
         while let Some(status) = self.status.listener.try_recv_status() {
             if let Some(event) = self.convert(status) {
+                match &event {
+                    DiscoveryEvent::EndpointDiscovered(e)
+                        if is_remote_info_writer(e, self.own_gid) =>
+                    {
+                        self.late_joiner_state.writer_discovered(e.participant_gid)
+                    }
+                    DiscoveryEvent::ParticipantLost { gid } => {
+                        self.late_joiner_state.participant_lost(*gid)
+                    }
+                    _ => {}
+                }
                 self.pending.push_back(event);
             }
         }
+        Self::take_info(
+            &mut self.reader,
+            self.own_gid,
+            &mut self.late_joiner_state,
+            &mut self.pending,
+        );
+        if let Some(late) = self.late_joiner.as_mut() {
+            Self::take_info(
+                late,
+                self.own_gid,
+                &mut self.late_joiner_state,
+                &mut self.pending,
+            );
+        }
+        self.update_late_joiner();
+    }
+
+    /// Takes `ros_discovery_info` samples from `reader` into `pending`.
+    fn take_info(
+        reader: &mut InfoReader,
+        own_gid: Gid,
+        late_joiner: &mut LateJoinerReader,
+        pending: &mut VecDeque<DiscoveryEvent>,
+    ) {
         for _ in 0..MAX_SAMPLES_PER_POLL {
-            match self.reader.take_next_sample() {
+            match reader.take_next_sample() {
                 Ok(Some(sample)) => {
                     let info = sample.into_value();
                     // As rmw_dds_common's reader (ignore_local_publications): skip our own,
                     // which the context reports itself.
-                    if info.gid != self.own_gid {
-                        self.pending
-                            .push_back(DiscoveryEvent::ParticipantEntities(info));
+                    if info.gid != own_gid {
+                        late_joiner.heard(info.gid);
+                        pending.push_back(DiscoveryEvent::ParticipantEntities(info));
                     }
                 }
                 Ok(None) => return,
                 // Malformed CDR from the wire: that sample is dropped, the feed goes on.
                 Err(e) => tracing::warn!("dropped a malformed ros_discovery_info sample: {e}"),
+            }
+        }
+    }
+
+    /// Announces, renews or drops the late-joiner reader as [`LateJoinerReader`] says.
+    fn update_late_joiner(&mut self) {
+        match self.late_joiner_state.action(self.late_joiner.is_some()) {
+            Action::Keep => {}
+            Action::Drop => {
+                if let Some(mut old) = self.late_joiner.take() {
+                    let _ = self.status.poll.registry().deregister(&mut old);
+                }
+            }
+            Action::Renew => {
+                // Samples the old reader already holds are taken before it goes.
+                if let Some(mut old) = self.late_joiner.take() {
+                    let _ = self.status.poll.registry().deregister(&mut old);
+                    Self::take_info(
+                        &mut old,
+                        self.own_gid,
+                        &mut self.late_joiner_state,
+                        &mut self.pending,
+                    );
+                }
+                match self.factory.create() {
+                    Ok(mut reader) => {
+                        match self.status.poll.registry().register(
+                            &mut reader,
+                            LATE_JOINER,
+                            mio::Interest::READABLE,
+                        ) {
+                            Ok(()) => self.late_joiner = Some(reader),
+                            Err(e) => tracing::debug!(
+                                "could not watch a late-joiner ros_discovery_info reader: {e}"
+                            ),
+                        }
+                    }
+                    // Without it the samples still come, at the writers' next heartbeat.
+                    Err(e) => {
+                        tracing::debug!(
+                            "could not create a late-joiner ros_discovery_info reader: {e}"
+                        )
+                    }
+                }
             }
         }
     }
@@ -234,6 +350,13 @@ impl DdsDiscoveryFeed {
         };
         (gid.prefix() != self.own_gid.prefix()).then_some(event)
     }
+}
+
+/// Whether `e` is another participant's `ros_discovery_info` writer.
+fn is_remote_info_writer(e: &DiscoveredEndpoint, own_gid: Gid) -> bool {
+    e.kind == EndpointKind::Writer
+        && e.dds_topic_name == super::discovery_info::TOPIC_NAME
+        && e.gid.prefix() != own_gid.prefix()
 }
 
 /// The participant GID for a GUID prefix: the prefix + `ENTITYID_PARTICIPANT` (`00 00 01 c1`).

@@ -14,7 +14,7 @@ use rustdds::{DomainParticipant, QosPolicyBuilder, RTPSEntity, GUID};
 use crate::context::env::{DiscoveryOptions, DomainId};
 use crate::context::DiscoveryFeedError;
 use crate::local_sink::LocalSink;
-use discovery_feed::{DdsDiscoveryFeed, StatusPoll};
+use discovery_feed::{DdsDiscoveryFeed, InfoReaderFactory, StatusPoll};
 use discovery_info::DiscoveryInfoWriter;
 
 /// The GID of a DDS entity: its 16-byte GUID (12-byte prefix + 4-byte entity id), as rmw_dds_common
@@ -101,7 +101,11 @@ impl RustddsParticipant {
             })?,
         };
         let snapshot = discovery_feed::endpoint_snapshot(&self.participant, own_gid);
-        DdsDiscoveryFeed::new(status, reader, own_gid, snapshot).map_err(|(status, e)| {
+        let factory = InfoReaderFactory {
+            subscriber: self.subscriber.clone(),
+            topic,
+        };
+        DdsDiscoveryFeed::new(status, reader, factory, own_gid, snapshot).map_err(|(status, e)| {
             *lock(&self.status_poll) = Some(status);
             DiscoveryFeedError::Poll {
                 reason: e.to_string(),

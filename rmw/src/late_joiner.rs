@@ -1,0 +1,180 @@
+//! [`LateJoinerReader`]: when to announce one more `ros_discovery_info` reader so that a peer's
+//! transient-local sample reaches us at once instead of at its writer's next periodic heartbeat.
+//!
+//! Why (seen in RTPS captures against Fast DDS 2.9; Fast DDS 2.14's `StatefulWriter` is the
+//! same): a Fast DDS writer sends a matched reliable reader one HEARTBEAT as soon as it learns of
+//! the reader (`StatefulWriter::matched_reader_add`), and late-joiner samples only when that
+//! reader NACKs them. Our reader learns of the writer through SEDP, usually *after* that
+//! heartbeat arrived, so the heartbeat is dropped (the writer was not matched yet). The reader
+//! then sends the pre-emptive ACKNACK both rustdds and Cyclone DDS send on a match, with
+//! `bitmapBase = 1`; Fast DDS answers a pre-emptive ACKNACK with a heartbeat only when
+//! `bitmapBase = 0` (`StatefulWriter::process_acknack`: the `sn_set.base() == 0` branch calls
+//! `send_heartbeat_to_nts`), and for `bitmapBase = 1` merely restarts its periodic heartbeat
+//! timer (3 s by default, `WriterTimes::heartbeatPeriod`). So the sample waits up to 3 s.
+//!
+//! What the protocol allows instead: a reader announced *after* we discovered the writer is
+//! matched with it before the writer can hear of the reader, so the writer's first heartbeat
+//! to it is answered and the sample follows within a round trip. The feed therefore keeps one
+//! extra "late-joiner" reader while some discovered `ros_discovery_info` writer has not
+//! delivered yet, announced anew whenever such a writer is discovered, and dropped once every
+//! awaited participant has been heard. This type is the bookkeeping; each backend owns the
+//! reader itself.
+
+use std::collections::BTreeSet;
+
+use crate::Gid;
+
+/// Most participants awaited at once: past this, more are not tracked (their samples still
+/// come, at the writer's next heartbeat), so a flood of discovered writers cannot grow us.
+pub(crate) const MAX_AWAITED: usize = 1024;
+
+/// Participants (by GUID prefix) whose `ros_discovery_info` writer is known but whose sample
+/// has not arrived, and whether the current late-joiner reader was announced after all of them.
+#[derive(Debug, Default)]
+pub(crate) struct LateJoinerReader {
+    awaited: BTreeSet<[u8; 12]>,
+    /// Participants already heard from (their later writers need no new reader).
+    heard: BTreeSet<[u8; 12]>,
+    /// Whether a writer was discovered after the current reader (if any) was announced.
+    stale: bool,
+}
+
+/// What the backend should do with its late-joiner reader.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Action {
+    /// Nothing to change.
+    Keep,
+    /// Announce a new reader (dropping the old one, which the new one covers).
+    Renew,
+    /// Drop the reader: nothing is awaited.
+    Drop,
+}
+
+impl LateJoinerReader {
+    /// A remote `ros_discovery_info` writer of `participant` was discovered.
+    pub(crate) fn writer_discovered(&mut self, participant: Gid) {
+        let prefix = participant.prefix();
+        if self.heard.contains(&prefix) || self.awaited.len() >= MAX_AWAITED {
+            return;
+        }
+        self.awaited.insert(prefix);
+        self.stale = true;
+    }
+
+    /// A `ros_discovery_info` sample of `participant` arrived.
+    pub(crate) fn heard(&mut self, participant: Gid) {
+        let prefix = participant.prefix();
+        self.awaited.remove(&prefix);
+        if self.heard.len() < MAX_AWAITED {
+            self.heard.insert(prefix);
+        }
+    }
+
+    /// `participant` left: forget it.
+    pub(crate) fn participant_lost(&mut self, participant: Gid) {
+        let prefix = participant.prefix();
+        self.awaited.remove(&prefix);
+        self.heard.remove(&prefix);
+    }
+
+    /// What to do with the reader now (`has_reader`: whether one exists); call after a batch
+    /// of events, so that a burst of discoveries renews the reader once.
+    pub(crate) fn action(&mut self, has_reader: bool) -> Action {
+        if self.awaited.is_empty() {
+            self.stale = false;
+            return if has_reader {
+                Action::Drop
+            } else {
+                Action::Keep
+            };
+        }
+        if self.stale || !has_reader {
+            self.stale = false;
+            return Action::Renew;
+        }
+        Action::Keep
+    }
+
+    /// How many participants are awaited.
+    #[cfg(test)]
+    pub(crate) fn awaited(&self) -> usize {
+        self.awaited.len()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{Action, LateJoinerReader, MAX_AWAITED};
+    use crate::Gid;
+
+    fn participant(n: u8) -> Gid {
+        let mut b = [0u8; 16];
+        b[0] = 1;
+        b[11] = n;
+        b[12..].copy_from_slice(&[0, 0, 1, 0xc1]);
+        Gid::from_bytes(b)
+    }
+
+    fn writer_of(n: u8) -> Gid {
+        let mut b = *participant(n).as_bytes();
+        b[12..].copy_from_slice(&[0, 0, 1, 0x03]);
+        Gid::from_bytes(b)
+    }
+
+    #[test]
+    fn a_discovered_writer_renews_the_reader_until_its_sample_arrives() {
+        let mut l = LateJoinerReader::default();
+        assert_eq!(l.action(false), Action::Keep, "nothing awaited");
+        l.writer_discovered(writer_of(1));
+        assert_eq!(l.action(false), Action::Renew);
+        assert_eq!(l.action(true), Action::Keep, "the new reader covers it");
+        l.writer_discovered(writer_of(2));
+        assert_eq!(
+            l.action(true),
+            Action::Renew,
+            "a reader announced before writer 2 was known may miss its heartbeat"
+        );
+        l.heard(participant(1));
+        assert_eq!(
+            l.action(true),
+            Action::Keep,
+            "participant 2 is still awaited"
+        );
+        l.heard(participant(2));
+        assert_eq!(l.action(true), Action::Drop);
+        assert_eq!(l.action(false), Action::Keep);
+    }
+
+    #[test]
+    fn heard_participants_and_lost_ones_need_no_reader() {
+        let mut l = LateJoinerReader::default();
+        l.heard(participant(1));
+        l.writer_discovered(writer_of(1));
+        assert_eq!(l.action(false), Action::Keep, "already heard");
+        l.writer_discovered(writer_of(2));
+        assert_eq!(l.action(false), Action::Renew);
+        l.participant_lost(participant(2));
+        assert_eq!(l.action(true), Action::Drop);
+        // A participant that left and came back (same prefix) is awaited again.
+        l.participant_lost(participant(1));
+        l.writer_discovered(writer_of(1));
+        assert_eq!(l.action(false), Action::Renew);
+    }
+
+    #[test]
+    fn a_burst_renews_once_and_the_set_is_bounded() {
+        let mut l = LateJoinerReader::default();
+        for n in 0..=255u8 {
+            l.writer_discovered(writer_of(n));
+        }
+        assert_eq!(l.action(false), Action::Renew);
+        assert_eq!(l.action(true), Action::Keep);
+        let mut b = [0u8; 16];
+        for i in 0..(MAX_AWAITED as u32 + 10) {
+            b[..4].copy_from_slice(&i.to_be_bytes());
+            b[4] = 7;
+            l.writer_discovered(Gid::from_bytes(b));
+        }
+        assert_eq!(l.awaited(), MAX_AWAITED);
+    }
+}
