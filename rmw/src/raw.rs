@@ -65,6 +65,10 @@ pub struct RawSample {
     pub id: SampleId,
     /// The `related_sample_identity` inline QoS it carried, if any (PID 0x0083 or 0x800f).
     pub related: Option<SampleId>,
+    /// The DDS layer's local instance handle of the writer, where it has one (Cyclone DDS's
+    /// `publication_handle`, which rmw_cyclonedds puts in the second half of a request's
+    /// `writer_guid`); `None` on RustDDS.
+    pub publication_handle: Option<u64>,
 }
 
 /// What a raw endpoint is: its DDS topic and type, and the hash and QoS it is listed with.
@@ -435,6 +439,7 @@ impl RawReader {
                         big_endian: payload.big_endian,
                         id,
                         related,
+                        publication_handle: None,
                     }))
                 }
                 Ok(None) => Ok(None),
@@ -450,6 +455,7 @@ impl RawReader {
                         sequence_number: SampleId::UNKNOWN_SEQUENCE_NUMBER,
                     },
                     related: None,
+                    publication_handle: Some(sample.publication_handle),
                 })),
                 Ok(None) => Ok(None),
                 Err(reason) => Err(fail(reason)),

@@ -10,12 +10,15 @@
 //! cargo run -p horus-ros-services --example add_two_ints_client -- 40 2
 //! ```
 //!
-//! Usage: `add_two_ints_client [-s SERVICE] [A B]` (default 2 3, as in the ROS demo). Exits 0
-//! with the result, 1 if no server showed up within 30 s or the call failed. The domain comes
-//! from `ROS_DOMAIN_ID`.
+//! Usage: `add_two_ints_client [-s SERVICE] [--introspection STATE] [A B]` (default 2 3, as in
+//! the ROS demo). Exits 0 with the result, 1 if no server showed up within 30 s or the call
+//! failed. The domain comes from `ROS_DOMAIN_ID`. `--introspection metadata|contents` publishes
+//! the call's service events on `/add_two_ints/_service_event` as Jazzy's `demo_nodes_cpp`
+//! `introspection_client` does with `client_configure_introspection` set.
 
 use std::time::{Instant, SystemTime, UNIX_EPOCH};
 
+use horus_ros_rmw::qos::Qos;
 use horus_ros_services::prelude::*;
 
 /// How long to wait for a server before giving up (rclcpp's demo waits forever).
@@ -23,6 +26,10 @@ const SERVICE_WAIT_LIMIT: Duration = Duration::from_secs(30);
 
 /// How long the call may take once a server is there.
 const CALL_TIMEOUT: Duration = Duration::from_secs(10);
+
+/// With introspection on, how long the node stays after the call so that its events (sent
+/// reliably) reach subscribers before the participant leaves.
+const EVENT_LINGER: Duration = Duration::from_millis(500);
 
 fn main() -> horus_ros_services::Result<()> {
     let options = match Options::parse(std::env::args().skip(1)) {
@@ -40,6 +47,7 @@ fn main() -> horus_ros_services::Result<()> {
     let mut client = ServiceClient::<AddTwoInts>::builder()
         .node(&node)
         .name(options.service.as_str())
+        .introspection(options.introspection, Qos::system_default())
         .build()?;
 
     let request = AddTwoIntsRequest {
@@ -65,7 +73,11 @@ fn main() -> horus_ros_services::Result<()> {
         log("INFO", &node, "service not available, waiting again...");
     }
 
-    match client.call(request, CALL_TIMEOUT) {
+    let result = client.call(request, CALL_TIMEOUT);
+    if options.introspection != IntrospectionState::Off {
+        std::thread::sleep(EVENT_LINGER);
+    }
+    match result {
         Ok(response) => {
             log(
                 "INFO",
@@ -85,13 +97,15 @@ fn main() -> horus_ros_services::Result<()> {
     }
 }
 
-const USAGE: &str = "Usage: add_two_ints_client [-s SERVICE] [A B]
-  -s SERVICE   the service name (default: add_two_ints)
-  A B          the two integers to add (default: 2 3)";
+const USAGE: &str = "Usage: add_two_ints_client [-s SERVICE] [--introspection STATE] [A B]
+  -s SERVICE               the service name (default: add_two_ints)
+  --introspection STATE    off (default), metadata or contents: publish service events
+  A B                      the two integers to add (default: 2 3)";
 
 /// The command line.
 struct Options {
     service: String,
+    introspection: IntrospectionState,
     a: i64,
     b: i64,
 }
@@ -99,6 +113,7 @@ struct Options {
 impl Options {
     fn parse(mut args: impl Iterator<Item = String>) -> Result<Self, String> {
         let mut service = "add_two_ints".to_owned();
+        let mut introspection = IntrospectionState::Off;
         let mut numbers = Vec::new();
         while let Some(arg) = args.next() {
             match arg.as_str() {
@@ -107,6 +122,10 @@ impl Options {
                     std::process::exit(0);
                 }
                 "-s" => service = args.next().ok_or("-s needs a service name")?,
+                "--introspection" => {
+                    let state = args.next().ok_or("--introspection needs a state")?;
+                    introspection = state.parse()?;
+                }
                 "--" => {}
                 number => numbers.push(
                     number
@@ -120,7 +139,12 @@ impl Options {
             [a, b] => (a, b),
             _ => return Err("give two integers A B, or none".to_owned()),
         };
-        Ok(Self { service, a, b })
+        Ok(Self {
+            service,
+            introspection,
+            a,
+            b,
+        })
     }
 }
 

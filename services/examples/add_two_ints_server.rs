@@ -10,12 +10,17 @@
 //! ros2 service call /add_two_ints example_interfaces/srv/AddTwoInts "{a: 2, b: 3}"
 //! ```
 //!
-//! Usage: `add_two_ints_server [-s SERVICE] [--count N]`. It serves until Ctrl+C, or, with
-//! `--count N`, until it has answered N requests. The domain comes from `ROS_DOMAIN_ID`.
+//! Usage: `add_two_ints_server [-s SERVICE] [--count N] [--introspection STATE]`. It serves until
+//! Ctrl+C, or, with `--count N`, until it has answered N requests. The domain comes from
+//! `ROS_DOMAIN_ID`. `--introspection metadata|contents` publishes service events on
+//! `/add_two_ints/_service_event` as Jazzy's `demo_nodes_cpp` `introspection_service` does with
+//! `service_configure_introspection` set (same states, system-default QoS); watch them with
+//! `horus-ros service echo /add_two_ints` or `ros2 service echo /add_two_ints`.
 
 use std::sync::mpsc;
 use std::time::{SystemTime, UNIX_EPOCH};
 
+use horus_ros_rmw::qos::Qos;
 use horus_ros_services::prelude::*;
 
 /// How long the server stays up after its last request with `--count` (so the reply, sent
@@ -43,6 +48,7 @@ fn main() -> horus_ros_services::Result<()> {
     let _server = ServiceServerBuilder::<AddTwoInts>::new()
         .node(&node)
         .name(options.service.as_str())
+        .introspection(options.introspection, Qos::system_default())
         .on_request(move |request| {
             info(
                 &log_node,
@@ -73,14 +79,16 @@ fn main() -> horus_ros_services::Result<()> {
     Ok(())
 }
 
-const USAGE: &str = "Usage: add_two_ints_server [-s SERVICE] [--count N]
-  -s SERVICE   the service name (default: add_two_ints)
-  --count N    exit after answering N requests (default: serve until Ctrl+C)";
+const USAGE: &str = "Usage: add_two_ints_server [-s SERVICE] [--count N] [--introspection STATE]
+  -s SERVICE               the service name (default: add_two_ints)
+  --count N                exit after answering N requests (default: serve until Ctrl+C)
+  --introspection STATE    off (default), metadata or contents: publish service events";
 
 /// The command line.
 struct Options {
     service: String,
     count: Option<u64>,
+    introspection: IntrospectionState,
 }
 
 impl Options {
@@ -88,6 +96,7 @@ impl Options {
         let mut options = Options {
             service: "add_two_ints".to_owned(),
             count: None,
+            introspection: IntrospectionState::Off,
         };
         while let Some(arg) = args.next() {
             match arg.as_str() {
@@ -100,6 +109,10 @@ impl Options {
                     let n = args.next().ok_or("--count needs a number")?;
                     let n = n.parse().map_err(|_| format!("not a count: {n}"))?;
                     options.count = Some(n);
+                }
+                "--introspection" => {
+                    let state = args.next().ok_or("--introspection needs a state")?;
+                    options.introspection = state.parse()?;
                 }
                 other => return Err(format!("unexpected argument: {other}")),
             }

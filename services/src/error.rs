@@ -2,7 +2,7 @@
 //! servers and clients, and [`Error`] joining both for `?` in applications.
 
 use horus_ros_graph::GraphStartError;
-use horus_ros_rmw::names::ExpandError;
+use horus_ros_rmw::names::{ExpandError, TopicNameError};
 use horus_ros_rmw::{ContextError, EndpointError, NodeError};
 
 /// Why a service call failed.
@@ -57,6 +57,18 @@ pub enum SetupError {
     /// The server thread could not be started.
     #[error("could not start the service thread: {0}")]
     Thread(#[from] std::io::Error),
+    /// The service's introspection topic (`<service>/_service_event`) is not a valid topic name.
+    #[error("invalid service event topic '{name}': {source}")]
+    InvalidEventTopic {
+        /// The topic name.
+        name: String,
+        /// Why it is invalid.
+        source: TopicNameError,
+    },
+    /// Introspection was asked of a client whose service type is known only by name (its
+    /// `_Event` message cannot be built).
+    #[error("service introspection needs a compiled service type")]
+    IntrospectionUnsupported,
     /// The builder was given no request handler.
     #[error("a service server needs a request handler: call .on_request(..) before .build()")]
     NoHandler,

@@ -26,6 +26,7 @@ mod macros;
 
 mod client;
 mod error;
+mod introspection;
 mod naming;
 mod node_services;
 mod raw_traits;
@@ -40,6 +41,7 @@ pub use client::{
     PendingResponse, RawReply, ServiceClient, ServiceClientBuilder,
 };
 pub use error::{Error, Result, ServiceError, SetupError};
+pub use introspection::{IntrospectionState, SERVICE_EVENT_TOPIC_POSTFIX};
 pub use naming::default_service_name;
 pub use node_services::{
     parameter_type_name, NodeServices, NodeServicesOptions, ParameterError, ParameterValueExt,
@@ -61,8 +63,8 @@ pub use horus_ros_rmw::{Context, Node};
 pub mod prelude {
     pub use crate::service;
     pub use crate::{
-        AsyncServiceClient, Error, PendingResponse, Result, RetryConfig, ServiceClient,
-        ServiceError, ServiceServer, ServiceServerBuilder, WireFlavour,
+        AsyncServiceClient, Error, IntrospectionState, PendingResponse, Result, RetryConfig,
+        ServiceClient, ServiceError, ServiceServer, ServiceServerBuilder, WireFlavour,
     };
     pub use horus_ros_msgs::example_interfaces::srv::{
         AddTwoInts, AddTwoIntsRequest, AddTwoIntsResponse,

@@ -7,14 +7,17 @@ use std::sync::Arc;
 use std::thread::JoinHandle;
 use std::time::Duration;
 
-use horus_ros_msgs::Service;
+use horus_ros_msgs::description::EVENT_SUFFIX;
+use horus_ros_msgs::service_msgs::msg::ServiceEventInfo;
+use horus_ros_msgs::{dds_type_name, Service};
 use horus_ros_rmw::names::ServiceName;
 use horus_ros_rmw::qos::Qos;
 use horus_ros_rmw::{Gid, Node, RawReader, RawSample, RawWriter};
 
+use crate::introspection::{encode_event, EventType, Introspection, IntrospectionState};
 use crate::naming::{default_service_name, ServiceTopics};
 use crate::runtime::Runtime;
-use crate::server_wire::ServerWire;
+use crate::server_wire::{Request, ServerWire};
 use crate::wire::{decode, encode, WireFlavour};
 use crate::SetupError;
 
@@ -37,6 +40,7 @@ pub struct ServiceServerBuilder<S: Service> {
     poll_interval: Duration,
     flavour: Option<WireFlavour>,
     handler: Option<Handler<S>>,
+    introspection: Option<(IntrospectionState, Qos)>,
 }
 
 impl<S: Service> Default for ServiceServerBuilder<S> {
@@ -56,6 +60,7 @@ impl<S: Service> ServiceServerBuilder<S> {
             poll_interval: DEFAULT_POLL_INTERVAL,
             flavour: None,
             handler: None,
+            introspection: None,
         }
     }
 
@@ -90,6 +95,15 @@ impl<S: Service> ServiceServerBuilder<S> {
         self
     }
 
+    /// Publishes service introspection events from the start (rclcpp / rclpy
+    /// `configure_introspection`): `state` METADATA or CONTENTS creates the
+    /// `<service>/_service_event` publisher with `qos` (the Jazzy demos pass the system default
+    /// profile). See [`ServiceServer::configure_introspection`].
+    pub fn introspection(mut self, state: IntrospectionState, qos: Qos) -> Self {
+        self.introspection = Some((state, qos));
+        self
+    }
+
     /// The request handler: `Ok(response)` is sent back; `Err(message)` reaches a horus-ros
     /// client as [`ServiceError::ServiceFailed`](crate::ServiceError::ServiceFailed) at once.
     /// ROS 2 services have no error reply, so a ROS client (rclcpp, rclpy) gets no reply and
@@ -118,6 +132,17 @@ impl<S: Service> ServiceServerBuilder<S> {
         let shared = Arc::new(ServerShared::default());
         let request_reader = requests.gid();
         let reply_writer = replies.gid();
+        let introspection = Introspection::new(
+            runtime.node.clone(),
+            topics.name.clone(),
+            Some(EventType {
+                dds_type_name: dds_type_name(&format!("{}{EVENT_SUFFIX}", S::TYPE_NAME)),
+                type_hash: S::event_type_hash(),
+            }),
+        );
+        if let Some((state, qos)) = &self.introspection {
+            introspection.configure(*state, qos)?;
+        }
         let worker = ServerLoop::<S> {
             requests,
             replies,
@@ -132,6 +157,7 @@ impl<S: Service> ServiceServerBuilder<S> {
             handler,
             poll_interval: self.poll_interval,
             shared: Arc::clone(&shared),
+            introspection: Arc::clone(&introspection),
         };
         let thread = std::thread::Builder::new()
             .name(format!("horus-srv{}", topics.name))
@@ -143,6 +169,7 @@ impl<S: Service> ServiceServerBuilder<S> {
             name: topics.name,
             request_reader,
             reply_writer,
+            introspection,
             _node: runtime.node,
             _service: PhantomData,
         })
@@ -163,6 +190,7 @@ pub struct ServiceServer<S: Service> {
     name: ServiceName,
     request_reader: Gid,
     reply_writer: Gid,
+    introspection: Arc<Introspection>,
     _node: Node,
     _service: PhantomData<fn() -> S>,
 }
@@ -197,6 +225,31 @@ impl<S: Service> ServiceServer<S> {
         self.shared.failed.load(Ordering::Relaxed)
     }
 
+    /// Turns service introspection on or off while serving (rclcpp / rclpy
+    /// `configure_introspection`, rcl `rcl_service_configure_service_introspection`): OFF
+    /// removes the `<service>/_service_event` publisher; METADATA publishes `REQUEST_RECEIVED` and
+    /// `RESPONSE_SENT` events with their `ServiceEventInfo` only, CONTENTS with the request and
+    /// the response. The publisher is created with `qos` when there is none; an existing one keeps
+    /// its QoS. Events never hold up serving: they go through a bounded queue and are dropped
+    /// when it is full.
+    pub fn configure_introspection(
+        &self,
+        state: IntrospectionState,
+        qos: &Qos,
+    ) -> Result<(), SetupError> {
+        self.introspection.configure(state, qos)
+    }
+
+    /// The introspection state in force.
+    pub fn introspection_state(&self) -> IntrospectionState {
+        self.introspection.state()
+    }
+
+    /// The GID of the `<service>/_service_event` publisher, while introspection is on.
+    pub fn introspection_gid(&self) -> Option<Gid> {
+        self.introspection.publisher_gid()
+    }
+
     /// Stops serving; the endpoints leave the graph when the server is dropped.
     pub fn stop(&self) {
         self.shared.stop.store(true, Ordering::SeqCst);
@@ -219,6 +272,7 @@ struct ServerLoop<S: Service> {
     handler: Handler<S>,
     poll_interval: Duration,
     shared: Arc<ServerShared>,
+    introspection: Arc<Introspection>,
 }
 
 impl<S: Service> ServerLoop<S> {
@@ -249,37 +303,73 @@ impl<S: Service> ServerLoop<S> {
         let Some(request) = self.wire.interpret(sample) else {
             return;
         };
-        let outcome = self.handle(request.message(), request.big_endian);
+        let (outcome, response) = self.handle(&request);
         let Some(reply) = self.wire.reply(&request.route, outcome) else {
             return;
         };
         self.wire.wait_until_sendable(&reply);
         if let Err(e) = self.wire.write(&self.replies, reply) {
             tracing::warn!(service = %self.wire.service(), "could not send a reply: {e}");
+            return;
+        }
+        // rcl `rcl_send_response`: RESPONSE_SENT once the response is sent.
+        if let Some(response) = response {
+            self.introspection.emit(
+                ServiceEventInfo::RESPONSE_SENT,
+                request.writer_guid,
+                request.sequence_number,
+                |info, contents| {
+                    encode_event::<S::Request, S::Response>(info, contents, None, Some(&response))
+                },
+            );
         }
     }
 
-    /// Decodes the request, runs the handler (catching panics) and encodes the response.
-    fn handle(&mut self, body: &[u8], big_endian: bool) -> Result<Vec<u8>, String> {
-        let result = decode::<S::Request>(body, big_endian)
-            .map_err(|e| format!("malformed request: {e}"))
-            .and_then(
-                |request| match catch_unwind(AssertUnwindSafe(|| (self.handler)(request))) {
-                    Ok(Ok(response)) => encode(&response).map_err(|e| e.to_string()),
-                    Ok(Err(message)) => Err(message),
-                    Err(panic) => Err(format!(
-                        "the service handler panicked: {}",
-                        panic_message(panic.as_ref())
-                    )),
-                },
-            );
+    /// Decodes the request, runs the handler (catching panics) and encodes the response; gives
+    /// the response too when there is one.
+    fn handle(&mut self, request: &Request) -> (Result<Vec<u8>, String>, Option<S::Response>) {
+        let decoded = decode::<S::Request>(request.message(), request.big_endian)
+            .map_err(|e| format!("malformed request: {e}"));
+        let (result, response) = match decoded {
+            Err(e) => (Err(e), None),
+            Ok(decoded) => {
+                // rcl `rcl_take_request_with_info`: REQUEST_RECEIVED once the request is taken.
+                self.introspection.emit(
+                    ServiceEventInfo::REQUEST_RECEIVED,
+                    request.writer_guid,
+                    request.sequence_number,
+                    |info, contents| {
+                        encode_event::<S::Request, S::Response>(
+                            info,
+                            contents,
+                            Some(&decoded),
+                            None,
+                        )
+                    },
+                );
+                match catch_unwind(AssertUnwindSafe(|| (self.handler)(decoded))) {
+                    Ok(Ok(response)) => match encode(&response) {
+                        Ok(body) => (Ok(body), Some(response)),
+                        Err(e) => (Err(e.to_string()), None),
+                    },
+                    Ok(Err(message)) => (Err(message), None),
+                    Err(panic) => (
+                        Err(format!(
+                            "the service handler panicked: {}",
+                            panic_message(panic.as_ref())
+                        )),
+                        None,
+                    ),
+                }
+            }
+        };
         let counter = if result.is_ok() {
             &self.shared.served
         } else {
             &self.shared.failed
         };
         counter.fetch_add(1, Ordering::Relaxed);
-        result
+        (result, response)
     }
 }
 

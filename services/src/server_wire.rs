@@ -43,6 +43,11 @@ pub(crate) enum ReplyRoute {
 /// A received request: its message (after any rmw_cyclonedds header) and how to answer it.
 pub(crate) struct Request {
     pub(crate) route: ReplyRoute,
+    /// The request header's `writer_guid`, as the client's RMW convention makes it (what rcl puts
+    /// in a server's introspection events as `client_gid`).
+    pub(crate) writer_guid: [u8; 16],
+    /// The request header's `sequence_number`.
+    pub(crate) sequence_number: i64,
     body: Vec<u8>,
     offset: usize,
     pub(crate) big_endian: bool,
@@ -53,6 +58,20 @@ impl Request {
     pub(crate) fn message(&self) -> &[u8] {
         self.body.get(self.offset..).unwrap_or_default()
     }
+}
+
+/// rmw_cyclonedds (jazzy `rmw_node.cpp` `rmw_take_response_request`) fills a request's
+/// `writer_guid` with the header's 64-bit client id followed by the sample's
+/// `publication_handle` (both copied in memory order: little-endian here). RustDDS has no instance
+/// handles: there the last 8 bytes of the request writer's GUID stand in for it.
+fn cyclone_writer_guid(header: CycloneHeader, sample: &RawSample) -> [u8; 16] {
+    let mut guid = [0u8; 16];
+    guid[..8].copy_from_slice(&header.guid.to_le_bytes());
+    match sample.publication_handle {
+        Some(handle) => guid[8..].copy_from_slice(&handle.to_le_bytes()),
+        None => guid[8..].copy_from_slice(&sample.id.writer.as_bytes()[8..]),
+    }
+    guid
 }
 
 /// Whose reply reader a reply waits for.
@@ -138,7 +157,7 @@ impl ServerWire {
                 return None;
             }
         };
-        let (route, offset) = match flavour {
+        let (route, offset, writer_guid, sequence_number) = match flavour {
             WireFlavour::CycloneDds => {
                 let Some((header, message)) = CycloneHeader::split(&sample.body, sample.big_endian)
                 else {
@@ -150,7 +169,13 @@ impl ServerWire {
                     header,
                     request_writer: sample.id.writer,
                 };
-                (route, sample.body.len() - message.len())
+                let writer_guid = cyclone_writer_guid(header, &sample);
+                (
+                    route,
+                    sample.body.len() - message.len(),
+                    writer_guid,
+                    header.seq,
+                )
             }
             WireFlavour::FastRtps => {
                 // rmw_fastrtps `__rmw_take_request`: the request id is the sample identity, with
@@ -167,11 +192,13 @@ impl ServerWire {
                     sequence_number: sample.id.sequence_number,
                     horus_client,
                 };
-                (route, 0)
+                (route, 0, *reply_to.as_bytes(), sample.id.sequence_number)
             }
         };
         Some(Request {
             route,
+            writer_guid,
+            sequence_number,
             body: sample.body,
             offset,
             big_endian: sample.big_endian,

@@ -7,8 +7,12 @@
 //! - [`yaml`]: `rosidl_runtime_py.set_message_fields` on a YAML document.
 //! - [`cdr`]: encode / decode bodies.
 //! - [`repr`]: Python `repr()` of a message.
+//! - [`convert`]: rosidl_runtime_py `message_to_ordereddict` / `message_to_csv`.
+//! - [`pyyaml`]: PyYAML's `yaml.dump` of those values, as ros2cli prints them.
 
 pub mod cdr;
+pub mod convert;
+pub mod pyyaml;
 pub mod repr;
 pub mod yaml;
 

@@ -91,6 +91,30 @@ pub fn py_float(f: f64) -> String {
     }
 }
 
+/// `str()` of a numpy `float32` (numpy >= 1.14: the shortest digits that round-trip as float32,
+/// laid out as Python lays out floats).
+pub fn py_float32_numpy(f: f32) -> String {
+    if f.is_nan() {
+        return "nan".to_owned();
+    }
+    if f.is_infinite() {
+        return if f > 0.0 { "inf" } else { "-inf" }.to_owned();
+    }
+    let (neg, digits, exp) = shortest32(f);
+    let sign = if neg { "-" } else { "" };
+    if !(-4..16).contains(&exp) {
+        let mant = if digits.len() > 1 {
+            format!("{}.{}", &digits[..1], &digits[1..])
+        } else {
+            digits.clone()
+        };
+        let esign = if exp < 0 { '-' } else { '+' };
+        format!("{sign}{mant}e{esign}{:02}", exp.abs())
+    } else {
+        format!("{sign}{}", positional(&digits, exp, true))
+    }
+}
+
 /// (negative, significant digits without leading/trailing zeros, decimal exponent of the first
 /// digit) of the shortest round-trip representation.
 fn shortest(f: f64) -> (bool, String, i32) {

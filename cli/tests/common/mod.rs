@@ -56,6 +56,7 @@ pub struct Peer {
     child: Child,
     /// The peer's first line, parsed.
     pub created: Value,
+    lines: mpsc::Receiver<String>,
 }
 
 impl Peer {
@@ -72,9 +73,12 @@ impl Peer {
         let stdout = child.stdout.take().expect("piped stdout");
         let (tx, rx) = mpsc::channel();
         std::thread::spawn(move || {
-            let mut line = String::new();
-            let _ = BufReader::new(stdout).read_line(&mut line);
-            let _ = tx.send(line);
+            for line in BufReader::new(stdout).lines() {
+                let Ok(line) = line else { break };
+                if tx.send(line).is_err() {
+                    break;
+                }
+            }
         });
         let line = match rx.recv_timeout(PEER_START) {
             Ok(line) => line,
@@ -86,7 +90,22 @@ impl Peer {
         };
         let created = serde_json::from_str(line.trim())
             .unwrap_or_else(|e| panic!("{script} printed {line:?}: {e}"));
-        Self { child, created }
+        Self {
+            child,
+            created,
+            lines: rx,
+        }
+    }
+
+    /// The next `n` lines the peer prints, each within `timeout`.
+    pub fn lines(&mut self, n: usize, timeout: Duration) -> Vec<String> {
+        (0..n)
+            .map(|i| {
+                self.lines
+                    .recv_timeout(timeout)
+                    .unwrap_or_else(|_| panic!("peer line {i} of {n} did not come"))
+            })
+            .collect()
     }
 
     /// A string field of the start line, by JSON pointer (e.g. `/server/request_reader`).

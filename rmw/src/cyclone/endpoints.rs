@@ -94,6 +94,8 @@ pub(crate) struct Sample {
     pub(crate) big_endian: bool,
     /// The writer's GID (all zero if the writer was gone when the sample was taken).
     pub(crate) writer: Gid,
+    /// Cyclone's local instance handle of the writer (`dds_sample_info_t::publication_handle`).
+    pub(crate) publication_handle: u64,
 }
 
 /// A raw reader with its own waitset (level-triggered on data), listed with the context's live
@@ -159,6 +161,7 @@ impl RawReader {
             body: body.to_vec(),
             big_endian,
             writer,
+            publication_handle: sample.publication_handle,
         }))
     }
 

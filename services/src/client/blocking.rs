@@ -12,7 +12,7 @@ use super::codec::Typed;
 use super::core::{ClientCore, ClientOptions};
 use super::pending::AsyncServiceClient;
 use crate::wire::WireFlavour;
-use crate::{RetryConfig, ServiceError, SetupError};
+use crate::{IntrospectionState, RetryConfig, ServiceError, SetupError};
 
 /// Builds a [`ServiceClient`] or an [`AsyncServiceClient`].
 #[must_use = "a builder does nothing until .build() is called"]
@@ -58,6 +58,13 @@ impl<S: Service> ServiceClientBuilder<S> {
     /// The longest a waiting call sleeps between checks (replies wake it at once). Default 1 ms.
     pub fn poll_interval(mut self, interval: Duration) -> Self {
         self.options.poll_interval = interval.max(Duration::from_micros(50));
+        self
+    }
+
+    /// Publishes service introspection events from the start (rclcpp / rclpy
+    /// `configure_introspection`); see [`ServiceClient::configure_introspection`].
+    pub fn introspection(mut self, state: IntrospectionState, qos: Qos) -> Self {
+        self.options.introspection = Some((state, qos));
         self
     }
 
@@ -177,6 +184,38 @@ impl<S: Service> ServiceClient<S> {
             Err(ServiceError::NoServer) => Ok(None),
             result => result.map(Some),
         }
+    }
+
+    /// Turns service introspection on or off (rclcpp / rclpy `Client::configure_introspection`,
+    /// rcl `rcl_client_configure_service_introspection`): OFF removes the
+    /// `<service>/_service_event` publisher; METADATA publishes `REQUEST_SENT` and
+    /// `RESPONSE_RECEIVED` events with their `ServiceEventInfo` only, CONTENTS with the request
+    /// and the response. The publisher is created with `qos` when there is none; an existing one
+    /// keeps its QoS. Events never hold up a call: they go through a bounded queue and are
+    /// dropped when it is full.
+    pub fn configure_introspection(
+        &self,
+        state: IntrospectionState,
+        qos: &Qos,
+    ) -> Result<(), SetupError> {
+        self.core.configure_introspection(state, qos)
+    }
+
+    /// The introspection state in force.
+    pub fn introspection_state(&self) -> IntrospectionState {
+        self.core.introspection_state()
+    }
+
+    /// The `client_gid` of this client's introspection events (rmw `rmw_get_gid_for_client`):
+    /// its request writer's GID on the rustdds backend (as rmw_fastrtps), its `clientid` on the
+    /// Cyclone backend (as rmw_cyclonedds).
+    pub fn introspection_client_gid(&self) -> Gid {
+        self.core.introspection_client_gid()
+    }
+
+    /// The GID of the `<service>/_service_event` publisher, while introspection is on.
+    pub fn introspection_gid(&self) -> Option<Gid> {
+        self.core.introspection_gid()
     }
 
     /// Requests sent whose replies are still awaited (0 between calls: nothing leaks).

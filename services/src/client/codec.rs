@@ -4,8 +4,11 @@
 
 use std::marker::PhantomData;
 
-use horus_ros_msgs::Service;
+use horus_ros_msgs::description::EVENT_SUFFIX;
+use horus_ros_msgs::service_msgs::msg::ServiceEventInfo;
+use horus_ros_msgs::{dds_type_name, Service};
 
+use crate::introspection::{encode_event, EventType};
 use crate::wire::{decode, encode};
 use crate::ServiceError;
 
@@ -21,6 +24,16 @@ pub(crate) trait Codec: Send + Sync + 'static {
     fn encode(&self, request: &Self::Request) -> Result<Vec<u8>, ServiceError>;
     /// The response from a CDR body (the rmw_cyclonedds header already removed).
     fn decode(&self, body: &[u8], big_endian: bool) -> Result<Self::Response, ServiceError>;
+    /// The `<Srv>_Event` type of introspection events, if this codec can build them.
+    fn event_type(&self) -> Option<EventType>;
+    /// An introspection event's body, with the request or response when `contents`.
+    fn encode_event(
+        &self,
+        info: ServiceEventInfo,
+        contents: bool,
+        request: Option<&Self::Request>,
+        response: Option<&Self::Response>,
+    ) -> Option<Vec<u8>>;
 }
 
 /// The codec of a compiled service type.
@@ -46,6 +59,23 @@ impl<S: Service> Codec for Typed<S> {
 
     fn decode(&self, body: &[u8], big_endian: bool) -> Result<S::Response, ServiceError> {
         decode(body, big_endian)
+    }
+
+    fn event_type(&self) -> Option<EventType> {
+        Some(EventType {
+            dds_type_name: dds_type_name(&format!("{}{EVENT_SUFFIX}", S::TYPE_NAME)),
+            type_hash: S::event_type_hash(),
+        })
+    }
+
+    fn encode_event(
+        &self,
+        info: ServiceEventInfo,
+        contents: bool,
+        request: Option<&S::Request>,
+        response: Option<&S::Response>,
+    ) -> Option<Vec<u8>> {
+        encode_event(info, contents, request, response)
     }
 }
 
@@ -80,5 +110,20 @@ impl Codec for Raw {
             body: body.to_vec(),
             big_endian,
         })
+    }
+
+    /// Bodies known only as bytes cannot be re-aligned inside an event message.
+    fn event_type(&self) -> Option<EventType> {
+        None
+    }
+
+    fn encode_event(
+        &self,
+        _info: ServiceEventInfo,
+        _contents: bool,
+        _request: Option<&Vec<u8>>,
+        _response: Option<&RawReply>,
+    ) -> Option<Vec<u8>> {
+        None
     }
 }

@@ -12,7 +12,10 @@ use horus_ros_rmw::names::ServiceName;
 use horus_ros_rmw::qos::Qos;
 use horus_ros_rmw::{Gid, Node, RawReader, RawSample, RawWriter, SampleId};
 
+use horus_ros_msgs::service_msgs::msg::ServiceEventInfo;
+
 use super::codec::{Codec, Typed};
+use crate::introspection::{Introspection, IntrospectionState};
 use crate::naming::{default_service_name, ServiceTopics};
 use crate::runtime::Runtime;
 use crate::wire::{
@@ -58,6 +61,7 @@ pub(crate) struct ClientOptions {
     pub(crate) qos: Qos,
     pub(crate) flavour: Option<WireFlavour>,
     pub(crate) poll_interval: Duration,
+    pub(crate) introspection: Option<(IntrospectionState, Qos)>,
 }
 
 impl Default for ClientOptions {
@@ -68,6 +72,7 @@ impl Default for ClientOptions {
             qos: Qos::services_default(),
             flavour: None,
             poll_interval: Duration::from_millis(1),
+            introspection: None,
         }
     }
 }
@@ -81,6 +86,9 @@ pub(crate) struct ClientCore<C: Codec> {
     request_writer: Gid,
     reply_reader: Gid,
     client_id: u64,
+    /// What rmw_get_gid_for_client gives for this client (see [`ClientCore::with_codec`]).
+    client_gid: [u8; 16],
+    introspection: std::sync::Arc<Introspection>,
     flavour: Option<WireFlavour>,
     pub(crate) poll_interval: Duration,
     pending: Mutex<HashMap<RequestKey, Slot<C::Response>>>,
@@ -129,7 +137,26 @@ impl<C: Codec> ClientCore<C> {
     ) -> Result<Self, SetupError> {
         let requests = runtime.node.create_raw_writer(&topics.request)?;
         let replies = runtime.node.create_raw_reader(&topics.reply)?;
+        // rmw_get_gid_for_client, which rcl puts in a client's introspection events: the request
+        // writer's GUID on rmw_fastrtps (jazzy `rmw_get_gid_for_client.cpp`: `info->writer_guid_`),
+        // the client id announced as `clientid=` on rmw_cyclonedds (jazzy `rmw_node.cpp`:
+        // `cli->client.id`). A backend that carries related_sample_identity speaks the former's
+        // convention, one that does not the latter's.
+        let client_gid = match topics.request.service_id {
+            Some(id) if !runtime.node.context().backend().carries_sample_identity() => id.id,
+            _ => *requests.gid().as_bytes(),
+        };
+        let introspection = Introspection::new(
+            runtime.node.clone(),
+            topics.name.clone(),
+            codec.event_type(),
+        );
+        if let Some((state, qos)) = &options.introspection {
+            introspection.configure(*state, qos)?;
+        }
         Ok(Self {
+            client_gid,
+            introspection,
             codec,
             request_writer: requests.gid(),
             reply_reader: replies.gid(),
@@ -172,6 +199,31 @@ impl<C: Codec> ClientCore<C> {
 
     pub(crate) fn name(&self) -> &ServiceName {
         &self.name
+    }
+
+    /// rclcpp / rclpy `Client::configure_introspection` (see
+    /// [`ServiceClient::configure_introspection`](crate::ServiceClient::configure_introspection)).
+    pub(crate) fn configure_introspection(
+        &self,
+        state: IntrospectionState,
+        qos: &Qos,
+    ) -> Result<(), SetupError> {
+        self.introspection.configure(state, qos)
+    }
+
+    /// The introspection state in force.
+    pub(crate) fn introspection_state(&self) -> IntrospectionState {
+        self.introspection.state()
+    }
+
+    /// The GID this client's introspection events carry as `client_gid`.
+    pub(crate) fn introspection_client_gid(&self) -> Gid {
+        Gid::from_bytes(self.client_gid)
+    }
+
+    /// The GID of the `<service>/_service_event` publisher, while introspection is on.
+    pub(crate) fn introspection_gid(&self) -> Option<Gid> {
+        self.introspection.publisher_gid()
     }
 
     /// The GIDs of the request writer and reply reader.
@@ -315,6 +367,7 @@ impl<C: Codec> ClientCore<C> {
                 }
             }
         };
+        drop(requests);
         pending.insert(
             key,
             Slot {
@@ -322,6 +375,14 @@ impl<C: Codec> ClientCore<C> {
                 waker: None,
                 deadline,
             },
+        );
+        // rcl `rcl_send_request`: REQUEST_SENT with the sequence number the RMW gave (under the
+        // pending lock, so it is queued before the response's event).
+        self.introspection.emit(
+            ServiceEventInfo::REQUEST_SENT,
+            self.client_gid,
+            key.sequence,
+            |info, contents| self.codec.encode_event(info, contents, Some(request), None),
         );
         Ok(key)
     }
@@ -404,6 +465,19 @@ impl<C: Codec> ClientCore<C> {
             }
         };
         let mut pending = lock(&self.pending);
+        // rcl `rcl_take_response_with_info`: RESPONSE_RECEIVED for every response taken (a
+        // horus-ros server's error reply is no response).
+        if let Ok(response) = &outcome {
+            self.introspection.emit(
+                ServiceEventInfo::RESPONSE_RECEIVED,
+                self.client_gid,
+                key.sequence,
+                |info, contents| {
+                    self.codec
+                        .encode_event(info, contents, None, Some(response))
+                },
+            );
+        }
         let Some(slot) = pending.get_mut(&key) else {
             return false;
         };

@@ -10,11 +10,13 @@ use std::time::{Duration, Instant};
 
 use horus_ros_msgs::Service;
 use horus_ros_rmw::names::ServiceName;
+use horus_ros_rmw::qos::Qos;
+use horus_ros_rmw::Gid;
 
 use super::codec::Typed;
 use super::core::{ClientCore, RequestKey};
 use super::ServiceClientBuilder;
-use crate::{ServiceError, SetupError};
+use crate::{IntrospectionState, ServiceError, SetupError};
 
 /// How often the reply thread wakes futures so they can notice deadlines and servers appearing.
 const TICK: Duration = Duration::from_millis(10);
@@ -71,6 +73,38 @@ impl<S: Service> AsyncServiceClient<S> {
     /// The fully-qualified service name.
     pub fn name(&self) -> &ServiceName {
         self.core.name()
+    }
+
+    /// Turns service introspection on or off (rclcpp / rclpy `Client::configure_introspection`,
+    /// rcl `rcl_client_configure_service_introspection`): OFF removes the
+    /// `<service>/_service_event` publisher; METADATA publishes `REQUEST_SENT` and
+    /// `RESPONSE_RECEIVED` events with their `ServiceEventInfo` only, CONTENTS with the request
+    /// and the response. The publisher is created with `qos` when there is none; an existing one
+    /// keeps its QoS. Events never hold up a call: they go through a bounded queue and are
+    /// dropped when it is full.
+    pub fn configure_introspection(
+        &self,
+        state: IntrospectionState,
+        qos: &Qos,
+    ) -> Result<(), SetupError> {
+        self.core.configure_introspection(state, qos)
+    }
+
+    /// The introspection state in force.
+    pub fn introspection_state(&self) -> IntrospectionState {
+        self.core.introspection_state()
+    }
+
+    /// The `client_gid` of this client's introspection events (rmw `rmw_get_gid_for_client`):
+    /// its request writer's GID on the rustdds backend (as rmw_fastrtps), its `clientid` on the
+    /// Cyclone backend (as rmw_cyclonedds).
+    pub fn introspection_client_gid(&self) -> Gid {
+        self.core.introspection_client_gid()
+    }
+
+    /// The GID of the `<service>/_service_event` publisher, while introspection is on.
+    pub fn introspection_gid(&self) -> Option<Gid> {
+        self.core.introspection_gid()
     }
 
     /// Starts a call (never blocks). If no server is usable yet, the request is sent as soon as

@@ -17,7 +17,7 @@
 //! `waiting for service to become available...` and give up after `--timeout` seconds; each
 //! call also waits at most `--timeout` for its reply. Failures are one line on stderr, exit 1.
 
-mod describe;
+pub(crate) mod describe;
 
 use std::time::{Duration, Instant};
 
@@ -55,7 +55,7 @@ pub struct CallArgs {
 }
 
 /// `pkg/srv/Name`, or ros2cli's `pkg/Name` shorthand.
-fn normalize_type(t: &str) -> Result<String, CliError> {
+pub(crate) fn normalize_type(t: &str) -> Result<String, CliError> {
     let parts: Vec<&str> = t.split('/').collect();
     let valid = |s: &str| {
         !s.is_empty()

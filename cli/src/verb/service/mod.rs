@@ -1,6 +1,7 @@
 //! `horus-ros service …`: ros2cli's `ros2 service` verbs.
 
 pub mod call;
+pub mod echo;
 pub mod find;
 pub mod info;
 pub mod list;
@@ -23,6 +24,8 @@ pub enum ServiceCommand {
     Info(info::InfoArgs),
     /// Call a service.
     Call(call::CallArgs),
+    /// Echo a service: print the events of servers and clients with introspection on.
+    Echo(echo::EchoArgs),
 }
 
 /// Runs a `service` verb.
@@ -33,5 +36,6 @@ pub fn run(global: &Global, command: ServiceCommand) -> Result<(), CliError> {
         ServiceCommand::Find(a) => find::run(global, &a),
         ServiceCommand::Info(a) => info::run(global, &a),
         ServiceCommand::Call(a) => call::run(global, &a),
+        ServiceCommand::Echo(a) => echo::run(global, &a),
     }
 }

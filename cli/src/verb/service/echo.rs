@@ -1,0 +1,344 @@
+//! `horus-ros service echo` (ros2service jazzy `verb/echo.py`): prints the service events that
+//! servers and clients with introspection on publish on `<service>/_service_event`.
+//!
+//! As ros2cli: the service type comes from the command line or from the graph (the one type of
+//! the service name as given, hidden services included; failing that, here, the type of the
+//! event topic's publishers); the subscription uses the `services_default` QoS; when nothing
+//! publishes on the event topic it says so once; each event is printed as
+//! `yaml.dump(message_to_ordereddict(event, …), allow_unicode=True, width=sys.maxsize,
+//! default_flow_style=--flow-style)` with `info.event_type` replaced by its constant's name,
+//! followed by `---` (`--csv`: `message_to_csv(event, …)`, the event type left a number). With
+//! the global `--json`, each event is one JSON object on one line (docs/cli-json.md).
+//!
+//! Types compiled into horus-ros-msgs are described from their definitions; any other type by
+//! its server's node through `~/get_type_description` (see `service call`), and its `_Event`
+//! message is derived from the request and response as rosidl does.
+
+use std::io::Write;
+use std::time::Duration;
+
+use horus_ros_msgs::dds_type_name;
+use horus_ros_msgs::description::{service_event_description, EVENT_SUFFIX};
+use horus_ros_msgs::service_msgs::msg::ServiceEventInfo;
+use horus_ros_rmw::names::{ServiceName, TopicName};
+use horus_ros_rmw::qos::Qos;
+use horus_ros_rmw::RawEndpointSpec;
+use horus_ros_services::SERVICE_EVENT_TOPIC_POSTFIX;
+use serde_json::{json, Map, Value as Json};
+
+use super::call::describe;
+use super::call::normalize_type;
+use crate::dynamic::convert::{to_csv, to_ordereddict, ConvertOptions};
+use crate::dynamic::pyyaml::{dump, PyValue};
+use crate::dynamic::{cdr, Container, Elem, Schema, Value};
+use crate::session::Session;
+use crate::{CliError, Global};
+
+/// ros2service `DEFAULT_TRUNCATE_LENGTH`.
+const DEFAULT_TRUNCATE_LENGTH: usize = 128;
+
+/// Longest wait for the server's node to describe a type that is not compiled in.
+const DESCRIBE_TIMEOUT: Duration = Duration::from_secs(5);
+
+/// Arguments of `service echo`.
+#[derive(Debug, clap::Args)]
+pub struct EchoArgs {
+    /// Name of the ROS service to echo (e.g. '/add_two_ints').
+    pub service_name: String,
+    /// Type of the ROS service (e.g. 'example_interfaces/srv/AddTwoInts').
+    pub service_type: Option<String>,
+    /// Output all recursive fields separated by commas (e.g. for plotting).
+    #[arg(long)]
+    pub csv: bool,
+    /// Output all elements for arrays, bytes, and string with a length > '--truncate-length',
+    /// by default they are truncated after '--truncate-length' elements with '...'.
+    #[arg(short = 'f', long)]
+    pub full_length: bool,
+    /// The length to truncate arrays, bytes, and string to (default: 128).
+    #[arg(short = 'l', long, default_value_t = DEFAULT_TRUNCATE_LENGTH, value_name = "TRUNCATE_LENGTH")]
+    pub truncate_length: usize,
+    /// Don't print array fields of messages.
+    #[arg(long)]
+    pub no_arr: bool,
+    /// Don't print string fields of messages.
+    #[arg(long)]
+    pub no_str: bool,
+    /// Print collections in the block style (not available with csv format).
+    #[arg(long)]
+    pub flow_style: bool,
+    /// Exit after this many events (for tests).
+    #[arg(long, hide = true, value_name = "N")]
+    pub count: Option<u64>,
+}
+
+/// The event message of one service type, ready to decode.
+struct EventType {
+    schema: Schema,
+    /// `pkg/srv/Name_Event`.
+    name: String,
+    description: horus_ros_msgs::TypeDescription,
+}
+
+/// Runs `service echo`.
+pub fn run(global: &Global, args: &EchoArgs) -> Result<(), CliError> {
+    let given_type = args
+        .service_type
+        .as_deref()
+        .map(|t| {
+            normalize_type(t)
+                .map_err(|_| CliError::new(format!("The service type '{t}' is invalid")))
+        })
+        .transpose()?;
+    let session = Session::open(global)?;
+    let service = ServiceName::expand(
+        &args.service_name,
+        session.node.name(),
+        session.node.namespace(),
+    )
+    .map_err(|_| {
+        CliError::new(format!(
+            "The service name '{}' is invalid",
+            args.service_name
+        ))
+    })?;
+    let service_type = match given_type {
+        Some(t) => t,
+        None => type_from_graph(&session, &args.service_name, &service)?,
+    };
+    let event = event_type(&session, &service, &service_type)?;
+
+    // ros2cli appends the postfix to the name as given.
+    let shown_topic = format!("{}{SERVICE_EVENT_TOPIC_POSTFIX}", args.service_name);
+    let topic_str = format!("{service}{SERVICE_EVENT_TOPIC_POSTFIX}");
+    let topic = TopicName::new(&topic_str)
+        .map_err(|e| CliError::new(format!("Invalid topic '{topic_str}': {e}")))?;
+    let qos = Qos::services_default();
+    let spec = RawEndpointSpec {
+        dds_topic_name: topic.to_dds_topic_name(false),
+        dds_type_name: dds_type_name(&event.name),
+        type_hash: event.description.compute_type_hash(),
+        qos,
+        service_id: None,
+    };
+    let mut reader = session.node.create_raw_reader(&spec)?;
+
+    let options = ConvertOptions {
+        truncate_length: (!args.full_length).then_some(args.truncate_length),
+        no_arr: args.no_arr,
+        no_str: args.no_str,
+    };
+    let stdout = std::io::stdout();
+    let mut warned = false;
+    let mut printed = 0u64;
+    loop {
+        if !warned && session.graph.read(|c| c.count_publishers(topic.as_str())) < 1 {
+            let mut out = stdout.lock();
+            let _ = writeln!(
+                out,
+                "No publishers on topic '{shown_topic}'; is service introspection on the client \
+                 or server enabled?"
+            );
+            let _ = out.flush();
+            warned = true;
+        }
+        // Woken by data; the interval only bounds how late the publisher check above runs.
+        reader.wait(Duration::from_millis(200));
+        loop {
+            let sample = match reader.take() {
+                Ok(Some(s)) => s,
+                Ok(None) => break,
+                Err(e) => {
+                    tracing::warn!("dropped a service event: {e}");
+                    continue;
+                }
+            };
+            let value =
+                match cdr::decode(&event.schema, &event.name, &sample.body, sample.big_endian) {
+                    Ok(v) => v,
+                    Err(e) => {
+                        tracing::warn!("could not decode a service event: {e}");
+                        continue;
+                    }
+                };
+            let text = if global.json {
+                serde_json::to_string(&event_json(&event.schema, &event.name, &value))
+                    .unwrap_or_default()
+            } else if args.csv {
+                to_csv(&event.schema, &event.name, &value, options)
+            } else {
+                let mut d = to_ordereddict(&event.schema, &event.name, &value, options);
+                name_event_type(&mut d);
+                let mut t = dump(&d, args.flow_style);
+                t.push_str("---");
+                t
+            };
+            let mut out = stdout.lock();
+            if writeln!(out, "{text}").and_then(|()| out.flush()).is_err() {
+                // stdout closed (e.g. `| head`): nothing more to do.
+                return Ok(());
+            }
+            printed += 1;
+            if args.count.is_some_and(|n| printed >= n) {
+                return Ok(());
+            }
+        }
+    }
+}
+
+/// ros2service `get_service_class`: the one type of the service named exactly as given (hidden
+/// services included). Beyond ros2cli, a service known only by its event topic (introspection
+/// on, no server or client endpoints seen) takes the event type's service.
+fn type_from_graph(
+    session: &Session,
+    given: &str,
+    service: &ServiceName,
+) -> Result<String, CliError> {
+    let types = session.graph.read(|c| c.service_names_and_types(true));
+    if let Some(t) = types.get(given) {
+        let t: Vec<&String> = t.iter().collect();
+        return match t.as_slice() {
+            [] => Err(CliError::new(format!("No types associated with '{given}'"))),
+            [one] => Ok((*one).clone()),
+            _ => Err(CliError::new(format!(
+                "More than one type associated with service '{given}'"
+            ))),
+        };
+    }
+    let topic = format!("{service}{SERVICE_EVENT_TOPIC_POSTFIX}");
+    let mut from_events: Vec<String> = session
+        .graph
+        .read(|c| c.publishers_info_by_topic(&topic, false))
+        .into_iter()
+        .filter_map(|p| p.topic_type.strip_suffix(EVENT_SUFFIX).map(str::to_owned))
+        .collect();
+    from_events.sort();
+    from_events.dedup();
+    match from_events.as_slice() {
+        [one] => Ok(one.clone()),
+        _ => Err(CliError::new(format!("Cannot find type for '{given}'"))),
+    }
+}
+
+/// The `_Event` message of `service_type`: compiled in, else derived from the request and
+/// response its server's node describes.
+fn event_type(
+    session: &Session,
+    service: &ServiceName,
+    service_type: &str,
+) -> Result<EventType, CliError> {
+    let name = format!("{service_type}{EVENT_SUFFIX}");
+    let info = match describe::compiled(service_type) {
+        Some(d) => describe::ServiceTypeInfo::from_descriptions(service_type, &[d]),
+        None => describe::fetch(
+            &session.node,
+            &session.graph,
+            service.as_str(),
+            service_type,
+            DESCRIBE_TIMEOUT,
+        ),
+    }
+    .map_err(|e| {
+        CliError::new(format!(
+            "Could not load the type for the passed service: {e}"
+        ))
+    })?;
+    let description = service_event_description(service_type, &info.request, &info.response);
+    let schema = Schema::from_description(&description)
+        .and_then(|s| s.check(&name).map(|()| s))
+        .map_err(|e| {
+            CliError::new(format!(
+                "Could not load the type for the passed service: {e}"
+            ))
+        })?;
+    Ok(EventType {
+        schema,
+        name,
+        description,
+    })
+}
+
+/// ros2service echo: `info['event_type']` becomes the name of its `ServiceEventInfo` constant.
+fn name_event_type(d: &mut PyValue) {
+    let PyValue::Map(items) = d else { return };
+    let Some((_, PyValue::Map(info))) = items.iter_mut().find(|(k, _)| k == "info") else {
+        return;
+    };
+    if let Some((_, v)) = info.iter_mut().find(|(k, _)| k == "event_type") {
+        if let PyValue::Int(n) = v {
+            if let Some(name) = event_type_name(*n) {
+                *v = PyValue::Str(name.to_owned());
+            }
+        }
+    }
+}
+
+/// The `ServiceEventInfo` constant named for an event type.
+fn event_type_name(n: i128) -> Option<&'static str> {
+    match u8::try_from(n).ok()? {
+        ServiceEventInfo::REQUEST_SENT => Some("REQUEST_SENT"),
+        ServiceEventInfo::REQUEST_RECEIVED => Some("REQUEST_RECEIVED"),
+        ServiceEventInfo::RESPONSE_SENT => Some("RESPONSE_SENT"),
+        ServiceEventInfo::RESPONSE_RECEIVED => Some("RESPONSE_RECEIVED"),
+        _ => None,
+    }
+}
+
+/// One event as JSON: `info` with `event_type` by name and `client_gid` as a dotted GID; the
+/// request and response as JSON values of their fields.
+fn event_json(schema: &Schema, name: &str, v: &Value) -> Json {
+    let mut j = struct_json(schema, name, v);
+    if let Some(info) = j.get_mut("info").and_then(Json::as_object_mut) {
+        if let Some(n) = info.get("event_type").and_then(Json::as_i64) {
+            if let Some(name) = event_type_name(i128::from(n)) {
+                info.insert("event_type".to_owned(), json!(name));
+            }
+        }
+        if let Some(bytes) = info.get("client_gid").and_then(Json::as_array) {
+            let gid: Vec<String> = bytes
+                .iter()
+                .map(|b| format!("{:02x}", b.as_u64().unwrap_or(0)))
+                .collect();
+            info.insert("client_gid".to_owned(), json!(gid.join(".")));
+        }
+    }
+    j
+}
+
+fn struct_json(schema: &Schema, name: &str, v: &Value) -> Json {
+    let (Ok(s), Value::Struct(fields)) = (schema.get(name), v) else {
+        return Json::Null;
+    };
+    let mut map = Map::new();
+    for (m, f) in s.members.iter().zip(fields) {
+        let value = match (m.ty.container, f) {
+            (Container::Single, f) => elem_json(schema, &m.ty.elem, f),
+            (_, Value::List(items)) => Json::Array(
+                items
+                    .iter()
+                    .map(|i| elem_json(schema, &m.ty.elem, i))
+                    .collect(),
+            ),
+            (_, f) => elem_json(schema, &m.ty.elem, f),
+        };
+        map.insert(m.name.clone(), value);
+    }
+    Json::Object(map)
+}
+
+fn elem_json(schema: &Schema, e: &Elem, v: &Value) -> Json {
+    match (e, v) {
+        (Elem::Nested(n), v) => struct_json(schema, n, v),
+        (_, Value::Bool(b)) => json!(b),
+        (_, Value::Int(i)) => i64::try_from(*i)
+            .map(Json::from)
+            .or_else(|_| u64::try_from(*i).map(Json::from))
+            .unwrap_or_else(|_| json!(i.to_string())),
+        (_, Value::Float(f)) => serde_json::Number::from_f64(*f).map_or(Json::Null, Json::Number),
+        (_, Value::Str(s)) => json!(s),
+        (_, Value::Byte(b)) => json!(b),
+        (_, Value::List(items)) => {
+            Json::Array(items.iter().map(|i| elem_json(schema, e, i)).collect())
+        }
+        (_, Value::Struct(_)) => Json::Null,
+    }
+}
