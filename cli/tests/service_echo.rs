@@ -399,7 +399,7 @@ fn an_independent_cyclone_peer_decodes_our_events() {
     let domain = 84;
     let listener = Peer::start(
         "cyclone_service_events.py",
-        &["listen", "84", service, "4", "20"],
+        &["listen", "84", service, "4", "90"],
     );
     let mut listener = listener;
     let mut p = pair(domain, service, IntrospectionState::Contents);
