@@ -54,17 +54,71 @@ pub struct Global {
     #[arg(long, global = true)]
     pub json: bool,
 
-    /// DDS implementation to join with (default: HORUS_ROS_BACKEND, else rustdds).
+    /// DDS implementation to join with (default: HORUS_ROS_BACKEND, else as RMW_IMPLEMENTATION
+    /// says).
+    ///
+    /// Without this option, HORUS_ROS_BACKEND chooses; when that is unset or empty too,
+    /// RMW_IMPLEMENTATION does, as it does for rcl: rmw_cyclonedds_cpp means cyclone;
+    /// rmw_fastrtps_cpp, rmw_fastrtps_dynamic_cpp, unset or empty (Jazzy's default is
+    /// rmw_fastrtps_cpp) mean rustdds; any other rmw implementation is an error.
     #[arg(
         long,
         global = true,
-        value_enum,
+        value_parser = BackendParser,
         ignore_case = true,
         value_name = "BACKEND",
-        env = "HORUS_ROS_BACKEND",
-        default_value_t = BackendArg::Rustdds
+        env = "HORUS_ROS_BACKEND"
     )]
-    pub backend: BackendArg,
+    backend: Option<BackendChoice>,
+}
+
+impl Global {
+    /// The backend `--backend` (or a non-blank HORUS_ROS_BACKEND) names; `None` leaves the choice
+    /// to the environment, as the library makes it.
+    pub fn backend(&self) -> Option<horus_ros_rmw::Backend> {
+        self.backend.and_then(|c| c.0).map(Into::into)
+    }
+}
+
+/// A parsed `--backend`: `None` for an empty or blank value (an empty HORUS_ROS_BACKEND, which
+/// clap passes on as a value, means "unset" as it does for the library).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct BackendChoice(Option<BackendArg>);
+
+/// Parses `--backend` as [`BackendArg`] (trimmed, case-insensitive), a blank value as
+/// `BackendChoice(None)`.
+#[derive(Debug, Clone, Copy)]
+struct BackendParser;
+
+impl clap::builder::TypedValueParser for BackendParser {
+    type Value = BackendChoice;
+
+    fn parse_ref(
+        &self,
+        cmd: &clap::Command,
+        arg: Option<&clap::Arg>,
+        value: &std::ffi::OsStr,
+    ) -> Result<Self::Value, clap::Error> {
+        let trimmed = value.to_str().map(str::trim);
+        if trimmed == Some("") {
+            return Ok(BackendChoice(None));
+        }
+        let value = trimmed.map_or(value, std::ffi::OsStr::new);
+        clap::builder::EnumValueParser::<BackendArg>::new()
+            .parse_ref(cmd, arg, value)
+            .map(|b| BackendChoice(Some(b)))
+    }
+
+    fn possible_values(
+        &self,
+    ) -> Option<Box<dyn Iterator<Item = clap::builder::PossibleValue> + '_>> {
+        use clap::ValueEnum;
+        Some(Box::new(
+            BackendArg::value_variants()
+                .iter()
+                .filter_map(ValueEnum::to_possible_value),
+        ))
+    }
 }
 
 /// The values of `--backend` (the names `HORUS_ROS_BACKEND` takes).

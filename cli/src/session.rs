@@ -4,7 +4,7 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use horus_ros_graph::{Graph, Unsettled};
-use horus_ros_rmw::{Context, Node};
+use horus_ros_rmw::{BackendError, Context, ContextError, Node};
 
 use crate::{CliError, Global};
 
@@ -36,11 +36,21 @@ impl Session {
 
     /// Joins the domain without waiting.
     pub fn join(global: &Global) -> Result<Self, CliError> {
-        let mut builder = Context::builder().backend(global.backend.into());
+        let mut builder = Context::builder();
+        // Unset: the context reads HORUS_ROS_BACKEND, then RMW_IMPLEMENTATION, as the library does.
+        if let Some(b) = global.backend() {
+            builder = builder.backend(b);
+        }
         if let Some(d) = global.domain_id {
             builder = builder.domain_id(d);
         }
-        let context = builder.build()?;
+        let context = builder.build().map_err(|e| match e {
+            // The one place the CLI adds to a library message: its own override.
+            ContextError::Backend(e @ BackendError::UnsupportedRmw { .. }) => {
+                CliError::new(format!("{e} (or pass --backend)"))
+            }
+            e => e.into(),
+        })?;
         let node = context.create_node(&format!("_horus_ros_{}", std::process::id()), "/")?;
         let graph = Graph::shared(&context)?;
         Ok(Self {

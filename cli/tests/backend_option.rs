@@ -1,31 +1,54 @@
 //! The global `--backend` option: `--backend cyclone` joins with Cyclone DDS and sees the graph,
 //! an unknown value is a clap usage error, and `--help` shows it with its environment variable.
+//! Without it (and without HORUS_ROS_BACKEND), RMW_IMPLEMENTATION chooses, as it does for rcl.
 //!
-//! Domain 136. Run inside the private network namespace:
+//! Domains 136, 141 and 142. Run inside the private network namespace:
 //! `scripts/isolated cargo test -p horus-ros-cli --test backend_option`.
 
 mod common;
 
-use std::process::Command;
-use std::time::Duration;
+use std::collections::HashMap;
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
 
 use common::{cyclone_config, expect};
 use horus_ros_msgs::example_interfaces::srv::AddTwoInts;
-use horus_ros_rmw::{Backend, Context};
+use horus_ros_rmw::{Backend, Context, DiscoveryEvent, VendorId};
 use horus_ros_services::{ServiceClient, ServiceServerBuilder};
 
 const D: u32 = 136;
+/// The domain of the overrides of an unsupported RMW_IMPLEMENTATION.
+const D_OVERRIDE: u32 = 141;
+/// The domain where RMW_IMPLEMENTATION chooses the backend.
+const D_RMW: u32 = 142;
 
-/// Runs `horus-ros args…` with `HORUS_ROS_BACKEND` set to `env_backend` (or removed), without
-/// joining any domain when clap refuses the arguments.
-fn horus_with_env(args: &[&str], env_backend: Option<&str>) -> std::process::Output {
+/// `horus-ros args…` with `HORUS_ROS_BACKEND` set to `env_backend` (or removed) and
+/// `RMW_IMPLEMENTATION` set to `rmw` (or removed): the suite's own HORUS_ROS_BACKEND would
+/// otherwise win over RMW_IMPLEMENTATION.
+fn horus_command(args: &[&str], env_backend: Option<&str>, rmw: Option<&str>) -> Command {
     let mut command = Command::new(env!("CARGO_BIN_EXE_horus-ros"));
-    command.args(args).env_remove("ROS_DOMAIN_ID");
+    command
+        .args(args)
+        .env_remove("ROS_DOMAIN_ID")
+        .env("RUST_LOG", "error")
+        .env("CYCLONEDDS_URI", cyclone_config());
     match env_backend {
         Some(b) => command.env("HORUS_ROS_BACKEND", b),
         None => command.env_remove("HORUS_ROS_BACKEND"),
     };
-    command.output().expect("run horus-ros")
+    match rmw {
+        Some(r) => command.env("RMW_IMPLEMENTATION", r),
+        None => command.env_remove("RMW_IMPLEMENTATION"),
+    };
+    command
+}
+
+/// Runs `horus-ros args…` with `HORUS_ROS_BACKEND` set to `env_backend` (or removed) and no
+/// RMW_IMPLEMENTATION, without joining any domain when clap refuses the arguments.
+fn horus_with_env(args: &[&str], env_backend: Option<&str>) -> std::process::Output {
+    horus_command(args, env_backend, None)
+        .output()
+        .expect("run horus-ros")
 }
 
 #[test]
@@ -96,9 +119,141 @@ fn help_shows_the_backend_option() {
     assert!(out.status.success(), "{help}");
     assert!(help.contains("--backend <BACKEND>"), "{help}");
     assert!(help.contains("[env: HORUS_ROS_BACKEND"), "{help}");
-    assert!(help.contains("[default: rustdds]"), "{help}");
+    // No default of its own: unset, the environment chooses (HORUS_ROS_BACKEND, RMW_IMPLEMENTATION).
+    assert!(!help.contains("[default: rustdds]"), "{help}");
+    assert!(
+        help.contains(
+            "DDS implementation to join with (default: HORUS_ROS_BACKEND, else as \
+             RMW_IMPLEMENTATION says)"
+        ),
+        "{help}"
+    );
+    assert!(help.contains("rmw_cyclonedds_cpp means cyclone"), "{help}");
     assert!(
         help.contains("rustdds") && help.contains("cyclone"),
         "{help}"
     );
+}
+
+/// The message of an unsupported RMW_IMPLEMENTATION, as the CLI prints it.
+fn unsupported_rmw_message(value: &str) -> String {
+    format!(
+        "RMW_IMPLEMENTATION='{value}' is not supported by horus-ros: it speaks rmw_fastrtps_cpp \
+         (rustdds), rmw_fastrtps_dynamic_cpp (rustdds), rmw_cyclonedds_cpp (cyclone) or, when \
+         unset or empty, rmw_fastrtps_cpp (rustdds); set HORUS_ROS_BACKEND to rustdds or cyclone \
+         to override it (or pass --backend)\n"
+    )
+}
+
+#[test]
+fn unsupported_rmw_implementation_is_a_clear_error() {
+    for rmw in [
+        "rmw_zenoh_cpp",
+        "rmw_connextdds",
+        "rmw_gurumdds_cpp",
+        "rmw_cyclonedds",
+        "RMW_FASTRTPS_CPP",
+    ] {
+        let out = horus_command(&["node", "list"], None, Some(rmw))
+            .output()
+            .expect("run horus-ros");
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{rmw}: {stderr}");
+        assert!(out.stdout.is_empty(), "{rmw}");
+        assert_eq!(stderr, unsupported_rmw_message(rmw), "{rmw}");
+    }
+    // An empty HORUS_ROS_BACKEND is unset: RMW_IMPLEMENTATION still decides.
+    let out = horus_command(&["node", "list"], Some(""), Some("rmw_zenoh_cpp"))
+        .output()
+        .expect("run horus-ros");
+    assert_eq!(out.status.code(), Some(1));
+    assert_eq!(
+        String::from_utf8_lossy(&out.stderr),
+        unsupported_rmw_message("rmw_zenoh_cpp")
+    );
+    // HORUS_ROS_BACKEND and --backend override it: the command joins the domain and lists
+    // its own hidden node.
+    for (args, env_backend) in [
+        (&["node", "list", "-a"][..], Some("rustdds")),
+        (&["node", "list", "-a"][..], Some("cyclone")),
+        (&["--backend", "rustdds", "node", "list", "-a"][..], None),
+        (&["--backend", "cyclone", "node", "list", "-a"][..], None),
+    ] {
+        let mut command = horus_command(args, env_backend, Some("rmw_zenoh_cpp"));
+        command.args(["--domain-id", &D_OVERRIDE.to_string(), "--spin-time", "0.2"]);
+        let child = command
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .expect("start horus-ros");
+        let pid = child.id();
+        let out = child.wait_with_output().expect("horus-ros output");
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        assert!(
+            out.status.success(),
+            "{args:?} {env_backend:?}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        assert!(
+            stdout.lines().any(|l| l == format!("/_horus_ros_{pid}")),
+            "{args:?} {env_backend:?}: {stdout}"
+        );
+    }
+}
+
+/// With HORUS_ROS_BACKEND removed and no `--backend`, RMW_IMPLEMENTATION chooses the DDS the
+/// CLI joins with: seen from outside, through the vendor id of the participant whose
+/// `ros_discovery_info` lists the CLI's node `_horus_ros_<pid>` (Cyclone DDS 0x0110, RustDDS
+/// 0x0112).
+#[test]
+fn rmw_implementation_chooses_the_backend() {
+    std::env::set_var("CYCLONEDDS_URI", cyclone_config());
+    // This process's own participant runs on the suite's backend: both can read vendor ids.
+    let context = Context::builder()
+        .domain_id(D_RMW)
+        .build()
+        .expect("context");
+    let mut feed = context.discovery_feed().expect("discovery feed");
+    let mut vendors: HashMap<String, VendorId> = HashMap::new();
+    for (rmw, want) in [
+        (Some("rmw_cyclonedds_cpp"), VendorId::CYCLONE_DDS),
+        (Some("rmw_fastrtps_cpp"), VendorId::RUSTDDS),
+        (Some("rmw_fastrtps_dynamic_cpp"), VendorId::RUSTDDS),
+        (Some(""), VendorId::RUSTDDS),
+        (None, VendorId::RUSTDDS),
+    ] {
+        // `graph --watch` stays on the graph until it is stopped, however long discovery takes.
+        let mut child = horus_command(
+            &["--domain-id", &D_RMW.to_string(), "graph", "--watch"],
+            None,
+            rmw,
+        )
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .expect("start horus-ros graph --watch");
+        let node = format!("_horus_ros_{}", child.id());
+        let deadline = Instant::now() + Duration::from_secs(10);
+        let seen = loop {
+            let left = deadline.saturating_duration_since(Instant::now());
+            match feed.next_timeout(left) {
+                Some(DiscoveryEvent::ParticipantDiscovered(p)) => {
+                    vendors.insert(p.gid.to_string(), p.vendor_id);
+                }
+                Some(DiscoveryEvent::ParticipantEntities(info))
+                    if info
+                        .node_entities_info_seq
+                        .iter()
+                        .any(|n| n.node_name == node) =>
+                {
+                    break vendors.get(&info.gid.to_string()).copied();
+                }
+                Some(_) => {}
+                None => break None,
+            }
+        };
+        let _ = child.kill();
+        let _ = child.wait();
+        assert_eq!(seen, Some(want), "RMW_IMPLEMENTATION={rmw:?}: node {node}");
+    }
 }

@@ -1,19 +1,48 @@
 //! Which DDS implementation a [`Context`](crate::Context) runs on.
 //!
-//! - [`Backend::RustDds`] (the default): RustDDS, pure Rust, always built in.
-//! - [`Backend::Cyclone`]: Eclipse Cyclone DDS 11 (the DDS of rmw_cyclonedds_cpp), built in with
-//!   the cargo feature `cyclone`.
+//! - [`Backend::RustDds`] (the default, for `rmw_fastrtps_cpp`): RustDDS, pure Rust, always
+//!   built in.
+//! - [`Backend::Cyclone`] (for `rmw_cyclonedds_cpp`): Eclipse Cyclone DDS 11 (the DDS of
+//!   rmw_cyclonedds_cpp), built in with the cargo feature `cyclone`.
 //!
 //! Chosen per context with [`ContextBuilder::backend`](crate::ContextBuilder::backend), else by
-//! the environment variable [`BACKEND_ENV`] (`rustdds` or `cyclone`), else RustDDS.
+//! the environment variable [`BACKEND_ENV`] (`rustdds` or `cyclone`), else by
+//! [`RMW_IMPLEMENTATION_ENV`] as rcl reads it, else RustDDS (see [`Backend::select`]).
+//!
+//! How rcl reads `RMW_IMPLEMENTATION` (Jazzy): rmw_implementation `src/functions.cpp`
+//! (`load_library`) takes `rcpputils::get_env_var("RMW_IMPLEMENTATION")` (rcutils_get_env: an
+//! unset variable reads as ""); a non-empty value loads that library and only that one, an empty
+//! one the default; rcl `src/rcl/rmw_implementation_identifier_check.c` then requires
+//! `strcmp(rmw_get_implementation_identifier(), value) == 0`. No trimming, no case folding.
 
 use std::fmt;
 use std::str::FromStr;
 
-/// The environment variable that chooses the backend of contexts that do not set one.
+/// The environment variable that chooses the backend of contexts that do not set one; it wins
+/// over [`RMW_IMPLEMENTATION_ENV`].
 pub const BACKEND_ENV: &str = "HORUS_ROS_BACKEND";
 
-/// A DDS implementation horus-ros can run on.
+/// The environment variable with which ROS 2 chooses its rmw implementation (rcl's
+/// `RMW_IMPLEMENTATION_ENV_VAR_NAME`).
+pub const RMW_IMPLEMENTATION_ENV: &str = "RMW_IMPLEMENTATION";
+
+/// The values of [`RMW_IMPLEMENTATION_ENV`] horus-ros speaks, and the backend each one means.
+///
+/// Jazzy's rmw_fastrtps_cpp and rmw_fastrtps_dynamic_cpp put the same bytes on the wire (they
+/// differ only in how type support is loaded), so both run on RustDDS, which follows the
+/// rmw_fastrtps service convention; rmw_cyclonedds_cpp runs on Cyclone DDS.
+pub const RMW_IMPLEMENTATIONS: [(&str, Backend); 3] = [
+    ("rmw_fastrtps_cpp", Backend::RustDds),
+    ("rmw_fastrtps_dynamic_cpp", Backend::RustDds),
+    ("rmw_cyclonedds_cpp", Backend::Cyclone),
+];
+
+/// Jazzy's default rmw implementation (rmw_implementation_cmake's
+/// `get_default_rmw_implementation`), used when [`RMW_IMPLEMENTATION_ENV`] is unset or empty.
+pub const DEFAULT_RMW_IMPLEMENTATION: &str = "rmw_fastrtps_cpp";
+
+/// A DDS implementation horus-ros can run on; the default is RustDDS, as Jazzy's default rmw is
+/// rmw_fastrtps_cpp.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
 pub enum Backend {
     /// RustDDS: pure Rust. Cannot send USER_DATA (so no type hashes or enclaves for peers),
@@ -57,17 +86,66 @@ impl Backend {
         matches!(self, Self::Cyclone)
     }
 
-    /// The backend [`BACKEND_ENV`] asks for through `get` (e.g. `std::env::var`); `None` if unset
-    /// or empty.
-    pub fn from_env_with(
-        get: impl Fn(&str) -> Option<String>,
-    ) -> Result<Option<Self>, BackendError> {
-        match get(BACKEND_ENV) {
-            None => Ok(None),
-            Some(v) if v.trim().is_empty() => Ok(None),
-            Some(v) => v.parse().map(Some),
+    /// The rmw implementation this backend stands in for, as `RMW_IMPLEMENTATION` names it:
+    /// `rmw_fastrtps_cpp` (Jazzy's default) for RustDDS, `rmw_cyclonedds_cpp` for Cyclone DDS.
+    pub const fn rmw_implementation(self) -> &'static str {
+        match self {
+            Self::RustDds => DEFAULT_RMW_IMPLEMENTATION,
+            Self::Cyclone => "rmw_cyclonedds_cpp",
         }
     }
+
+    /// The backend for a non-empty `RMW_IMPLEMENTATION` value, compared byte for byte as rcl
+    /// does: rmw_implementation loads the library `lib<value>.so` and rcl checks
+    /// `strcmp(rmw_get_implementation_identifier(), value)`, so case and blanks count.
+    pub fn from_rmw_implementation(value: &str) -> Result<Self, BackendError> {
+        RMW_IMPLEMENTATIONS
+            .iter()
+            .find(|(name, _)| *name == value)
+            .map(|&(_, backend)| backend)
+            .ok_or_else(|| BackendError::UnsupportedRmw {
+                value: value.to_owned(),
+            })
+    }
+
+    /// Chooses the backend from the values of [`BACKEND_ENV`] and [`RMW_IMPLEMENTATION_ENV`]
+    /// (`None` when unset):
+    ///
+    /// 1. `HORUS_ROS_BACKEND`, unless empty or blank: `rustdds` or `cyclone`, else
+    ///    [`BackendError::Unknown`].
+    /// 2. `RMW_IMPLEMENTATION`, unless empty (rmw_implementation's `load_library` and rcl's
+    ///    identifier check treat an empty value as unset): one of [`RMW_IMPLEMENTATIONS`], else
+    ///    [`BackendError::UnsupportedRmw`] (rcl fails too: it loads only the library named).
+    /// 3. Neither: RustDDS, standing in for Jazzy's default rmw_fastrtps_cpp.
+    pub fn select(
+        horus_ros_backend: Option<&str>,
+        rmw_implementation: Option<&str>,
+    ) -> Result<Self, BackendError> {
+        if let Some(v) = horus_ros_backend.filter(|v| !v.trim().is_empty()) {
+            return v.parse();
+        }
+        match rmw_implementation.filter(|v| !v.is_empty()) {
+            Some(v) => Self::from_rmw_implementation(v),
+            None => Ok(Self::default()),
+        }
+    }
+
+    /// [`Backend::select`] over the environment read through `get` (e.g. `std::env::var`).
+    pub fn from_env_with(get: impl Fn(&str) -> Option<String>) -> Result<Self, BackendError> {
+        Self::select(
+            get(BACKEND_ENV).as_deref(),
+            get(RMW_IMPLEMENTATION_ENV).as_deref(),
+        )
+    }
+}
+
+/// `rmw_fastrtps_cpp, rmw_fastrtps_dynamic_cpp (rustdds), rmw_cyclonedds_cpp (cyclone)`.
+fn supported_rmw_implementations() -> String {
+    RMW_IMPLEMENTATIONS
+        .iter()
+        .map(|(name, backend)| format!("{name} ({backend})"))
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 impl fmt::Display for Backend {
@@ -102,6 +180,19 @@ pub enum BackendError {
         /// The value given.
         value: String,
     },
+    /// `RMW_IMPLEMENTATION` names an rmw implementation horus-ros does not speak (e.g.
+    /// `rmw_zenoh_cpp`, `rmw_connextdds`, or a misspelling); rcl would fail to load it as well.
+    #[error(
+        "{RMW_IMPLEMENTATION_ENV}='{}' is not supported by horus-ros: it speaks {} or, when \
+         unset or empty, {DEFAULT_RMW_IMPLEMENTATION} (rustdds); set {BACKEND_ENV} to rustdds or \
+         cyclone to override it",
+        value.escape_debug(),
+        supported_rmw_implementations()
+    )]
+    UnsupportedRmw {
+        /// The value of `RMW_IMPLEMENTATION`.
+        value: String,
+    },
     /// The backend exists but this build does not include it.
     #[error("the {backend} backend is not built in (enable the cargo feature `{backend}` of horus-ros-rmw)")]
     NotBuiltIn {
@@ -123,16 +214,116 @@ mod tests {
             "fastdds".parse::<Backend>(),
             Err(BackendError::Unknown { .. })
         ));
-        assert_eq!(Backend::from_env_with(|_| None), Ok(None));
-        assert_eq!(Backend::from_env_with(|_| Some(String::new())), Ok(None));
         assert_eq!(
             Backend::from_env_with(|k| (k == BACKEND_ENV).then(|| "cyclone".to_owned())),
-            Ok(Some(Backend::Cyclone))
+            Ok(Backend::Cyclone)
         );
+        assert_eq!(
+            Backend::from_env_with(
+                |k| (k == RMW_IMPLEMENTATION_ENV).then(|| "rmw_cyclonedds_cpp".to_owned())
+            ),
+            Ok(Backend::Cyclone)
+        );
+        assert_eq!(Backend::from_env_with(|_| None), Ok(Backend::RustDds));
         for b in Backend::ALL {
             assert_eq!(b.to_string().parse::<Backend>(), Ok(b));
         }
         assert!(Backend::RustDds.is_available());
         assert_eq!(Backend::Cyclone.is_available(), cfg!(feature = "cyclone"));
+    }
+
+    /// The selection table: `HORUS_ROS_BACKEND` (first) over `RMW_IMPLEMENTATION` (second).
+    #[test]
+    fn selection_table() {
+        use Backend::{Cyclone, RustDds};
+        let ok = [
+            // RMW_IMPLEMENTATION alone, as rcl reads it (empty = unset = rmw_fastrtps_cpp).
+            (None, None, RustDds),
+            (None, Some(""), RustDds),
+            (None, Some("rmw_fastrtps_cpp"), RustDds),
+            (None, Some("rmw_fastrtps_dynamic_cpp"), RustDds),
+            (None, Some("rmw_cyclonedds_cpp"), Cyclone),
+            // HORUS_ROS_BACKEND wins over RMW_IMPLEMENTATION, even over an unsupported one.
+            (Some("rustdds"), Some("rmw_cyclonedds_cpp"), RustDds),
+            (Some("cyclone"), Some("rmw_fastrtps_cpp"), Cyclone),
+            (Some("cyclone"), None, Cyclone),
+            (Some("rustdds"), Some("rmw_zenoh_cpp"), RustDds),
+            (Some(" Cyclone "), Some("rmw_connextdds"), Cyclone),
+            // An empty or blank HORUS_ROS_BACKEND is unset.
+            (Some(""), Some("rmw_cyclonedds_cpp"), Cyclone),
+            (Some("  "), None, RustDds),
+            (Some(""), Some(""), RustDds),
+        ];
+        for (horus, rmw, want) in ok {
+            assert_eq!(Backend::select(horus, rmw), Ok(want), "{horus:?} {rmw:?}");
+        }
+        // Unsupported or misspelt rmw implementations: an error, never a fallback. Names are
+        // compared as rcl compares them (library names: case and blanks count).
+        for rmw in [
+            "rmw_zenoh_cpp",
+            "rmw_connextdds",
+            "rmw_gurumdds_cpp",
+            "rmw_cyclone_cpp",
+            "RMW_CYCLONEDDS_CPP",
+            "rmw_cyclonedds_cpp ",
+            " rmw_fastrtps_cpp",
+            " ",
+        ] {
+            for horus in [None, Some(""), Some(" ")] {
+                assert_eq!(
+                    Backend::select(horus, Some(rmw)),
+                    Err(BackendError::UnsupportedRmw {
+                        value: rmw.to_owned()
+                    }),
+                    "{horus:?} {rmw:?}"
+                );
+            }
+        }
+        // A bad HORUS_ROS_BACKEND is an error of its own, whatever RMW_IMPLEMENTATION says.
+        assert_eq!(
+            Backend::select(Some("fastdds"), Some("rmw_cyclonedds_cpp")),
+            Err(BackendError::Unknown {
+                value: "fastdds".to_owned()
+            })
+        );
+    }
+
+    #[test]
+    fn rmw_names_round_trip() {
+        for b in Backend::ALL {
+            assert_eq!(
+                Backend::from_rmw_implementation(b.rmw_implementation()),
+                Ok(b)
+            );
+        }
+        assert_eq!(Backend::RustDds.rmw_implementation(), "rmw_fastrtps_cpp");
+        assert_eq!(Backend::Cyclone.rmw_implementation(), "rmw_cyclonedds_cpp");
+        assert_eq!(
+            Backend::default().rmw_implementation(),
+            DEFAULT_RMW_IMPLEMENTATION
+        );
+    }
+
+    #[test]
+    fn unsupported_rmw_message_names_value_choices_and_override() {
+        let message = Backend::select(None, Some("rmw_zenoh_cpp"))
+            .expect_err("unsupported")
+            .to_string();
+        assert_eq!(
+            message,
+            "RMW_IMPLEMENTATION='rmw_zenoh_cpp' is not supported by horus-ros: it speaks \
+             rmw_fastrtps_cpp (rustdds), rmw_fastrtps_dynamic_cpp (rustdds), \
+             rmw_cyclonedds_cpp (cyclone) or, when unset or empty, rmw_fastrtps_cpp (rustdds); \
+             set HORUS_ROS_BACKEND to rustdds or cyclone to override it"
+        );
+        // Control characters are shown escaped, on one line.
+        let message = Backend::select(None, Some("rmw\nx\t"))
+            .expect_err("bad")
+            .to_string();
+        assert!(
+            message.starts_with("RMW_IMPLEMENTATION='rmw\\nx\\t' "),
+            "{message}"
+        );
+        assert!(!message.contains('\n'));
     }
 }

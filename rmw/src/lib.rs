@@ -24,7 +24,10 @@ pub mod pubsub;
 pub mod qos;
 pub mod raw;
 
-pub use backend::{Backend, BackendError, BACKEND_ENV};
+pub use backend::{
+    Backend, BackendError, BACKEND_ENV, DEFAULT_RMW_IMPLEMENTATION, RMW_IMPLEMENTATIONS,
+    RMW_IMPLEMENTATION_ENV,
+};
 pub use context::{
     env::{DiscoveryOptions, DiscoveryRange, DomainId},
     Context, ContextBuilder, ContextError, DiscoveryFeed, DiscoveryFeedError,

@@ -23,7 +23,8 @@ pub enum ContextError {
     /// `ROS_DOMAIN_ID` (or the domain given) is not valid.
     #[error(transparent)]
     DomainId(#[from] DomainIdError),
-    /// The backend asked for (by the builder or `HORUS_ROS_BACKEND`) cannot be used.
+    /// The backend asked for (by the builder, `HORUS_ROS_BACKEND` or `RMW_IMPLEMENTATION`) cannot
+    /// be used.
     #[error(transparent)]
     Backend(#[from] BackendError),
     /// The DDS participant could not be created (e.g. no free ports).
@@ -62,8 +63,9 @@ impl ContextBuilder {
         self
     }
 
-    /// Runs on this DDS implementation instead of the one `HORUS_ROS_BACKEND` names (default
-    /// RustDDS).
+    /// Runs on this DDS implementation instead of the one the environment chooses
+    /// (`HORUS_ROS_BACKEND`, else `RMW_IMPLEMENTATION`: see [`Backend::select`]); the environment
+    /// is then not consulted for it at all.
     pub fn backend(mut self, backend: Backend) -> Self {
         self.backend = Some(backend);
         self
@@ -90,7 +92,7 @@ impl ContextBuilder {
         }
         let backend = match self.backend {
             Some(b) => b,
-            None => Backend::from_env_with(get)?.unwrap_or_default(),
+            None => Backend::from_env_with(get)?,
         };
         if !backend.is_available() {
             return Err(BackendError::NotBuiltIn { backend }.into());
