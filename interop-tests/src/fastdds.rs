@@ -323,6 +323,20 @@ impl FastDdsPeer {
         })
     }
 
+    /// Asks the peer to leave now (SIGTERM), as it does when LINGER is over: its node is
+    /// withdrawn from `ros_discovery_info`, then its endpoints and participant are deleted.
+    pub fn leave(&self) -> Result<(), String> {
+        let status = Command::new("kill")
+            .args(["-TERM", &self.child.id().to_string()])
+            .status()
+            .map_err(|e| format!("running kill: {e}"))?;
+        if status.success() {
+            Ok(())
+        } else {
+            Err(format!("kill -TERM {} failed: {status}", self.child.id()))
+        }
+    }
+
     /// The peer's process id.
     pub fn id(&self) -> u32 {
         self.child.id()

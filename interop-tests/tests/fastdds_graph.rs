@@ -24,7 +24,8 @@ fn servers_and_clients_info_match_what_fast_dds_holds() {
         "/fast_ns",
         "fast_node",
         "/fast_ns/add_two_ints",
-        Duration::from_secs(4),
+        // Stays until told to leave below (a loaded machine can take seconds to discover it).
+        Duration::from_secs(120),
     )
     .expect("start the Fast DDS peer");
     let created = peer.created(WAIT).expect("the peer's start-up line");
@@ -111,6 +112,7 @@ fn servers_and_clients_info_match_what_fast_dds_holds() {
         Some(VendorId::FAST_DDS)
     );
     // The peer leaves: its server and client go away.
+    peer.leave().expect("ask the peer to leave");
     assert!(graph.wait_until(WAIT, |c| !c.service_is_available(service)));
     let _ = peer.wait(WAIT);
 }

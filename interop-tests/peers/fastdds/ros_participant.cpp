@@ -45,6 +45,7 @@
 //   SERVICE is a fully qualified service name (`/add_two_ints`).
 
 #include <chrono>
+#include <csignal>
 #include <cinttypes>
 #include <condition_variable>
 #include <map>
@@ -687,8 +688,17 @@ bool call(
 
 }  // namespace
 
+// Set by SIGTERM: leave now, as rmw does (see the end of main).
+static volatile std::sig_atomic_t g_leave = 0;
+
+static void on_sigterm(int)
+{
+  g_leave = 1;
+}
+
 int main(int argc, char ** argv)
 {
+  std::signal(SIGTERM, on_sigterm);
   const bool calling = argc == 8 && std::strcmp(argv[6], "call") == 0;
   if (argc != 6 && !calling) {
     std::fprintf(
@@ -880,8 +890,8 @@ int main(int argc, char ** argv)
       graph, request_topic_name, reply_topic_name, request_writer, reply_reader,
       request_writer_matches, reply_reader_matches, count, end);
   } else {
-    // Linger, answering requests.
-    while (std::chrono::steady_clock::now() < end) {
+    // Linger, answering requests, until LINGER is over or SIGTERM asks it to leave early.
+    while (std::chrono::steady_clock::now() < end && !g_leave) {
       request_reader->wait_for_unread_message(eprosima::fastrtps::Duration_t(0, 50000000));
       serve(request_reader, reply_writer, reply_writer_matches);
     }
