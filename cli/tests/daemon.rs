@@ -550,15 +550,17 @@ fn socket_held_by_something_else_means_a_warning_and_direct_discovery() {
 #[test]
 fn daemon_serves_only_its_discovery_settings() {
     const D: u32 = 189;
-    let localhost = [("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")];
-    let _daemon = start_daemon(D, &localhost, &[]);
-    let status = status_json(D, &localhost);
+    // Whatever range the environment sets (scripts/test may set LOCALHOST), static peers make
+    // another graph.
+    let peers = [("ROS_STATIC_PEERS", "127.0.0.1")];
+    let _daemon = start_daemon(D, &peers, &[]);
+    let status = status_json(D, &peers);
     assert_eq!(
-        status["discovery_range"],
-        Value::from("LOCALHOST"),
+        status["static_peers"],
+        serde_json::json!(["127.0.0.1"]),
         "{status}"
     );
-    // Another range is another graph: that daemon is not this command's.
+    // Other discovery settings are another graph: that daemon is not this command's.
     let run = horus(D, &["daemon", "status"]);
     assert_eq!(run.stdout, "The daemon is not running\n");
     let run = horus(D, &["node", "list", "-a"]);
@@ -571,9 +573,9 @@ fn daemon_serves_only_its_discovery_settings() {
     );
     // The same settings use it.
     let node = status["node_name"].as_str().expect("node_name").to_owned();
-    let run = horus_env(D, &localhost, &["node", "list", "-a"]);
+    let run = horus_env(D, &peers, &["node", "list", "-a"]);
     assert_eq!(run.stdout, format!("/{node}\n"), "{run:?}");
-    let run = horus_env(D, &localhost, &["daemon", "stop"]);
+    let run = horus_env(D, &peers, &["daemon", "stop"]);
     assert_eq!(run.stdout, "The daemon has been stopped\n");
 }
 
