@@ -218,7 +218,6 @@ fn serve(
         let idle_until = {
             let state = lock(&shared.state);
             if state.stopping {
-                tracing::info!("Remote shutdown requested");
                 return;
             }
             deadline_after(state.last_activity, idle_timeout)
@@ -390,6 +389,7 @@ fn serve_client(shared: &Shared, mut stream: UnixStream) {
             answer(&mut stream, Response::Graph { snapshot });
         }
         Request::Shutdown => {
+            tracing::info!("Remote shutdown requested");
             shared.stop();
             answer(&mut stream, Response::ShuttingDown);
             // Held open: the client sees the end of the stream when this process has exited.
