@@ -1,8 +1,13 @@
 //! Startup-to-answer time of `horus-ros service list` on a warm graph, against ros2cli's
-//! documented default (`--spin-time 0.5` s of discovery wait, plus starting Python), on each
-//! backend built in: rustdds (domain 139) and Cyclone DDS (domain 140). Each backend gets its own
-//! warm graph on that backend, and the CLI is chosen with `HORUS_ROS_BACKEND` in its environment.
-//! Cyclone DDS runs with the environment's `CYCLONEDDS_URI`, else a loopback-only configuration.
+//! documented default (`--spin-time 0.5` s of discovery wait, plus starting Python), and of
+//! `horus-ros node list` with its own discovery (`--no-daemon`, "cold") against the same through
+//! the daemon (`horus-ros daemon start`), on each backend built in: rustdds (domain 139) and
+//! Cyclone DDS (domain 140). Each backend gets its own warm graph on that backend, and the CLI is
+//! chosen with `HORUS_ROS_BACKEND` in its environment. Then `node list` cold and through the
+//! daemon once more on a graph whose only node is a Fast DDS 2.9 one (the peer of
+//! `interop-tests`, domains 141 and 142): Fast DDS answers a new participant's discovery slowly,
+//! so a cold answer is often incomplete. Cyclone DDS runs with the environment's
+//! `CYCLONEDDS_URI`, else a loopback-only configuration.
 //!
 //! Joins DDS domains, so it must run inside the private network namespace:
 //!
@@ -15,8 +20,10 @@
 //! a child process (this bench re-run): one context with four nodes (three AddTwoInts servers
 //! and a publisher). Each
 //! run is timed end to end, from spawning the release binary to its exit, and its stdout is
-//! checked against the services the graph has. `HORUS_ROS_BENCH_RUNS` sets the number of runs
-//! (default 30); `HORUS_ROS_BENCH_DEBUG=1` prints the first wrong answer of each series.
+//! checked against the services (nodes) the graph has; a complete answer is a correct one with
+//! nothing on stderr (no "discovery incomplete" warning). `HORUS_ROS_BENCH_RUNS` sets the number
+//! of runs (default 30); `HORUS_ROS_BENCH_DEBUG=1` prints the first wrong answer of each series.
+//! Every daemon the bench starts is stopped, and killed by its pid if it does not stop.
 //!
 //! The warm graph is another process, as it is for a user running the CLI next to a robot. (Held
 //! in this process, which spawns many fast-exiting children, it used to lose its participants:
@@ -32,6 +39,7 @@ use horus_ros_msgs::builtin_interfaces::msg::Time;
 use horus_ros_rmw::qos::Qos;
 use horus_ros_rmw::{Backend, BACKEND_ENV};
 use horus_ros_services::prelude::*;
+use interop_tests::fastdds::FastDdsPeer;
 
 /// The domain of the first backend; the next ones use the following domains.
 const DOMAIN: u32 = 139;
@@ -44,6 +52,12 @@ const SERVICES: [&str; 3] = ["/bench/add_a", "/bench/add_b", "/bench/add_c"];
 const ROS2CLI_SPIN_TIME: Duration = Duration::from_millis(500);
 /// The issue's goal for `service list`'s startup-to-answer time on a warm graph.
 const GOAL: Duration = Duration::from_millis(300);
+/// The goal for a complete `node list` when the daemon runs.
+const DAEMON_GOAL: Duration = Duration::from_millis(20);
+/// The first domain of the Fast DDS series (one per backend).
+const FAST_DDS_DOMAIN: u32 = 141;
+/// The node of the Fast DDS peer.
+const FAST_DDS_NODE: &str = "/fast_ns/fast_node";
 
 /// Network interfaces other than `lo` that are up: none inside `scripts/isolated`'s namespace.
 fn interfaces_up() -> Vec<String> {
@@ -104,24 +118,32 @@ fn ms(d: Duration) -> f64 {
     d.as_secs_f64() * 1000.0
 }
 
-/// Runs `program args` `runs` times (with `HORUS_ROS_BACKEND=backend`); the time of each run and
-/// how many printed `expected` (any output counts when `expected` is `None`) and exited 0.
+/// A timed series of runs.
+struct Series {
+    /// Their times.
+    stats: Stats,
+    /// How many printed the expected stdout (any counts when none is expected) and exited 0.
+    correct: usize,
+    /// How many of those printed nothing on stderr (no "discovery incomplete" warning).
+    complete: usize,
+}
+
+/// Runs `program args` `runs` times (with `HORUS_ROS_BACKEND=backend`), timing each run.
 fn time_runs(
     program: &Path,
     args: &[&str],
     backend: Backend,
     runs: usize,
     expected: Option<&str>,
-) -> (Stats, usize) {
+) -> Series {
     let mut times = Vec::with_capacity(runs);
-    let mut correct = 0;
+    let (mut correct, mut complete) = (0, 0);
     for _ in 0..runs {
         let start = Instant::now();
         let out = Command::new(program)
             .args(args)
             .env(BACKEND_ENV, backend.name())
             .stdin(Stdio::null())
-            .stderr(Stdio::null())
             .output();
         times.push(start.elapsed());
         if let Ok(out) = out {
@@ -131,9 +153,108 @@ fn time_runs(
                 eprintln!("wrong answer ({}): {stdout:?}", out.status);
             }
             correct += usize::from(ok);
+            complete += usize::from(ok && out.stderr.is_empty());
         }
     }
-    (Stats::new(times), correct)
+    Series {
+        stats: Stats::new(times),
+        correct,
+        complete,
+    }
+}
+
+/// Runs `args` until one run is correct and complete, at most `limit`.
+fn until_complete(
+    bin: &Path,
+    args: &[&str],
+    backend: Backend,
+    expected: &str,
+    limit: Duration,
+) -> bool {
+    let deadline = Instant::now() + limit;
+    while time_runs(bin, args, backend, 1, Some(expected)).complete != 1 {
+        if Instant::now() >= deadline {
+            return false;
+        }
+    }
+    true
+}
+
+/// A daemon started by the bench: stopped when dropped (`daemon stop`), else killed by its pid.
+/// The bench reaps orphans (`PR_SET_CHILD_SUBREAPER`), so the daemon is its child and its pid
+/// cannot be reused before it is reaped here.
+struct Daemon {
+    bin: std::path::PathBuf,
+    backend: Backend,
+    domain: String,
+    pid: i32,
+}
+
+impl Daemon {
+    fn start(bin: &Path, backend: Backend, domain: &str) -> Result<Self, String> {
+        let out = Command::new(bin)
+            .args(["--domain-id", domain, "--json", "daemon", "start"])
+            .env(BACKEND_ENV, backend.name())
+            .stdin(Stdio::null())
+            .stderr(Stdio::inherit())
+            .output()
+            .map_err(|e| format!("could not run `daemon start`: {e}"))?;
+        let doc: serde_json::Value = serde_json::from_slice(&out.stdout)
+            .map_err(|e| format!("`daemon start` printed no JSON ({e})"))?;
+        let pid = doc["pid"]
+            .as_i64()
+            .and_then(|p| i32::try_from(p).ok())
+            .ok_or_else(|| format!("`daemon start` printed no pid: {doc}"))?;
+        let daemon = Self {
+            bin: bin.to_owned(),
+            backend,
+            domain: domain.to_owned(),
+            pid,
+        };
+        if doc["started"] != serde_json::Value::Bool(true) {
+            return Err(format!("a daemon was already running in domain {domain}"));
+        }
+        Ok(daemon)
+    }
+}
+
+impl Drop for Daemon {
+    fn drop(&mut self) {
+        let stopped = Command::new(&self.bin)
+            .args(["--domain-id", &self.domain, "daemon", "stop"])
+            .env(BACKEND_ENV, self.backend.name())
+            .stdin(Stdio::null())
+            .stdout(Stdio::null())
+            .status()
+            .is_ok_and(|s| s.success());
+        let pid = nix::unistd::Pid::from_raw(self.pid);
+        if !stopped {
+            let _ = nix::sys::signal::kill(pid, nix::sys::signal::Signal::SIGKILL);
+        }
+        let _ = nix::sys::wait::waitpid(pid, None);
+    }
+}
+
+/// `node list`, cold then through the daemon: (cold, daemon).
+fn node_list_series(
+    bin: &Path,
+    backend: Backend,
+    domain: &str,
+    runs: usize,
+    expected: &str,
+    warm_up: Duration,
+) -> Result<(Series, Series), String> {
+    let list = ["--domain-id", domain, "node", "list"];
+    let cold_args = ["--domain-id", domain, "--no-daemon", "node", "list"];
+    let cold = time_runs(bin, &cold_args, backend, runs, Some(expected));
+    let _daemon = Daemon::start(bin, backend, domain)?;
+    if !until_complete(bin, &list, backend, expected, warm_up) {
+        return Err(format!(
+            "the daemon's `node list` was never complete within {warm_up:?}"
+        ));
+    }
+    let through_daemon = time_runs(bin, &list, backend, runs, Some(expected));
+    Ok((cold, through_daemon))
 }
 
 /// Set in the environment of the bench's own child process that holds the warm graph.
@@ -227,10 +348,12 @@ impl Drop for WarmGraph {
 
 /// The figures of one backend.
 struct BackendRun {
-    /// `service list --spin-time 0` and its complete answers.
-    no_wait: (Stats, usize),
-    /// `service list` and its correct answers.
-    list: (Stats, usize),
+    /// `service list --spin-time 0`.
+    no_wait: Series,
+    /// `service list`.
+    list: Series,
+    /// `node list --no-daemon` and `node list` through the daemon.
+    nodes: Result<(Series, Series), String>,
 }
 
 /// Starts a warm graph on `backend` in `domain`, waits until the CLI on that backend sees it,
@@ -249,7 +372,7 @@ fn run_backend(
 
     // Warm: wait until a run sees the whole graph (at most 20 s).
     let deadline = Instant::now() + Duration::from_secs(20);
-    while time_runs(bin, &list, backend, 1, Some(&expected)).1 != 1 {
+    while time_runs(bin, &list, backend, 1, Some(&expected)).correct != 1 {
         if Instant::now() >= deadline {
             return Err("`horus-ros service list` never showed the warm graph".to_owned());
         }
@@ -264,8 +387,79 @@ fn run_backend(
     ];
     let no_wait = time_runs(bin, &no_wait_args, backend, runs, Some(&expected));
     let list = time_runs(bin, &list, backend, runs, Some(&expected));
+    let nodes = node_list_series(
+        bin,
+        backend,
+        &domain,
+        runs,
+        "/bench/bench_server_0\n/bench/bench_server_1\n/bench/bench_server_2\n/bench/bench_talker\n",
+        Duration::from_secs(20),
+    );
     warm.stop();
-    Ok(BackendRun { no_wait, list })
+    Ok(BackendRun {
+        no_wait,
+        list,
+        nodes,
+    })
+}
+
+/// `node list` cold and through the daemon on a graph whose only node is a Fast DDS peer's.
+fn run_fast_dds(
+    bin: &Path,
+    backend: Backend,
+    domain: u32,
+    runs: usize,
+) -> Result<(Series, Series), String> {
+    let mut peer = FastDdsPeer::start(
+        domain,
+        "/fast_ns",
+        "fast_node",
+        "/fast_ns/add_two_ints",
+        Duration::from_secs(3600),
+    )?;
+    peer.created(Duration::from_secs(20))?;
+    let expected = format!("{FAST_DDS_NODE}\n");
+    // Fast DDS may take a few of its heartbeat periods to answer the daemon's participant.
+    node_list_series(
+        bin,
+        backend,
+        &domain.to_string(),
+        runs,
+        &expected,
+        Duration::from_secs(30),
+    )
+}
+
+/// The lines of a cold / daemon `node list` pair, and the daemon goal's line.
+fn print_node_lists(
+    what: &str,
+    backend: Backend,
+    runs: usize,
+    series: &(Series, Series),
+) -> String {
+    let (cold, daemon) = series;
+    println!(
+        "  {what}, cold (`--no-daemon`):  {}  complete answers {}/{runs}",
+        cold.stats.line(),
+        cold.complete
+    );
+    println!(
+        "  {what}, through the daemon:    {}  complete answers {}/{runs}",
+        daemon.stats.line(),
+        daemon.complete
+    );
+    let median = daemon.stats.median();
+    let met = median < DAEMON_GOAL && daemon.complete == runs;
+    format!(
+        "goal: complete `node list` through the daemon < 20 ms ({what}) — {} on {backend} \
+         (median {:.1} ms, p90 {:.1} ms, {}/{runs} complete; cold median {:.1} ms, {}/{runs} complete)",
+        if met { "MET" } else { "NOT MET" },
+        ms(median),
+        ms(daemon.stats.percentile(90)),
+        daemon.complete,
+        ms(cold.stats.median()),
+        cold.complete,
+    )
 }
 
 fn main() -> ExitCode {
@@ -293,6 +487,11 @@ fn main() -> ExitCode {
         .unwrap_or(30)
         .max(1);
     let bin = Path::new(env!("CARGO_BIN_EXE_horus-ros"));
+    // Daemons left by `daemon start` become this process's children: reaped and killed by pid.
+    if let Err(e) = nix::sys::prctl::set_child_subreaper(true) {
+        eprintln!("startup bench: cannot reap the daemons it starts ({e}); refusing to start any");
+        return ExitCode::FAILURE;
+    }
 
     println!(
         "startup bench: `horus-ros service list` on a warm graph (4 nodes, 3 services, 1 topic, \
@@ -304,10 +503,10 @@ fn main() -> ExitCode {
             "loopback only (CYCLONEDDS_URI was unset)"
         }
     );
-    let (start_only, _) = time_runs(bin, &["--version"], Backend::RustDds, runs, None);
+    let start_only = time_runs(bin, &["--version"], Backend::RustDds, runs, None);
     println!(
         "  process start only   (`horus-ros --version`):            {}",
-        start_only.line()
+        start_only.stats.line()
     );
     let python = time_runs(
         Path::new("python3"),
@@ -316,16 +515,16 @@ fn main() -> ExitCode {
         runs,
         None,
     );
-    let python_median = if python.1 == runs {
+    let python_median = if python.correct == runs {
         println!(
             "  bare Python start    (`python3 -c 'import sys'`):        {}",
-            python.0.line()
+            python.stats.line()
         );
-        Some(python.0.median())
+        Some(python.stats.median())
     } else {
         println!(
             "  bare Python start: python3 did not run ({}/{runs} runs ok)",
-            python.1
+            python.correct
         );
         None
     };
@@ -347,8 +546,8 @@ fn main() -> ExitCode {
                 continue;
             }
         };
-        let (no_wait, no_wait_ok) = &run.no_wait;
-        let (list_stats, list_ok) = &run.list;
+        let (no_wait, no_wait_ok) = (&run.no_wait.stats, run.no_wait.correct);
+        let (list_stats, list_ok) = (&run.list.stats, run.list.correct);
         println!(
             "  join, no wait        (`service list --spin-time 0`):     {}  complete answers {no_wait_ok}/{runs}",
             no_wait.line()
@@ -362,13 +561,40 @@ fn main() -> ExitCode {
             "  of which discovery wait (median service list − median --spin-time 0): {:.1} ms",
             ms(median.saturating_sub(no_wait.median()))
         );
-        let met = median < GOAL && *list_ok == runs;
+        let met = median < GOAL && list_ok == runs;
         goal_lines.push(format!(
             "goal: < 300 ms — {} on {backend} (median {:.1} ms, p90 {:.1} ms, {list_ok}/{runs} answers correct)",
             if met { "MET" } else { "NOT MET" },
             ms(median),
             ms(list_stats.percentile(90)),
         ));
+        match &run.nodes {
+            Ok(series) => goal_lines.push(print_node_lists(
+                "node list (4 nodes)",
+                backend,
+                runs,
+                series,
+            )),
+            Err(e) => {
+                println!("  node list through the daemon: not measured: {e}");
+                failed = true;
+            }
+        }
+        let fast_domain = FAST_DDS_DOMAIN + i as u32;
+        match run_fast_dds(bin, backend, fast_domain, runs) {
+            Ok(series) => goal_lines.push(print_node_lists(
+                "node list (Fast DDS node)",
+                backend,
+                runs,
+                &series,
+            )),
+            Err(e) => {
+                println!(
+                    "  node list with a Fast DDS node (domain {fast_domain}): not measured: {e}"
+                );
+                failed = true;
+            }
+        }
     }
 
     match python_median {

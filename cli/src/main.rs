@@ -2,6 +2,7 @@
 //! the same output, plus what ros2cli lacks (`service info -v` on Jazzy graphs, `graph --watch`,
 //! `--json` everywhere, service calls without the package installed).
 
+mod daemon;
 mod dynamic;
 mod error;
 mod session;
@@ -23,9 +24,12 @@ Examples:
   horus-ros topic info /chatter -v
   horus-ros graph --watch
   horus-ros --json service list
+  horus-ros daemon start
 
 Every command joins the DDS domain (ROS_DOMAIN_ID, or --domain-id) as a hidden node and waits up
-to --spin-time seconds for discovery. Logs: RUST_LOG=debug.";
+to --spin-time seconds for discovery. With `horus-ros daemon start`, a background process keeps
+the graph discovered: the query commands (node/topic/service list and info, service type/find,
+graph) then answer at once from it (--no-daemon: discover anyway). Logs: RUST_LOG=debug.";
 
 /// horus-ros: join a ROS 2 (Jazzy) graph over DDS and work with it from the shell.
 #[derive(Debug, Parser)]
@@ -46,11 +50,15 @@ pub struct Global {
     pub domain_id: Option<u32>,
 
     /// Longest wait for discovery, in seconds (as ros2cli's --spin-time; we stop earlier once
-    /// the graph is quiet).
+    /// the graph is quiet). Through the daemon: the longest wait for its graph to be consistent.
     #[arg(long, global = true, value_name = "SECONDS", default_value_t = 0.5)]
     pub spin_time: f64,
 
-    /// Print the result as JSON (query commands).
+    /// Do not use a running daemon (`horus-ros daemon start`): discover the graph directly.
+    #[arg(long, global = true)]
+    pub no_daemon: bool,
+
+    /// Print the result as JSON (query and daemon commands).
     #[arg(long, global = true)]
     pub json: bool,
 
@@ -154,6 +162,9 @@ enum Command {
     Topic(verb::topic::TopicCommand),
     /// The whole graph in one document, or a live diff of it.
     Graph(verb::graph::GraphArgs),
+    /// Start, stop or check the daemon that keeps the graph discovered for the query commands.
+    #[command(subcommand)]
+    Daemon(verb::daemon::DaemonCommand),
     /// Start an add_two_ints server node, show `service info -v` for it and call it once.
     Demo(verb::demo::DemoArgs),
     /// Print a shell completion script.
@@ -197,6 +208,7 @@ fn main() -> ExitCode {
         Command::Node(c) => verb::node::run(&cli.global, c),
         Command::Topic(c) => verb::topic::run(&cli.global, c),
         Command::Graph(args) => verb::graph::run(&cli.global, &args),
+        Command::Daemon(c) => verb::daemon::run(&cli.global, c),
         Command::Demo(args) => verb::demo::run(&cli.global, &args),
         Command::Completions(args) => verb::completions::run(&args),
     });

@@ -20,7 +20,7 @@ pub fn participant_gid_from_prefix(prefix: GuidPrefix) -> Gid {
 
 /// One discovered (or local) DDS reader or writer, as given to
 /// [`GraphCache::add_entity`](crate::GraphCache::add_entity).
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct EndpointEntry {
     /// The endpoint's GID (its DDS GUID).
     pub gid: Gid,
@@ -33,6 +33,7 @@ pub struct EndpointEntry {
     /// The endpoint's QoS as discovered.
     pub qos: Qos,
     /// The type hash from USER_DATA, [`TypeHash::ZERO`] if absent.
+    #[serde(with = "crate::snapshot::optional_type_hash")]
     pub type_hash: TypeHash,
     /// Reader or writer.
     pub kind: EndpointKind,

@@ -10,7 +10,8 @@
 //! ([`TopicEndpointInfo`], [`ServiceEndpointInfo`], whose `Display` matches rclpy's `__str__`).
 //!
 //! [`Graph`] keeps a cache up to date from a context's discovery in the background and offers
-//! change notification and service readiness.
+//! change notification and service readiness. [`GraphSnapshot`] carries a cache's content to
+//! another process, which rebuilds an equal cache from it.
 
 mod cache;
 mod endpoint;
@@ -20,6 +21,7 @@ mod event;
 mod info;
 mod live;
 mod query;
+mod snapshot;
 
 #[cfg(test)]
 mod tests;
@@ -32,6 +34,7 @@ pub use horus_ros_msgs::rmw_dds_common::Gid;
 pub use info::{ServiceEndpointInfo, ServiceEndpointType, TopicEndpointInfo, TopicEndpointType};
 pub use live::{apply_discovery_event, Graph, GraphStartError};
 pub use query::{NamesAndTypes, NodeInfo};
+pub use snapshot::{GraphSnapshot, ParticipantSnapshot};
 
 /// Node name reported for an endpoint whose participant is unknown (rmw_dds_common
 /// `graph_cache.cpp`, `EndpointCreator::BARE_DDS_PARTICIPANT`); also used as its namespace.

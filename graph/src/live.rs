@@ -60,6 +60,8 @@ struct State {
     matches: HashMap<Gid, BTreeMap<Gid, Instant>>,
     /// Bumped on every change of the cache.
     generation: u64,
+    /// When `generation` was last bumped (the graph's creation before any change).
+    changed_at: Instant,
 }
 
 struct Shared {
@@ -118,6 +120,7 @@ impl Graph {
                 vendors: BTreeMap::new(),
                 matches: HashMap::new(),
                 generation: 0,
+                changed_at: Instant::now(),
             }),
             changed: Condvar::new(),
             subscribers: Mutex::new(Vec::new()),
@@ -141,6 +144,12 @@ impl Graph {
     /// A counter bumped on every change of the graph.
     pub fn generation(&self) -> u64 {
         self.shared.state().generation
+    }
+
+    /// When the graph last changed (when it was created, before any change): a reader can
+    /// tell how long the graph has been quiet without waiting.
+    pub fn last_change(&self) -> Instant {
+        self.shared.state().changed_at
     }
 
     /// Every change from now on, as typed events (the receiver may be dropped at any time).
@@ -329,6 +338,7 @@ fn run(shared: &Shared, mut feed: DiscoveryFeed) {
             }
             if changed {
                 state.generation += 1;
+                state.changed_at = Instant::now();
             }
             state.cache.drain_events()
         };

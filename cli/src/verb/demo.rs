@@ -40,7 +40,7 @@ pub fn run(global: &Global, args: &DemoArgs) -> Result<(), CliError> {
         ));
     }
     println!("$ horus-ros service info /add_two_ints -v");
-    print!("{}", info::render(&session, "/add_two_ints", true)?);
+    print!("{}", info::render(&session.graph, "/add_two_ints", true)?);
     println!();
     println!("$ horus-ros service call /add_two_ints example_interfaces/srv/AddTwoInts '{{a: {}, b: {}}}'", args.a, args.b);
     println!(

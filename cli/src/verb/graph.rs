@@ -19,7 +19,7 @@ use horus_ros_rmw::names::{
 use horus_ros_rmw::qos::{EndpointKind, Qos};
 use serde_json::{json, Value};
 
-use crate::session::Session;
+use crate::session::{GraphSource, Session};
 use crate::verb::names;
 use crate::{CliError, Global};
 
@@ -53,9 +53,9 @@ pub fn run(global: &Global, args: &GraphArgs) -> Result<(), CliError> {
     if args.watch {
         return watch(global, args);
     }
-    let session = Session::open(global)?;
-    let doc = session.graph.read(|c| GraphDoc::read(c, args.all));
-    let domain_id = session.context.domain_id().get();
+    let source = GraphSource::open(global)?;
+    let doc = source.read(|c| GraphDoc::read(c, args.all));
+    let domain_id = source.domain_id();
     if global.json {
         names::print_json(&doc.to_json(domain_id))
     } else {

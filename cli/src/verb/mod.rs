@@ -1,6 +1,7 @@
 //! One module per verb, as ros2cli keeps one file per verb.
 
 pub mod completions;
+pub mod daemon;
 pub mod demo;
 pub mod graph;
 pub mod names;

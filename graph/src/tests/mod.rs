@@ -7,3 +7,4 @@ mod index;
 mod mutators;
 mod queries;
 mod services;
+mod snapshot;

@@ -56,7 +56,7 @@ pub const RELIABLE_MAX_BLOCKING_TIME: Duration = Duration::from_millis(100);
 const NANOS_PER_SEC: i64 = 1_000_000_000;
 
 /// Which kind of DDS endpoint a QoS belongs to (DDS defaults and BEST_AVAILABLE rules differ).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
 pub enum EndpointKind {
     /// A DataWriter: a publisher, a service's reply writer or a client's request writer.
     Writer,

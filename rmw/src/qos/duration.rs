@@ -16,7 +16,7 @@ const NANOS_PER_SEC: u64 = 1_000_000_000;
 ///
 /// Equality, ordering and hashing use the total nanoseconds ([`QosDuration::total_nanos`]),
 /// as rmw does, so `Finite(Duration::ZERO)` equals `Default`.
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Copy, Default, serde::Serialize, serde::Deserialize)]
 pub enum QosDuration {
     /// `RMW_DURATION_UNSPECIFIED` (`{0, 0}`): the middleware's default.
     #[default]

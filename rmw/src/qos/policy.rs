@@ -24,7 +24,7 @@ fn parse_name<T: Copy>(policy: &'static str, s: &str, names: &[(&str, T)]) -> Re
 }
 
 /// `rmw_qos_history_policy_t`: how many samples are kept.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
 pub enum HistoryPolicy {
     /// `RMW_QOS_POLICY_HISTORY_SYSTEM_DEFAULT`.
     SystemDefault,
@@ -60,7 +60,7 @@ impl HistoryPolicy {
 }
 
 /// `rmw_qos_reliability_policy_t`: whether delivery is guaranteed.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
 pub enum ReliabilityPolicy {
     /// `RMW_QOS_POLICY_RELIABILITY_SYSTEM_DEFAULT`.
     SystemDefault,
@@ -99,7 +99,7 @@ impl ReliabilityPolicy {
 }
 
 /// `rmw_qos_durability_policy_t`: whether late joiners get earlier samples.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
 pub enum DurabilityPolicy {
     /// `RMW_QOS_POLICY_DURABILITY_SYSTEM_DEFAULT`.
     SystemDefault,
@@ -139,7 +139,7 @@ impl DurabilityPolicy {
 
 /// `rmw_qos_liveliness_policy_t`: how a publisher shows it is alive
 /// (the deprecated MANUAL_BY_NODE is not represented).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
 pub enum LivelinessPolicy {
     /// `RMW_QOS_POLICY_LIVELINESS_SYSTEM_DEFAULT`.
     SystemDefault,

@@ -5,7 +5,8 @@ use super::{DurabilityPolicy, HistoryPolicy, LivelinessPolicy, QosDuration, Reli
 /// A ROS 2 QoS profile, mirroring `rmw_qos_profile_t`.
 ///
 /// `Default` is `rmw_qos_profile_default` ([`Qos::default_profile`]).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+/// It (de)serializes with serde field by field (graph snapshots carry it between processes).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
 pub struct Qos {
     /// History policy.
     pub history: HistoryPolicy,

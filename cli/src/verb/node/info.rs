@@ -4,7 +4,7 @@ use horus_ros_graph::{GraphCache, NamesAndTypes};
 use horus_ros_rmw::names::is_hidden_name;
 use serde_json::json;
 
-use crate::session::Session;
+use crate::session::GraphSource;
 use crate::verb::names;
 use crate::{CliError, Global};
 
@@ -32,10 +32,8 @@ struct NodeDetails {
 /// full name as `node list` prints it (ros2cli compares strings); hidden nodes, topics,
 /// services and actions only with `--include-hidden`.
 pub fn run(global: &Global, args: &InfoArgs) -> Result<(), CliError> {
-    let session = Session::open(global)?;
-    let (count, details) = session
-        .graph
-        .read(|c| read(c, &args.node_name, args.include_hidden));
+    let source = GraphSource::open(global)?;
+    let (count, details) = source.read(|c| read(c, &args.node_name, args.include_hidden));
     if count > 1 {
         eprintln!(
             "There are {count} nodes in the graph with the exact name \"{}\". \

@@ -2,7 +2,7 @@
 
 use serde_json::{json, Value};
 
-use crate::session::Session;
+use crate::session::GraphSource;
 use crate::verb::names;
 use crate::{CliError, Global};
 
@@ -24,9 +24,8 @@ pub struct ListArgs {
 /// Runs `node list`: full names sorted, one a line (a warning on stderr when two nodes share a
 /// name); hidden nodes (name starting with `_`, ours included) only with `-a`.
 pub fn run(global: &Global, args: &ListArgs) -> Result<(), CliError> {
-    let session = Session::open(global)?;
-    let mut nodes: Vec<(String, horus_ros_graph::NodeInfo)> = session
-        .graph
+    let source = GraphSource::open(global)?;
+    let mut nodes: Vec<(String, horus_ros_graph::NodeInfo)> = source
         .read(|c| c.node_names())
         .into_iter()
         .filter(|n| args.all || !names::is_hidden_node(&n.name))

@@ -1,6 +1,6 @@
 //! `horus-ros service find` (ros2service `verb/find.py`).
 
-use crate::session::Session;
+use crate::session::GraphSource;
 use crate::verb::names;
 use crate::{CliError, Global};
 
@@ -19,10 +19,8 @@ pub struct FindArgs {
 
 /// Runs `service find`: the services having the type (one of their types equal to it), sorted.
 pub fn run(global: &Global, args: &FindArgs) -> Result<(), CliError> {
-    let session = Session::open(global)?;
-    let mut services = session
-        .graph
-        .read(|c| c.service_names_and_types(args.include_hidden_services));
+    let source = GraphSource::open(global)?;
+    let mut services = source.read(|c| c.service_names_and_types(args.include_hidden_services));
     services.retain(|_, types| types.contains(&args.service_type));
     if global.json {
         return names::print_json(&if args.count_services {

@@ -3,7 +3,9 @@
 use horus_ros_graph::{GraphCache, ServiceEndpointInfo};
 use serde_json::{json, Value};
 
-use crate::session::Session;
+use horus_ros_graph::Graph;
+
+use crate::session::GraphSource;
 use crate::verb::names;
 use crate::{CliError, Global};
 
@@ -23,8 +25,10 @@ pub struct InfoArgs {
 
 /// Runs `service info`.
 pub fn run(global: &Global, args: &InfoArgs) -> Result<(), CliError> {
-    let session = Session::open(global)?;
-    let info = query(&session, &args.service_name, args.include_hidden_services)?;
+    let source = GraphSource::open(global)?;
+    let info = source
+        .read(|c| read(c, &args.service_name, args.include_hidden_services))
+        .ok_or_else(|| unknown(&args.service_name))??;
     if global.json {
         return names::print_json(&info.to_json(&args.service_name));
     }
@@ -35,8 +39,15 @@ pub fn run(global: &Global, args: &InfoArgs) -> Result<(), CliError> {
 /// What `service info` prints for `service` (an error for an unknown service): without
 /// `verbose` Jazzy's three lines, with it Rolling's `-v` output. Hidden services are unknown,
 /// as in ros2cli without `--include-hidden-services`.
-pub fn render(session: &Session, service: &str, verbose: bool) -> Result<String, CliError> {
-    Ok(query(session, service, false)?.render(verbose))
+pub fn render(graph: &Graph, service: &str, verbose: bool) -> Result<String, CliError> {
+    let info = graph
+        .read(|c| read(c, service, false))
+        .ok_or_else(|| unknown(service))??;
+    Ok(info.render(verbose))
+}
+
+fn unknown(service: &str) -> CliError {
+    CliError::new(format!("Unknown service '{service}'"))
 }
 
 /// Everything `service info` shows, read from the graph at once.
@@ -46,13 +57,6 @@ struct ServiceInfo {
     services_count: usize,
     clients: Vec<ServiceEndpointInfo>,
     servers: Vec<ServiceEndpointInfo>,
-}
-
-fn query(session: &Session, service: &str, include_hidden: bool) -> Result<ServiceInfo, CliError> {
-    session
-        .graph
-        .read(|c| read(c, service, include_hidden))
-        .ok_or_else(|| CliError::new(format!("Unknown service '{service}'")))?
 }
 
 fn read(

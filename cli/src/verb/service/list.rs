@@ -1,6 +1,6 @@
 //! `horus-ros service list` (ros2service `verb/list.py`).
 
-use crate::session::Session;
+use crate::session::GraphSource;
 use crate::verb::names;
 use crate::{CliError, Global};
 
@@ -20,10 +20,8 @@ pub struct ListArgs {
 
 /// Runs `service list`.
 pub fn run(global: &Global, args: &ListArgs) -> Result<(), CliError> {
-    let session = Session::open(global)?;
-    let services = session
-        .graph
-        .read(|c| c.service_names_and_types(args.include_hidden_services));
+    let source = GraphSource::open(global)?;
+    let services = source.read(|c| c.service_names_and_types(args.include_hidden_services));
     if global.json {
         return names::print_json(&if args.count_services {
             names::count_json(services.len())

@@ -1,6 +1,6 @@
 //! `horus-ros service type` (ros2service `verb/type.py`).
 
-use crate::session::Session;
+use crate::session::GraphSource;
 use crate::verb::names;
 use crate::{CliError, Global};
 
@@ -17,10 +17,8 @@ pub struct TypeArgs {
 /// Runs `service type`: each type of the service on its own line. An unknown service prints
 /// nothing and exits 1, as ros2cli does (its verb returns 1 without a message).
 pub fn run(global: &Global, args: &TypeArgs) -> Result<(), CliError> {
-    let session = Session::open(global)?;
-    let services = session
-        .graph
-        .read(|c| c.service_names_and_types(args.include_hidden_services));
+    let source = GraphSource::open(global)?;
+    let services = source.read(|c| c.service_names_and_types(args.include_hidden_services));
     let Some(types) = names::find_types(&services, &args.service_name) else {
         return Err(CliError::new(""));
     };

@@ -3,7 +3,7 @@
 use horus_ros_graph::{GraphCache, TopicEndpointInfo};
 use serde_json::json;
 
-use crate::session::Session;
+use crate::session::GraphSource;
 use crate::verb::names;
 use crate::{CliError, Global};
 
@@ -42,10 +42,9 @@ fn read(cache: &GraphCache, topic: &str) -> Option<TopicInfo> {
 
 /// Runs `topic info`.
 pub fn run(global: &Global, args: &InfoArgs) -> Result<(), CliError> {
-    let session = Session::open(global)?;
+    let source = GraphSource::open(global)?;
     let topic = &args.topic_name;
-    let info = session
-        .graph
+    let info = source
         .read(|c| read(c, topic))
         .ok_or_else(|| CliError::new(format!("Unknown topic '{topic}'")))?;
     if global.json {

@@ -3,7 +3,7 @@
 use horus_ros_graph::GraphCache;
 use serde_json::{json, Value};
 
-use crate::session::Session;
+use crate::session::GraphSource;
 use crate::verb::names;
 use crate::{CliError, Global};
 
@@ -47,8 +47,8 @@ fn read(cache: &GraphCache, include_hidden: bool) -> Vec<Topic> {
 
 /// Runs `topic list`.
 pub fn run(global: &Global, args: &ListArgs) -> Result<(), CliError> {
-    let session = Session::open(global)?;
-    let topics = session.graph.read(|c| read(c, args.include_hidden_topics));
+    let source = GraphSource::open(global)?;
+    let topics = source.read(|c| read(c, args.include_hidden_topics));
     if global.json {
         if args.count_topics {
             return names::print_json(&names::count_json(topics.len()));
