@@ -8,7 +8,11 @@
 //! CLI is a late joiner as a user's is), then times `HORUS_ROS_BENCH_RUNS` (default 10) cold
 //! runs of the release binary with `--spin-time 10`, end to end (spawn to exit; the CLI exits as
 //! soon as its graph is consistent and quiet). Printed: p50, max, and how many answers were
-//! complete. Against the same-run baseline of a run next to a peer-less domain (the CLI's own
+//! complete; then the same through `horus-ros daemon` (the first complete answer after
+//! `daemon start`, then warm answers), and Cyclone DDS's own view (interop-tests'
+//! `cyclone_discovery_info.py`: Cyclone DDS discovery plus `ros_discovery_info` read as
+//! rmw_dds_common does, Python start-up included; no Fast DDS graph tool is installable here).
+//! Against the same-run baseline of a run next to a peer-less domain (the CLI's own
 //! start-up and quiet wait), so the figures read as "discovery cost".
 //!
 //! Joins DDS domains, so it must run inside the private network namespace:
@@ -71,8 +75,56 @@ fn cli_binary() -> PathBuf {
 
 /// One cold `node list`: its wall time and whether `node` was listed with no warning.
 fn cold_run(backend: &str, domain: u32, node: &str) -> (Duration, bool) {
+    node_list_run(backend, domain, node, &["--no-daemon"])
+}
+
+/// One `node list` through a running daemon.
+fn daemon_run(backend: &str, domain: u32, node: &str) -> (Duration, bool) {
+    node_list_run(backend, domain, node, &[])
+}
+
+/// `horus-ros daemon <verb>` for `backend` and `domain`; whether it succeeded.
+fn daemon(verb: &str, backend: &str, domain: u32) -> bool {
+    Command::new(cli_binary())
+        .args(["--domain-id", &domain.to_string(), "daemon", verb])
+        .env("HORUS_ROS_BACKEND", backend)
+        .env("CYCLONEDDS_URI", CYCLONE_LOOPBACK)
+        .stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .status()
+        .is_ok_and(|s| s.success())
+}
+
+/// Starts a daemon and times the first complete answer through it (from the daemon's start:
+/// what a user sees who starts it next to a running robot), then `runs` warm answers.
+fn daemon_series(label: &str, backend: &str, domain: u32, node: &str, runs: u64) {
+    let started = Instant::now();
+    if !daemon("start", backend, domain) {
+        eprintln!("bench: could not start the daemon");
+        return;
+    }
+    let first = loop {
+        let (_, ok) = daemon_run(backend, domain, node);
+        if ok || started.elapsed() > Duration::from_secs(20) {
+            break ok.then(|| started.elapsed());
+        }
+    };
+    match first {
+        Some(t) => println!(
+            "{label:<34} {backend:<8} first complete answer {:>7.1} ms after `daemon start`",
+            t.as_secs_f64() * 1e3
+        ),
+        None => println!("{label:<34} {backend:<8} no complete answer within 20 s"),
+    }
+    timed_series(label, backend, runs, || daemon_run(backend, domain, node));
+    daemon("stop", backend, domain);
+}
+
+/// One `node list` with `extra` global options.
+fn node_list_run(backend: &str, domain: u32, node: &str, extra: &[&str]) -> (Duration, bool) {
     let started = Instant::now();
     let out = Command::new(cli_binary())
+        .args(extra)
         .args([
             "--domain-id",
             &domain.to_string(),
@@ -238,7 +290,7 @@ fn main() -> ExitCode {
     }
     let runs = env_number("HORUS_ROS_BENCH_RUNS", 10);
     let age = Duration::from_millis(env_number("HORUS_ROS_BENCH_PEER_AGE_MS", 1500));
-    println!("time to a complete graph: cold `horus-ros --spin-time 10 node list`, {runs} runs each, peers {age:?} old");
+    println!("time to a complete graph: cold `horus-ros --no-daemon --spin-time 10 node list`, {runs} runs each, peers {age:?} old");
     timed_series(
         "python + cyclonedds import (start-up)",
         "python",
@@ -269,6 +321,13 @@ fn main() -> ExitCode {
                         runs,
                     );
                     ratio(p50, baseline);
+                    daemon_series(
+                        "  through the daemon",
+                        backend,
+                        domain + 1,
+                        "/fast_ns/fast_node",
+                        runs,
+                    );
                     if i == 0 {
                         timed_series("  Cyclone DDS's own view of it", "python", runs, || {
                             cyclone_watcher_run(domain + 1, "/fast_ns/fast_node", 2, 2)
@@ -288,6 +347,13 @@ fn main() -> ExitCode {
                 runs,
             );
             ratio(p50, baseline);
+            daemon_series(
+                "  through the daemon",
+                backend,
+                domain + 2,
+                "/cyc_ns/cyc_node",
+                runs,
+            );
             if i == 0 {
                 timed_series("  Cyclone DDS's own view of it", "python", runs, || {
                     cyclone_watcher_run(domain + 2, "/cyc_ns/cyc_node", 1, 1)

@@ -2,12 +2,14 @@
 //! the same output, plus what ros2cli lacks (`service info -v` on Jazzy graphs, `graph --watch`,
 //! `--json` everywhere, service calls without the package installed).
 
+mod args;
 mod daemon;
 mod dynamic;
 mod error;
 mod session;
 mod verb;
 
+use std::io::IsTerminal;
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
@@ -46,12 +48,25 @@ pub struct Cli {
 #[derive(Debug, Clone, clap::Args)]
 pub struct Global {
     /// DDS domain to join (default: ROS_DOMAIN_ID, else 0).
-    #[arg(long, global = true, value_name = "ID")]
+    #[arg(
+        long,
+        global = true,
+        value_name = "ID",
+        allow_negative_numbers = true,
+        value_parser = args::domain_id
+    )]
     pub domain_id: Option<u32>,
 
     /// Longest wait for discovery, in seconds (as ros2cli's --spin-time; we stop earlier once
     /// the graph is quiet). Through the daemon: the longest wait for its graph to be consistent.
-    #[arg(long, global = true, value_name = "SECONDS", default_value_t = 0.5)]
+    #[arg(
+        long,
+        global = true,
+        value_name = "SECONDS",
+        default_value_t = 0.5,
+        allow_negative_numbers = true,
+        value_parser = args::seconds
+    )]
     pub spin_time: f64,
 
     /// Do not use a running daemon (`horus-ros daemon start`): discover the graph directly.
@@ -194,7 +209,9 @@ fn quiet_on_closed_stdout() {
 }
 
 fn main() -> ExitCode {
+    // Colours only for a terminal: logs piped or redirected are plain text.
     tracing_subscriber::fmt()
+        .with_ansi(std::io::stderr().is_terminal())
         .with_env_filter(
             tracing_subscriber::EnvFilter::try_from_default_env()
                 .unwrap_or_else(|_| tracing_subscriber::EnvFilter::new("warn")),

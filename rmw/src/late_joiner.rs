@@ -57,8 +57,11 @@ impl LateJoinerReader {
         if self.heard.contains(&prefix) || self.awaited.len() >= MAX_AWAITED {
             return;
         }
-        self.awaited.insert(prefix);
-        self.stale = true;
+        // Discovery reports a writer again on every update of its SEDP data: only a newly
+        // awaited participant needs a new reader (rustdds queues at most 4 reader removals).
+        if self.awaited.insert(prefix) {
+            self.stale = true;
+        }
     }
 
     /// A `ros_discovery_info` sample of `participant` arrived.
@@ -143,6 +146,15 @@ mod tests {
         l.heard(participant(2));
         assert_eq!(l.action(true), Action::Drop);
         assert_eq!(l.action(false), Action::Keep);
+    }
+
+    #[test]
+    fn a_writer_reported_again_renews_nothing() {
+        let mut l = LateJoinerReader::default();
+        l.writer_discovered(writer_of(1));
+        assert_eq!(l.action(false), Action::Renew);
+        l.writer_discovered(writer_of(1));
+        assert_eq!(l.action(true), Action::Keep, "an update of a known writer");
     }
 
     #[test]

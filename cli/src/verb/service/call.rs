@@ -47,7 +47,13 @@ pub struct CallArgs {
     pub rate: Option<f64>,
     /// Longest wait for a server to appear, and for each reply, in seconds (ros2cli waits for
     /// the server forever).
-    #[arg(long, value_name = "SECONDS", default_value_t = 10.0)]
+    #[arg(
+        long,
+        value_name = "SECONDS",
+        default_value_t = 10.0,
+        allow_negative_numbers = true,
+        value_parser = crate::args::seconds
+    )]
     pub timeout: f64,
     /// Stop after this many calls (with -r; for tests).
     #[arg(long, hide = true, value_name = "N")]
@@ -79,9 +85,6 @@ pub fn run(global: &Global, args: &CallArgs) -> Result<(), CliError> {
         Some(r) => Some(Duration::from_secs_f64(1.0 / r)),
         None => None,
     };
-    if !(args.timeout.is_finite() && args.timeout >= 0.0) {
-        return Err(CliError::new("--timeout must be a number of seconds"));
-    }
     let timeout = Duration::from_secs_f64(args.timeout);
     let service_type = normalize_type(&args.service_type)?;
     // ros2cli loads the YAML before anything else.
@@ -110,6 +113,14 @@ pub fn run(global: &Global, args: &CallArgs) -> Result<(), CliError> {
         session.node.namespace(),
     )
     .map_err(|e| CliError::new(format!("Invalid service name '{}': {e}", args.service_name)))?;
+    // A type not compiled in can only be learnt from a server that offers it; ros2cli fails at
+    // once on a type it cannot import, and so do we when no server in the graph has it.
+    if compiled.is_none() && !type_offered(&session, &service_type) {
+        return Err(CliError::new(format!(
+            "Unknown service type '{service_type}': it is not built into horus-ros and no \
+             node in the graph uses it (a server's ~/get_type_description would describe it)"
+        )));
+    }
     let deadline = Instant::now() + timeout;
     if !server_listed(&session, service.as_str(), &service_type) {
         println!("waiting for service to become available...");
@@ -183,6 +194,15 @@ pub fn run(global: &Global, args: &CallArgs) -> Result<(), CliError> {
         }
     }
     Ok(())
+}
+
+/// Whether any server or client in the graph has type `service_type`.
+fn type_offered(session: &Session, service_type: &str) -> bool {
+    session.graph.read(|c| {
+        c.service_names_and_types(true)
+            .values()
+            .any(|types| types.iter().any(|t| t == service_type))
+    })
 }
 
 /// Whether the graph lists a server of `service` with this type, both endpoints known.
