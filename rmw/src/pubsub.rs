@@ -165,7 +165,11 @@ pub struct Subscription<M: Message> {
 // One per entity, used in place: boxing the larger variant would buy nothing.
 #[allow(clippy::large_enum_variant)]
 enum TypedReader<M: Message> {
-    RustDds(no_key::DataReader<M, CDRDeserializerAdapter<M>>),
+    RustDds {
+        /// Woken when data arrives (rustdds' mio 1 source, drained by take).
+        poll: rustdds::mio1::Poll,
+        reader: no_key::DataReader<M, CDRDeserializerAdapter<M>>,
+    },
     #[cfg(feature = "cyclone")]
     Cyclone(crate::cyclone::endpoints::RawReader),
 }
@@ -238,7 +242,7 @@ impl Node {
         let (reader, gid) = match &self.context().inner().dds {
             Dds::RustDds(p) => {
                 let dds_topic = rustdds_topic::<M>(p, &dds_name, &dds_qos)?;
-                let reader = p
+                let mut reader = p
                     .subscriber
                     .create_datareader_no_key::<M, CDRDeserializerAdapter<M>>(
                         &dds_topic,
@@ -246,7 +250,17 @@ impl Node {
                     )
                     .map_err(|e| fail(e.to_string()))?;
                 let gid = gid_from_guid(reader.guid());
-                (TypedReader::RustDds(reader), gid)
+                let poll = rustdds::mio1::Poll::new().map_err(|e| fail(e.to_string()))?;
+                // As for raw readers: rustdds' mio 1 source is drained by take, so
+                // edge-triggered waking works.
+                poll.registry()
+                    .register(
+                        &mut reader,
+                        rustdds::mio1::Token(0),
+                        rustdds::mio1::Interest::READABLE,
+                    )
+                    .map_err(|e| fail(e.to_string()))?;
+                (TypedReader::RustDds { poll, reader }, gid)
             }
             #[cfg(feature = "cyclone")]
             Dds::Cyclone(p) => {
@@ -318,7 +332,7 @@ impl<M: Message> Subscription<M> {
             reason,
         };
         match &mut self.reader {
-            TypedReader::RustDds(reader) => match reader.take_next_sample() {
+            TypedReader::RustDds { reader, .. } => match reader.take_next_sample() {
                 Ok(sample) => Ok(sample.map(|s| s.into_value())),
                 Err(e) => Err(fail(e.to_string())),
             },
@@ -334,6 +348,25 @@ impl<M: Message> Subscription<M> {
                 };
                 decoded.map(Some).map_err(|e| fail(e.to_string()))
             }
+        }
+    }
+
+    /// Waits until a message may have arrived, at most `timeout`; returns whether something
+    /// was signalled. Take until `None` after it: wake-ups are edge-triggered.
+    pub fn wait(&mut self, timeout: std::time::Duration) -> bool {
+        match &mut self.reader {
+            TypedReader::RustDds { poll, .. } => {
+                let mut events = rustdds::mio1::Events::with_capacity(4);
+                match poll.poll(&mut events, Some(timeout)) {
+                    Ok(()) => !events.is_empty(),
+                    Err(e) => {
+                        tracing::debug!("poll failed: {e}");
+                        false
+                    }
+                }
+            }
+            #[cfg(feature = "cyclone")]
+            TypedReader::Cyclone(reader) => reader.wait(timeout),
         }
     }
 
