@@ -36,7 +36,10 @@ impl Session {
 
     /// Joins the domain without waiting.
     pub fn join(global: &Global) -> Result<Self, CliError> {
-        let mut builder = Context::builder().backend(global.backend.into());
+        // The CLI is not a ROS executable: its own arguments are not `--ros-args`.
+        let mut builder = Context::builder()
+            .backend(global.backend.into())
+            .arguments(horus_ros_rmw::args::Arguments::default());
         if let Some(d) = global.domain_id {
             builder = builder.domain_id(d);
         }

@@ -35,6 +35,7 @@
 mod api;
 
 pub use api::clock::{Clock, ManualClock, StopHandle, SystemClock};
+pub use api::current;
 pub use api::error::{BuildError, ConfigError, Error, MessageError, Result, SchedulerError};
 pub use api::log::LogLevel;
 pub use api::metrics::{NodeMetrics, NodeTiming, TimingReport};
@@ -46,6 +47,7 @@ pub use api::topic::{Topic, TopicError};
 pub use api::units::{Frequency, Units};
 
 pub use horus_ros_msgs::{Message, Service};
+pub use horus_ros_services::{message, service};
 
 /// ROS 2 message and service types (the packages of `horus-ros-msgs`).
 pub mod msgs {
@@ -54,6 +56,7 @@ pub mod msgs {
 
 /// The ROS 2 layer under the nodes: contexts, rmw nodes, names, QoS.
 pub mod ros {
+    pub use horus_ros_rmw::args::{Arguments, ArgumentsError};
     pub use horus_ros_rmw::qos::Qos;
     pub use horus_ros_rmw::{Context, Node as RosNode};
     pub use horus_ros_services::{
@@ -65,10 +68,19 @@ pub mod ros {
 /// Everything a robot program needs, in one import.
 pub mod prelude {
     pub use crate::{
-        hlog, node, FailurePolicy, Frequency, Miss, Node, NodeHealthState, NodeMetrics, NodeState,
-        Result, Scheduler, Topic, TopicMetadata, Units,
+        hlog, message, node, service, FailurePolicy, Frequency, Miss, Node, NodeHealthState,
+        NodeMetrics, NodeState, Result, Scheduler, Topic, TopicMetadata, Units,
     };
     pub use crate::{Error, Message};
+    pub use horus_ros_msgs::builtin_interfaces::msg::Time;
+    pub use horus_ros_msgs::geometry_msgs::msg::{
+        Point, Pose, PoseStamped, Quaternion, Twist, TwistStamped, Vector3,
+    };
+    pub use horus_ros_msgs::sensor_msgs::msg::{Imu, JointState, LaserScan};
+    pub use horus_ros_msgs::std_msgs::msg::{
+        Bool, Float32, Float64, Header, Int16, Int32, Int64, Int8, String as StringMsg, UInt16,
+        UInt32, UInt64, UInt8,
+    };
     pub use std::time::Duration;
 }
 

@@ -87,6 +87,23 @@ fn resolve_topic(
             source,
         }
     })?;
+    // `-r from:=to` (rcl_remap_topic_name), unless the QoS avoids ROS conventions.
+    if !qos.avoid_ros_namespace_conventions {
+        let arguments = node.context().arguments();
+        if let Some(remapped) =
+            arguments.remap_topic(topic_name.as_str(), node.name(), node.namespace())
+        {
+            let remapped =
+                TopicName::new(&remapped).map_err(|source| EndpointError::InvalidName {
+                    name: name.to_owned(),
+                    source: ExpandError::InvalidExpansion {
+                        expanded: remapped.clone(),
+                        source,
+                    },
+                })?;
+            return Ok((remapped, dds_qos));
+        }
+    }
     Ok((topic_name, dds_qos))
 }
 

@@ -1,6 +1,7 @@
 //! The implementation; the crate root re-exports its public surface.
 
 pub(crate) mod clock;
+pub mod current;
 pub(crate) mod error;
 pub(crate) mod log;
 pub(crate) mod macros;
