@@ -43,7 +43,7 @@ pub use api::names;
 pub use api::node::{Node, NodeHealthState, NodeState, TopicMetadata};
 pub use api::policy::{FailurePolicy, Miss};
 pub use api::scheduler::{NodeBuilder, Scheduler, DEFAULT_TICK_RATE_HZ, SHUTDOWN_TIMEOUT};
-pub use api::topic::{Topic, TopicError};
+pub use api::topic::{Topic, TopicError, DROP_FLUSH_TIMEOUT};
 pub use api::units::{Frequency, Units};
 
 pub use horus_ros_msgs::{Message, Service};

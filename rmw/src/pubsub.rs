@@ -325,6 +325,20 @@ impl<M: Message> Publisher<M> {
         }
     }
 
+    /// Waits until every matched reliable reader acknowledged what was published, at most
+    /// `timeout`; returns whether they all did. On the Cyclone backend it returns at once:
+    /// Cyclone DDS delivers unacknowledged samples of a deleted writer itself (its writer
+    /// linger duration).
+    pub fn wait_for_acknowledgments(&self, timeout: std::time::Duration) -> bool {
+        match &self.writer {
+            TypedWriter::RustDds(writer) => {
+                writer.wait_for_acknowledgments(timeout).unwrap_or(false)
+            }
+            #[cfg(feature = "cyclone")]
+            TypedWriter::Cyclone(_) => true,
+        }
+    }
+
     /// The writer's GID.
     pub fn gid(&self) -> Gid {
         self.registration.gid()

@@ -280,6 +280,23 @@ impl<T: Message> Topic<T> {
     }
 }
 
+/// How long a dropped topic waits for its readers to acknowledge what it sent.
+pub const DROP_FLUSH_TIMEOUT: Duration = Duration::from_secs(1);
+
+impl<T: Message> Drop for Topic<T> {
+    /// Before the writer leaves the graph, its readers get what it sent last (the zero command
+    /// a `shutdown` sends just before the process exits), waiting at most
+    /// [`DROP_FLUSH_TIMEOUT`] for their acknowledgments.
+    fn drop(&mut self) {
+        let state = self.state.get_mut().unwrap_or_else(|p| p.into_inner());
+        if let Some(publisher) = &state.publisher {
+            if !publisher.wait_for_acknowledgments(DROP_FLUSH_TIMEOUT) {
+                tracing::debug!(topic = %self.name, "readers did not acknowledge everything");
+            }
+        }
+    }
+}
+
 /// The node of topics used outside any scheduled node: `horus_<program>`, created on first use
 /// and kept while an endpoint uses it.
 fn process_node() -> Result<RosNode, String> {
