@@ -63,6 +63,22 @@ pub(crate) fn with_current<R>(runtime: &Arc<NodeRuntime>, f: impl FnOnce() -> R)
     f()
 }
 
+/// Makes `runtime` the current node of this thread until the next call or [`clear_current`]
+/// (the tick path: one handle swap per node, no restore).
+pub(crate) fn set_current(runtime: &Arc<NodeRuntime>) {
+    CURRENT.with(|c| {
+        let mut c = c.borrow_mut();
+        if !c.as_ref().is_some_and(|r| Arc::ptr_eq(r, runtime)) {
+            *c = Some(Arc::clone(runtime));
+        }
+    });
+}
+
+/// No node is current on this thread any more.
+pub(crate) fn clear_current() {
+    CURRENT.with(|c| c.borrow_mut().take());
+}
+
 /// The node running on this thread, if any.
 pub(crate) fn current() -> Option<Arc<NodeRuntime>> {
     CURRENT.with(|c| c.borrow().clone())

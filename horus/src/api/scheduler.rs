@@ -12,7 +12,7 @@ use crate::api::metrics::{ms, NodeMetrics, NodeTiming, TickStats, TimingReport};
 use crate::api::node::{Node, NodeHealthState, NodeState, TopicMetadata};
 use crate::api::policy::{FailurePolicy, Miss};
 use crate::api::ros::ProcessRos;
-use crate::api::runtime::{with_current, NodeRuntime};
+use crate::api::runtime::{clear_current, set_current, with_current, NodeRuntime};
 use crate::api::units::Frequency;
 use crate::hlog;
 
@@ -448,248 +448,31 @@ impl Scheduler {
                 cycle_start + self.tick_period
             };
         }
+        // One clock read per tick end serves as "now" for the next node.
+        let mut now = cycle_start;
         for k in 0..self.exec_order.len() {
             let i = self.exec_order[k];
-            self.step(i, cycle_start, cycle_due, force)?;
+            if let Some(t) = self.entries[i].restart_at {
+                if now < t {
+                    continue;
+                }
+                self.init_node(i, now)?;
+                if !self.entries[i].live {
+                    continue;
+                }
+            }
+            let clock = &*self.clock;
+            now = step(
+                &mut self.entries[i],
+                clock,
+                self.watchdog,
+                now,
+                cycle_start,
+                cycle_due || force,
+            )?;
         }
+        clear_current();
         Ok(())
-    }
-
-    /// Node `i`'s part of a cycle.
-    fn step(
-        &mut self,
-        i: usize,
-        cycle_start: Duration,
-        cycle_due: bool,
-        force: bool,
-    ) -> Result<(), SchedulerError> {
-        let now = self.clock.now();
-        if let Some(t) = self.entries[i].restart_at {
-            if now < t {
-                return Ok(());
-            }
-            self.init_node(i, now)?;
-            if !self.entries[i].live {
-                return Ok(());
-            }
-        }
-        let watchdog = self.watchdog;
-        let clock = Arc::clone(&self.clock);
-        let e = &mut self.entries[i];
-        if !e.live {
-            return Ok(());
-        }
-        if let Some(until) = e.cooldown_until {
-            if now < until {
-                return Ok(());
-            }
-            e.cooldown_until = None;
-        }
-        // Due?
-        let due = match e.config.period {
-            Some(period) => {
-                if now < e.next_due {
-                    return Ok(());
-                }
-                let due = e.next_due;
-                e.next_due = if due + period > now {
-                    due + period
-                } else {
-                    now + period
-                };
-                due
-            }
-            None => {
-                if !cycle_due && !force {
-                    return Ok(());
-                }
-                cycle_start
-            }
-        };
-        let Some(node) = e.node.as_mut() else {
-            return Ok(());
-        };
-        // Health: recovery of an isolated node, then the watchdog.
-        let health = e.runtime.health.load();
-        if health == NodeHealthState::Isolated {
-            let safe = with_current(&e.runtime, || {
-                catch_unwind(AssertUnwindSafe(|| node.is_safe_state())).unwrap_or(false)
-            });
-            if !safe {
-                return Ok(());
-            }
-            e.runtime.health.store(NodeHealthState::Healthy);
-            e.last_fed = now;
-            with_current(&e.runtime, || hlog!(info, "safe state confirmed, resuming"));
-        } else if let Some(timeout) = watchdog {
-            let starved = now.saturating_sub(e.last_fed);
-            let level = if starved >= timeout * 3 {
-                NodeHealthState::Isolated
-            } else if starved >= timeout * 2 {
-                NodeHealthState::Unhealthy
-            } else if starved >= timeout {
-                NodeHealthState::Warning
-            } else {
-                NodeHealthState::Healthy
-            };
-            if level != health {
-                e.runtime.health.store(level);
-                match level {
-                    NodeHealthState::Warning => {
-                        e.stats.warnings += 1;
-                        with_current(&e.runtime, || {
-                            hlog!(warn, "watchdog: not fed for {:.3} ms", ms(starved))
-                        });
-                    }
-                    NodeHealthState::Unhealthy => {
-                        e.stats.warnings += 1;
-                        with_current(&e.runtime, || {
-                            hlog!(warn, "watchdog: unhealthy, skipping ticks")
-                        });
-                    }
-                    NodeHealthState::Isolated => {
-                        e.stats.errors += 1;
-                        with_current(&e.runtime, || {
-                            hlog!(error, "watchdog: isolated, entering safe state");
-                            let _ = catch_unwind(AssertUnwindSafe(|| node.enter_safe_state()));
-                        });
-                    }
-                    NodeHealthState::Healthy => {}
-                }
-            }
-            if level >= NodeHealthState::Unhealthy {
-                return Ok(());
-            }
-        }
-        if e.skip_next {
-            e.skip_next = false;
-            return Ok(());
-        }
-        // The tick.
-        let runtime = &e.runtime;
-        let (result, start, end) = with_current(runtime, || {
-            let start = clock.now();
-            let result = catch_unwind(AssertUnwindSafe(|| node.tick()));
-            (result, start, clock.now())
-        });
-        let took = end.saturating_sub(start);
-        e.stats.record(took);
-        match result {
-            Ok(()) => {
-                e.stats.ok += 1;
-                e.consecutive_failures = 0;
-                if matches!(e.state, NodeState::Crashed(_)) {
-                    e.state = NodeState::Running;
-                }
-                if watchdog.is_none_or(|w| took < w) {
-                    e.last_fed = end;
-                }
-                if let Some(budget) = e.config.budget {
-                    if took > budget {
-                        e.stats.warnings += 1;
-                        e.stats.budget_overruns += 1;
-                        with_current(&e.runtime, || {
-                            hlog!(
-                                warn,
-                                "tick took {:.3} ms, over its budget of {:.3} ms",
-                                ms(took),
-                                ms(budget)
-                            )
-                        });
-                    }
-                }
-                if let Some(deadline) = e.config.deadline {
-                    let late = end.saturating_sub(due);
-                    if late > deadline {
-                        e.stats.warnings += 1;
-                        e.stats.deadline_misses += 1;
-                        let over = ms(late - deadline);
-                        match e.config.on_miss {
-                            Miss::Warn => with_current(&e.runtime, || {
-                                hlog!(warn, "deadline missed by {:.3} ms", over)
-                            }),
-                            Miss::Skip => {
-                                e.skip_next = true;
-                                with_current(&e.runtime, || {
-                                    hlog!(
-                                        warn,
-                                        "deadline missed by {:.3} ms: skipping next tick",
-                                        over
-                                    )
-                                });
-                            }
-                            Miss::SafeMode => {
-                                e.runtime.health.store(NodeHealthState::Isolated);
-                                with_current(&e.runtime, || {
-                                    hlog!(
-                                        warn,
-                                        "deadline missed by {:.3} ms: entering safe state",
-                                        over
-                                    );
-                                    let _ =
-                                        catch_unwind(AssertUnwindSafe(|| node.enter_safe_state()));
-                                });
-                            }
-                            Miss::Stop => {
-                                with_current(&e.runtime, || {
-                                    hlog!(
-                                        error,
-                                        "deadline missed by {:.3} ms: stopping the scheduler",
-                                        over
-                                    )
-                                });
-                                return Err(SchedulerError::DeadlineMissed {
-                                    node: e.name.clone(),
-                                    late_ms: over,
-                                });
-                            }
-                        }
-                    }
-                }
-                Ok(())
-            }
-            Err(panic) => {
-                let message = panic_message(&*panic);
-                e.stats.failed += 1;
-                e.stats.errors += 1;
-                e.state = NodeState::Crashed(message.clone());
-                with_current(&e.runtime, || {
-                    if catch_unwind(AssertUnwindSafe(|| node.on_error(&message))).is_err() {
-                        hlog!(error, "on_error panicked too");
-                    }
-                });
-                match e.config.failure_policy {
-                    FailurePolicy::Fatal => Err(SchedulerError::NodeFailed {
-                        node: e.name.clone(),
-                        error: message,
-                    }),
-                    FailurePolicy::Restart {
-                        max_restarts,
-                        initial_backoff,
-                    } => schedule_restart(e, end, max_restarts, initial_backoff, message),
-                    FailurePolicy::Skip {
-                        max_failures,
-                        cooldown,
-                    } => {
-                        e.consecutive_failures += 1;
-                        if e.consecutive_failures >= max_failures {
-                            e.consecutive_failures = 0;
-                            e.cooldown_until = Some(end + cooldown);
-                            with_current(&e.runtime, || {
-                                hlog!(
-                                    warn,
-                                    "{} consecutive failures: skipped for {:.3} ms",
-                                    max_failures,
-                                    ms(cooldown)
-                                )
-                            });
-                        }
-                        Ok(())
-                    }
-                    FailurePolicy::Ignore => Ok(()),
-                }
-            }
-        }
     }
 
     /// Shuts every live node down (registration order, each within the timeout), leaves the
@@ -774,6 +557,230 @@ impl Scheduler {
 impl Drop for Scheduler {
     fn drop(&mut self) {
         self.finish();
+    }
+}
+
+/// One node's part of a cycle; `now` is the latest clock reading. Returns the clock reading at
+/// its end (the tick's end, or `now` when it did not tick).
+fn step(
+    e: &mut Entry,
+    clock: &dyn Clock,
+    watchdog: Option<Duration>,
+    now: Duration,
+    cycle_start: Duration,
+    cycle_due: bool,
+) -> Result<Duration, SchedulerError> {
+    if !e.live {
+        return Ok(now);
+    }
+    if let Some(until) = e.cooldown_until {
+        if now < until {
+            return Ok(now);
+        }
+        e.cooldown_until = None;
+    }
+    // Due?
+    let due = match e.config.period {
+        Some(period) => {
+            if now < e.next_due {
+                return Ok(now);
+            }
+            let due = e.next_due;
+            e.next_due = if due + period > now {
+                due + period
+            } else {
+                now + period
+            };
+            due
+        }
+        None => {
+            if !cycle_due {
+                return Ok(now);
+            }
+            cycle_start
+        }
+    };
+    let Some(node) = e.node.as_mut() else {
+        return Ok(now);
+    };
+    // Health: recovery of an isolated node, then the watchdog.
+    let health = e.runtime.health.load();
+    if health == NodeHealthState::Isolated {
+        let safe = with_current(&e.runtime, || {
+            catch_unwind(AssertUnwindSafe(|| node.is_safe_state())).unwrap_or(false)
+        });
+        if !safe {
+            return Ok(now);
+        }
+        e.runtime.health.store(NodeHealthState::Healthy);
+        e.last_fed = now;
+        with_current(&e.runtime, || hlog!(info, "safe state confirmed, resuming"));
+    } else if let Some(timeout) = watchdog {
+        let starved = now.saturating_sub(e.last_fed);
+        let level = if starved >= timeout * 3 {
+            NodeHealthState::Isolated
+        } else if starved >= timeout * 2 {
+            NodeHealthState::Unhealthy
+        } else if starved >= timeout {
+            NodeHealthState::Warning
+        } else {
+            NodeHealthState::Healthy
+        };
+        if level != health {
+            e.runtime.health.store(level);
+            match level {
+                NodeHealthState::Warning => {
+                    e.stats.warnings += 1;
+                    with_current(&e.runtime, || {
+                        hlog!(warn, "watchdog: not fed for {:.3} ms", ms(starved))
+                    });
+                }
+                NodeHealthState::Unhealthy => {
+                    e.stats.warnings += 1;
+                    with_current(&e.runtime, || {
+                        hlog!(warn, "watchdog: unhealthy, skipping ticks")
+                    });
+                }
+                NodeHealthState::Isolated => {
+                    e.stats.errors += 1;
+                    with_current(&e.runtime, || {
+                        hlog!(error, "watchdog: isolated, entering safe state");
+                        let _ = catch_unwind(AssertUnwindSafe(|| node.enter_safe_state()));
+                    });
+                }
+                NodeHealthState::Healthy => {}
+            }
+        }
+        if level >= NodeHealthState::Unhealthy {
+            return Ok(now);
+        }
+    }
+    if e.skip_next {
+        e.skip_next = false;
+        return Ok(now);
+    }
+    // The tick.
+    let runtime = &e.runtime;
+    set_current(runtime);
+    let result = catch_unwind(AssertUnwindSafe(|| node.tick()));
+    let end = clock.now();
+    let start = now;
+    let took = end.saturating_sub(start);
+    e.stats.record(took);
+    match result {
+        Ok(()) => {
+            e.stats.ok += 1;
+            e.consecutive_failures = 0;
+            if matches!(e.state, NodeState::Crashed(_)) {
+                e.state = NodeState::Running;
+            }
+            if watchdog.is_none_or(|w| took < w) {
+                e.last_fed = end;
+            }
+            if let Some(budget) = e.config.budget {
+                if took > budget {
+                    e.stats.warnings += 1;
+                    e.stats.budget_overruns += 1;
+                    with_current(&e.runtime, || {
+                        hlog!(
+                            warn,
+                            "tick took {:.3} ms, over its budget of {:.3} ms",
+                            ms(took),
+                            ms(budget)
+                        )
+                    });
+                }
+            }
+            if let Some(deadline) = e.config.deadline {
+                let late = end.saturating_sub(due);
+                if late > deadline {
+                    e.stats.warnings += 1;
+                    e.stats.deadline_misses += 1;
+                    let over = ms(late - deadline);
+                    match e.config.on_miss {
+                        Miss::Warn => with_current(&e.runtime, || {
+                            hlog!(warn, "deadline missed by {:.3} ms", over)
+                        }),
+                        Miss::Skip => {
+                            e.skip_next = true;
+                            with_current(&e.runtime, || {
+                                hlog!(
+                                    warn,
+                                    "deadline missed by {:.3} ms: skipping next tick",
+                                    over
+                                )
+                            });
+                        }
+                        Miss::SafeMode => {
+                            e.runtime.health.store(NodeHealthState::Isolated);
+                            with_current(&e.runtime, || {
+                                hlog!(
+                                    warn,
+                                    "deadline missed by {:.3} ms: entering safe state",
+                                    over
+                                );
+                                let _ = catch_unwind(AssertUnwindSafe(|| node.enter_safe_state()));
+                            });
+                        }
+                        Miss::Stop => {
+                            with_current(&e.runtime, || {
+                                hlog!(
+                                    error,
+                                    "deadline missed by {:.3} ms: stopping the scheduler",
+                                    over
+                                )
+                            });
+                            return Err(SchedulerError::DeadlineMissed {
+                                node: e.name.clone(),
+                                late_ms: over,
+                            });
+                        }
+                    }
+                }
+            }
+            Ok(end)
+        }
+        Err(panic) => {
+            let message = panic_message(&*panic);
+            e.stats.failed += 1;
+            e.stats.errors += 1;
+            e.state = NodeState::Crashed(message.clone());
+            with_current(&e.runtime, || {
+                if catch_unwind(AssertUnwindSafe(|| node.on_error(&message))).is_err() {
+                    hlog!(error, "on_error panicked too");
+                }
+            });
+            match e.config.failure_policy {
+                FailurePolicy::Fatal => Err(SchedulerError::NodeFailed {
+                    node: e.name.clone(),
+                    error: message,
+                }),
+                FailurePolicy::Restart {
+                    max_restarts,
+                    initial_backoff,
+                } => schedule_restart(e, end, max_restarts, initial_backoff, message).map(|()| end),
+                FailurePolicy::Skip {
+                    max_failures,
+                    cooldown,
+                } => {
+                    e.consecutive_failures += 1;
+                    if e.consecutive_failures >= max_failures {
+                        e.consecutive_failures = 0;
+                        e.cooldown_until = Some(end + cooldown);
+                        with_current(&e.runtime, || {
+                            hlog!(
+                                warn,
+                                "{} consecutive failures: skipped for {:.3} ms",
+                                max_failures,
+                                ms(cooldown)
+                            )
+                        });
+                    }
+                    Ok(end)
+                }
+                FailurePolicy::Ignore => Ok(end),
+            }
+        }
     }
 }
 
