@@ -43,7 +43,8 @@ impl Session {
 
     /// Joins the domain with a node named `node_name` (in `/`), without waiting.
     pub fn join_as(global: &Global, node_name: &str) -> Result<Self, CliError> {
-        let mut builder = Context::builder();
+        // The CLI is not a ROS executable: its own arguments are not `--ros-args`.
+        let mut builder = Context::builder().arguments(horus_ros_rmw::args::Arguments::default());
         // Unset: the context reads HORUS_ROS_BACKEND, then RMW_IMPLEMENTATION, as the library does.
         if let Some(b) = global.backend() {
             builder = builder.backend(b);

@@ -20,9 +20,12 @@ pub mod user_data;
 
 pub mod builtin_interfaces;
 pub mod example_interfaces;
+pub mod geometry_msgs;
 pub mod rcl_interfaces;
 pub mod rmw_dds_common;
+pub mod sensor_msgs;
 pub mod service_msgs;
+pub mod std_msgs;
 pub mod std_srvs;
 pub mod type_description_interfaces;
 

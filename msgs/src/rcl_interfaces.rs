@@ -142,6 +142,39 @@ pub mod msg {
             prefixes: Vec<String>,
         }
     }
+
+    ros_message! {
+        /// `rcl_interfaces/msg/Log`: a log message, as every node publishes it on `/rosout`.
+        Log = "rcl_interfaces/msg/Log" {
+            /// When it was logged.
+            stamp: crate::builtin_interfaces::msg::Time,
+            /// Severity (one of the constants).
+            level: u8,
+            /// The logger name (`ns.node`).
+            name: String,
+            /// The message.
+            msg: String,
+            /// Source file.
+            file: String,
+            /// Function.
+            function: String,
+            /// Line.
+            line: u32,
+        }
+    }
+
+    impl Log {
+        /// `DEBUG = 10`.
+        pub const DEBUG: u8 = 10;
+        /// `INFO = 20`.
+        pub const INFO: u8 = 20;
+        /// `WARN = 30`.
+        pub const WARN: u8 = 30;
+        /// `ERROR = 40`.
+        pub const ERROR: u8 = 40;
+        /// `FATAL = 50`.
+        pub const FATAL: u8 = 50;
+    }
 }
 
 /// Services.

@@ -8,6 +8,7 @@
 //! - [`qos`]: QoS profiles and their DDS mapping.
 //! - [`Gid`]: 16-byte global ids.
 
+pub mod args;
 pub mod backend;
 pub mod context;
 #[cfg(feature = "cyclone")]

@@ -57,7 +57,14 @@ impl Context {
     ///
     /// As rcl's `rcl_node_init`: an empty namespace means `/`, a relative one is made absolute
     /// (`ns` → `/ns`); then the name and namespace are validated with rmw's rules.
+    ///
+    /// The context's `--ros-args` apply first, as `rcl_node_init` applies them: `__node:=`
+    /// renames the node, `__ns:=` replaces the namespace (rules prefixed with a node name apply
+    /// to that node only; the first match wins).
     pub fn create_node(&self, name: &str, namespace: &str) -> Result<Node, NodeError> {
+        let arguments = self.arguments();
+        let namespace = arguments.remap_namespace(name).unwrap_or(namespace);
+        let name = arguments.remap_node_name(name).unwrap_or(name);
         let node_name = NodeName::new(name).map_err(|source| NodeError::InvalidName {
             name: name.to_owned(),
             source,

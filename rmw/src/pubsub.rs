@@ -87,6 +87,23 @@ fn resolve_topic(
             source,
         }
     })?;
+    // `-r from:=to` (rcl_remap_topic_name), unless the QoS avoids ROS conventions.
+    if !qos.avoid_ros_namespace_conventions {
+        let arguments = node.context().arguments();
+        if let Some(remapped) =
+            arguments.remap_topic(topic_name.as_str(), node.name(), node.namespace())
+        {
+            let remapped =
+                TopicName::new(&remapped).map_err(|source| EndpointError::InvalidName {
+                    name: name.to_owned(),
+                    source: ExpandError::InvalidExpansion {
+                        expanded: remapped.clone(),
+                        source,
+                    },
+                })?;
+            return Ok((remapped, dds_qos));
+        }
+    }
     Ok((topic_name, dds_qos))
 }
 
@@ -165,7 +182,11 @@ pub struct Subscription<M: Message> {
 // One per entity, used in place: boxing the larger variant would buy nothing.
 #[allow(clippy::large_enum_variant)]
 enum TypedReader<M: Message> {
-    RustDds(no_key::DataReader<M, CDRDeserializerAdapter<M>>),
+    RustDds {
+        /// Woken when data arrives (rustdds' mio 1 source, drained by take).
+        poll: rustdds::mio1::Poll,
+        reader: no_key::DataReader<M, CDRDeserializerAdapter<M>>,
+    },
     #[cfg(feature = "cyclone")]
     Cyclone(crate::cyclone::endpoints::RawReader),
 }
@@ -238,7 +259,7 @@ impl Node {
         let (reader, gid) = match &self.context().inner().dds {
             Dds::RustDds(p) => {
                 let dds_topic = rustdds_topic::<M>(p, &dds_name, &dds_qos)?;
-                let reader = p
+                let mut reader = p
                     .subscriber
                     .create_datareader_no_key::<M, CDRDeserializerAdapter<M>>(
                         &dds_topic,
@@ -246,7 +267,17 @@ impl Node {
                     )
                     .map_err(|e| fail(e.to_string()))?;
                 let gid = gid_from_guid(reader.guid());
-                (TypedReader::RustDds(reader), gid)
+                let poll = rustdds::mio1::Poll::new().map_err(|e| fail(e.to_string()))?;
+                // As for raw readers: rustdds' mio 1 source is drained by take, so
+                // edge-triggered waking works.
+                poll.registry()
+                    .register(
+                        &mut reader,
+                        rustdds::mio1::Token(0),
+                        rustdds::mio1::Interest::READABLE,
+                    )
+                    .map_err(|e| fail(e.to_string()))?;
+                (TypedReader::RustDds { poll, reader }, gid)
             }
             #[cfg(feature = "cyclone")]
             Dds::Cyclone(p) => {
@@ -294,6 +325,20 @@ impl<M: Message> Publisher<M> {
         }
     }
 
+    /// Waits until every matched reliable reader acknowledged what was published, at most
+    /// `timeout`; returns whether they all did. On the Cyclone backend it returns at once:
+    /// Cyclone DDS delivers unacknowledged samples of a deleted writer itself (its writer
+    /// linger duration).
+    pub fn wait_for_acknowledgments(&self, timeout: std::time::Duration) -> bool {
+        match &self.writer {
+            TypedWriter::RustDds(writer) => {
+                writer.wait_for_acknowledgments(timeout).unwrap_or(false)
+            }
+            #[cfg(feature = "cyclone")]
+            TypedWriter::Cyclone(_) => true,
+        }
+    }
+
     /// The writer's GID.
     pub fn gid(&self) -> Gid {
         self.registration.gid()
@@ -318,7 +363,7 @@ impl<M: Message> Subscription<M> {
             reason,
         };
         match &mut self.reader {
-            TypedReader::RustDds(reader) => match reader.take_next_sample() {
+            TypedReader::RustDds { reader, .. } => match reader.take_next_sample() {
                 Ok(sample) => Ok(sample.map(|s| s.into_value())),
                 Err(e) => Err(fail(e.to_string())),
             },
@@ -334,6 +379,25 @@ impl<M: Message> Subscription<M> {
                 };
                 decoded.map(Some).map_err(|e| fail(e.to_string()))
             }
+        }
+    }
+
+    /// Waits until a message may have arrived, at most `timeout`; returns whether something
+    /// was signalled. Take until `None` after it: wake-ups are edge-triggered.
+    pub fn wait(&mut self, timeout: std::time::Duration) -> bool {
+        match &mut self.reader {
+            TypedReader::RustDds { poll, .. } => {
+                let mut events = rustdds::mio1::Events::with_capacity(4);
+                match poll.poll(&mut events, Some(timeout)) {
+                    Ok(()) => !events.is_empty(),
+                    Err(e) => {
+                        tracing::debug!("poll failed: {e}");
+                        false
+                    }
+                }
+            }
+            #[cfg(feature = "cyclone")]
+            TypedReader::Cyclone(reader) => reader.wait(timeout),
         }
     }
 

@@ -61,7 +61,7 @@ pub use horus_ros_rmw::{Context, Node};
 
 /// Everything an application needs, in one import.
 pub mod prelude {
-    pub use crate::service;
+    pub use crate::{message, service};
     pub use crate::{
         AsyncServiceClient, Error, IntrospectionState, PendingResponse, Result, RetryConfig,
         ServiceClient, ServiceError, ServiceServer, ServiceServerBuilder, WireFlavour,

@@ -240,21 +240,26 @@ macro_rules! service {
             );
         };
 
-        $crate::service! { @message [$pkg] $name $req "_Request" "Request" [$($req_meta)*]
-            { $($req_fields)* } }
-        $crate::service! { @message [$pkg] $name $resp "_Response" "Response" [$($resp_meta)*]
-            { $($resp_fields)* } }
+        $crate::service! { @message $req
+            [::core::stringify!($pkg), "/srv/", ::core::stringify!($name), "_Request"]
+            ["Request of the ROS 2 service type `", ::core::stringify!($pkg), "/srv/",
+                ::core::stringify!($name), "`"]
+            [$($req_meta)*] { $($req_fields)* } }
+        $crate::service! { @message $resp
+            [::core::stringify!($pkg), "/srv/", ::core::stringify!($name), "_Response"]
+            ["Response of the ROS 2 service type `", ::core::stringify!($pkg), "/srv/",
+                ::core::stringify!($name), "`"]
+            [$($resp_meta)*] { $($resp_fields)* } }
     };
 
     // An empty request or response: rosidl's placeholder byte on the wire and in the hash.
-    (@message [$pkg:ident] $srv:ident $ty:ident $suffix:literal $what:literal
+    (@message $ty:ident [$($type_name:tt)+] [$($what:tt)+]
         [$($meta:tt)*] { $(,)? }
     ) => {
         $($meta)*
         #[doc = ""]
         #[doc = ::core::concat!(
-            $what, " of the ROS 2 service type `", ::core::stringify!($pkg), "/srv/",
-            ::core::stringify!($srv), "` (empty: sent as rosidl's ",
+            $($what)+, " (empty: sent as rosidl's ",
             "`uint8 structure_needs_at_least_one_member`)."
         )]
         #[derive(Debug, Clone, PartialEq, Default)]
@@ -293,9 +298,7 @@ macro_rules! service {
         }
 
         impl $crate::__private::horus_ros_msgs::Message for $ty {
-            const TYPE_NAME: &'static str = ::core::concat!(
-                ::core::stringify!($pkg), "/srv/", ::core::stringify!($srv), $suffix
-            );
+            const TYPE_NAME: &'static str = ::core::concat!($($type_name)+);
 
             fn type_description() -> $crate::__private::horus_ros_msgs::TypeDescription {
                 // `build` adds `uint8 structure_needs_at_least_one_member` to an empty struct.
@@ -308,7 +311,7 @@ macro_rules! service {
     };
 
     // A request or response with fields.
-    (@message [$pkg:ident] $srv:ident $ty:ident $suffix:literal $what:literal
+    (@message $ty:ident [$($type_name:tt)+] [$($what:tt)+]
         [$($meta:tt)*] {
             $( $(#[$fmeta:meta])* $field:ident : $fty:ty $(=> $modify:expr)? ),+ $(,)?
         }
@@ -317,10 +320,7 @@ macro_rules! service {
         #[allow(missing_docs)]
         $($meta)*
         #[doc = ""]
-        #[doc = ::core::concat!(
-            $what, " of the ROS 2 service type `", ::core::stringify!($pkg), "/srv/",
-            ::core::stringify!($srv), "`."
-        )]
+        #[doc = ::core::concat!($($what)+, ".")]
         #[derive(Debug, Clone, PartialEq, Default)]
         pub struct $ty {
             $(
@@ -371,9 +371,7 @@ macro_rules! service {
         }
 
         impl $crate::__private::horus_ros_msgs::Message for $ty {
-            const TYPE_NAME: &'static str = ::core::concat!(
-                ::core::stringify!($pkg), "/srv/", ::core::stringify!($srv), $suffix
-            );
+            const TYPE_NAME: &'static str = ::core::concat!($($type_name)+);
 
             fn type_description() -> $crate::__private::horus_ros_msgs::TypeDescription {
                 let builder = $crate::__private::horus_ros_msgs::DescriptionBuilder::new(
@@ -403,7 +401,7 @@ macro_rules! service {
             )+
         };
     };
-    (@message [$pkg:ident] $srv:ident $ty:ident $suffix:literal $what:literal
+    (@message $ty:ident [$($type_name:tt)+] [$($what:tt)+]
         [$($meta:tt)*] { $($other:tt)* }
     ) => {
         ::core::compile_error!(::core::concat!(
@@ -434,6 +432,87 @@ macro_rules! service {
         ::core::compile_error!(
             "service!: expected `Name { request { … } response { … } }` or \
              `package/Name { request { … } response { … } }`"
+        );
+    };
+}
+
+/// Defines ROS 2 message types: a struct implementing [`horus_ros_msgs::Message`] per
+/// definition, with the same rules as [`service!`](crate::service!) (the same field grammar,
+/// name checks, serde impls and type descriptions), so a message declared here has the RIHS01
+/// hash rosidl computes for the same `.msg` file.
+///
+/// ```
+/// horus_ros_services::message! {
+///     /// Wheel speeds (horus_ros/msg/MotorCommand).
+///     MotorCommand { left_rpm: f32, right_rpm: f32 }
+///
+///     /// Same definition as `std_msgs/msg/Bool`: the same type, the same hash.
+///     std_msgs/Bool { data: bool }
+/// }
+///
+/// use horus_ros_msgs::Message;
+/// assert_eq!(MotorCommand::TYPE_NAME, "horus_ros/msg/MotorCommand");
+/// assert_eq!(Bool::type_hash(), horus_ros_msgs::std_msgs::msg::Bool::type_hash());
+/// let zero = MotorCommand::default();
+/// # let _ = zero;
+/// ```
+///
+/// # Grammar
+///
+/// ```text
+/// message! { Definition* }
+/// Definition := Attribute* Name '{' Fields '}'
+/// Name       := Ident | Ident '/' Ident | Ident '/' 'msg' '/' Ident
+/// ```
+///
+/// A definition without a package is in `horus_ros`. Generated: `pub struct Name { pub fields }`
+/// (`Debug, Clone, PartialEq, Default`, serde) with `TYPE_NAME = "pkg/msg/Name"` and DDS type
+/// `pkg::msg::dds_::Name_`. `Name {}` is rosidl's empty message (one placeholder byte).
+/// Constants and `.msg` default values are not part of it (add constants in an `impl`, and
+/// a `Default` of your own is not possible: `Default` is derived).
+#[macro_export]
+macro_rules! message {
+    (@define [$pkg:ident] [$($meta:tt)*] $name:ident { $($fields:tt)* }) => {
+        const _: () = {
+            ::core::assert!(
+                $crate::__private::names::is_valid_package_name(::core::stringify!($pkg)),
+                ::core::concat!(
+                    "message!: `", ::core::stringify!($pkg), "` is not a valid ROS 2 package name ",
+                    "(lowercase letters, digits and `_`, starting with a letter, ",
+                    "no `__`, not ending with `_`)"
+                )
+            );
+            ::core::assert!(
+                $crate::__private::names::is_valid_type_name(::core::stringify!($name)),
+                ::core::concat!(
+                    "message!: `", ::core::stringify!($name),
+                    "` is not a valid ROS 2 message name ",
+                    "(letters and digits, starting with an uppercase letter)"
+                )
+            );
+        };
+        $crate::service! { @message $name
+            [::core::stringify!($pkg), "/msg/", ::core::stringify!($name)]
+            ["ROS 2 message type `", ::core::stringify!($pkg), "/msg/",
+                ::core::stringify!($name), "`"]
+            [$($meta)*] { $($fields)* } }
+    };
+    () => {};
+    ($(#$meta:tt)* $pkg:ident / msg / $name:ident { $($body:tt)* } $($rest:tt)*) => {
+        $crate::message! { @define [$pkg] [$(#$meta)*] $name { $($body)* } }
+        $crate::message! { $($rest)* }
+    };
+    ($(#$meta:tt)* $pkg:ident / $name:ident { $($body:tt)* } $($rest:tt)*) => {
+        $crate::message! { @define [$pkg] [$(#$meta)*] $name { $($body)* } }
+        $crate::message! { $($rest)* }
+    };
+    ($(#$meta:tt)* $name:ident { $($body:tt)* } $($rest:tt)*) => {
+        $crate::message! { @define [horus_ros] [$(#$meta)*] $name { $($body)* } }
+        $crate::message! { $($rest)* }
+    };
+    ($($other:tt)+) => {
+        ::core::compile_error!(
+            "message!: expected `Name { field: Type, … }` or `package/Name { field: Type, … }`"
         );
     };
 }

@@ -74,6 +74,27 @@ impl ServiceTopics {
                 source,
             }
         })?;
+        // `-r from:=to` (rcl_remap_service_name), unless the QoS avoids ROS conventions.
+        let name = if qos.avoid_ros_namespace_conventions {
+            name
+        } else {
+            match node.context().arguments().remap_service(
+                name.as_str(),
+                node.name(),
+                node.namespace(),
+            ) {
+                Some(remapped) => {
+                    ServiceName::new(&remapped).map_err(|source| SetupError::InvalidName {
+                        name: remapped.clone(),
+                        source: horus_ros_rmw::names::ExpandError::InvalidExpansion {
+                            expanded: remapped.clone(),
+                            source,
+                        },
+                    })?
+                }
+                None => name,
+            }
+        };
         let avoid = qos.avoid_ros_namespace_conventions;
         let mut qos = *qos;
         if qos.history == horus_ros_rmw::qos::HistoryPolicy::KeepLast {

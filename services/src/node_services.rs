@@ -147,6 +147,28 @@ impl NodeServices {
                 },
             );
         }
+        // The parameters the process was given for this node (`-p`, `--params-file`), declared
+        // as rclcpp does with `automatically_declare_parameters_from_overrides`, so that
+        // `ros2 param get` sees them.
+        for (name, value) in node
+            .context()
+            .arguments()
+            .parameters_for(&node.fully_qualified_name())
+        {
+            let result = if parameters.get(&name).is_ok() {
+                parameters.set(&name, value).map(|_| ())
+            } else {
+                parameters
+                    .declare(&name, value, ParameterDescriptor::default())
+                    .map(|_| ())
+            };
+            if let Err(err) = result {
+                tracing::warn!(
+                    node = %node.fully_qualified_name(),
+                    "parameter override '{name}' not applied: {err}"
+                );
+            }
+        }
         let types = TypeRegistry::new();
         let qos = Qos::parameters();
 

@@ -27,6 +27,9 @@ pub enum ContextError {
     /// be used.
     #[error(transparent)]
     Backend(#[from] BackendError),
+    /// The process's `--ros-args` are malformed or unknown (rcl's / rclcpp's message).
+    #[error(transparent)]
+    Arguments(#[from] crate::args::ArgumentsError),
     /// The DDS participant could not be created (e.g. no free ports).
     #[error("could not create the DDS participant in domain {domain}: {reason}")]
     Participant {
@@ -45,6 +48,7 @@ pub struct ContextBuilder {
     discovery: Option<DiscoveryOptions>,
     backend: Option<Backend>,
     enclave: Option<String>,
+    arguments: Option<crate::args::Arguments>,
 }
 
 /// rcl's environment variable overriding the security enclave (`ROS_SECURITY_ENCLAVE_OVERRIDE`).
@@ -78,6 +82,13 @@ impl ContextBuilder {
         self
     }
 
+    /// Uses these ROS arguments instead of the process's (`std::env::args`, parsed as
+    /// `rclcpp::init` does). `Arguments::default()` means none.
+    pub fn arguments(mut self, arguments: crate::args::Arguments) -> Self {
+        self.arguments = Some(arguments);
+        self
+    }
+
     /// Creates the participant. Warnings (deprecated or unsupported settings) go to `tracing`.
     pub fn build(self) -> Result<Context, ContextError> {
         let get = |k: &str| std::env::var(k).ok();
@@ -97,11 +108,17 @@ impl ContextBuilder {
         if !backend.is_available() {
             return Err(BackendError::NotBuiltIn { backend }.into());
         }
+        let arguments = match self.arguments {
+            Some(a) => a,
+            None => crate::args::Arguments::from_process()?,
+        };
+        // rcl: `--enclave` first, then ROS_SECURITY_ENCLAVE_OVERRIDE, then `/`.
         let enclave = self
             .enclave
+            .or_else(|| arguments.enclave.clone())
             .or_else(|| get(ENCLAVE_OVERRIDE_ENV).filter(|e| !e.is_empty()))
             .unwrap_or_else(|| "/".to_owned());
-        Context::create(domain, discovery, backend, enclave)
+        Context::create(domain, discovery, backend, enclave, arguments)
     }
 }
 
@@ -175,6 +192,7 @@ pub(crate) struct ContextInner {
     pub(crate) discovery: DiscoveryOptions,
     pub(crate) backend: Backend,
     pub(crate) enclave: String,
+    pub(crate) arguments: Arc<crate::args::Arguments>,
     pub(crate) gid: Gid,
     local: Mutex<LocalState>,
     feed_open: AtomicBool,
@@ -229,6 +247,7 @@ impl Context {
         discovery: DiscoveryOptions,
         backend: Backend,
         enclave: String,
+        arguments: crate::args::Arguments,
     ) -> Result<Self, ContextError> {
         let (dds, warnings) = Dds::create(backend, domain, &discovery, &enclave)
             .map_err(|reason| ContextError::Participant { domain, reason })?;
@@ -249,12 +268,19 @@ impl Context {
                 discovery,
                 backend,
                 enclave,
+                arguments: Arc::new(arguments),
                 gid,
                 local,
                 feed_open: AtomicBool::new(false),
                 service_endpoint_ids: AtomicU32::new(0),
             }),
         })
+    }
+
+    /// The ROS arguments its nodes follow (`--ros-args` of the process, unless the builder
+    /// was given others).
+    pub fn arguments(&self) -> &crate::args::Arguments {
+        &self.inner.arguments
     }
 
     /// The DDS implementation this context runs on.

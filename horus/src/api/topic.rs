@@ -1,0 +1,325 @@
+//! [`Topic<T>`]: a HORUS topic on a ROS 2 topic.
+
+use std::sync::{Mutex, OnceLock};
+use std::time::{Duration, Instant};
+
+use horus_ros_msgs::Message;
+use horus_ros_rmw::qos::Qos;
+use horus_ros_rmw::{Context, Node as RosNode, Publisher, Subscription, WeakNode};
+
+use crate::api::names::ros_topic_name;
+use crate::api::runtime::{current, with_current_ref};
+
+/// Why a [`Topic`] could not be created or used.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum TopicError {
+    /// The HORUS name has no ROS equivalent (see [`names`](crate::names)).
+    #[error("topic name '{name}' cannot be mapped to a ROS topic name ('.' becomes '/'; the result must be a valid ROS name): {reason}")]
+    Unmappable {
+        /// The name given.
+        name: String,
+        /// The ROS rule it breaks.
+        reason: String,
+    },
+    /// The topic's node has no ROS side (a scheduler built with `without_ros`).
+    #[error(
+        "topic '{0}' is used by a node of a scheduler without ROS: nothing is sent or received"
+    )]
+    NoRos(String),
+    /// The DDS endpoint could not be created.
+    #[error("topic '{name}': {reason}")]
+    Endpoint {
+        /// The topic.
+        name: String,
+        /// What the ROS layer said.
+        reason: String,
+    },
+    /// Publishing failed.
+    #[error("topic '{name}': {reason}")]
+    Send {
+        /// The topic.
+        name: String,
+        /// What the ROS layer said.
+        reason: String,
+    },
+}
+
+/// A typed topic: `send` publishes, `try_recv` / `recv` receive, on the ROS 2 topic the name
+/// maps to (`motor.cmd` → `motor/cmd`, relative to the node's namespace; remapped by
+/// `--ros-args -r`), with the message's ROS type name and RIHS01 hash and rclcpp's default QoS
+/// (`rclcpp::QoS(10)`: KEEP_LAST 10, RELIABLE, VOLATILE).
+///
+/// Creating one checks the name only: the DDS writer (at the first `send`) and reader (at the
+/// first `try_recv`/`recv`, or [`connect_subscriber`](Self::connect_subscriber)) are created
+/// under the ROS node of the HORUS node that first uses them, so a topic constructed before its
+/// node is registered is listed under that node in `ros2 node info`. Used outside any
+/// scheduled node, it belongs to the process's own node (`horus_<program>`).
+pub struct Topic<T: Message> {
+    name: String,
+    ros_name: String,
+    qos: Qos,
+    state: Mutex<State<T>>,
+}
+
+struct State<T: Message> {
+    publisher: Option<Publisher<T>>,
+    subscription: Option<Subscription<T>>,
+    reported: bool,
+}
+
+impl<T: Message> std::fmt::Debug for Topic<T> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Topic")
+            .field("name", &self.name)
+            .field("ros_name", &self.ros_name)
+            .field("type", &T::TYPE_NAME)
+            .finish()
+    }
+}
+
+impl<T: Message> Topic<T> {
+    /// A topic named `name` (HORUS or ROS form). Fails if the name cannot be mapped to a ROS
+    /// name; never panics.
+    pub fn new(name: &str) -> Result<Self, TopicError> {
+        Self::with_qos(name, Qos::default_profile())
+    }
+
+    /// A topic with a QoS of its own.
+    pub fn with_qos(name: &str, qos: Qos) -> Result<Self, TopicError> {
+        let ros_name = ros_topic_name(name).map_err(|reason| TopicError::Unmappable {
+            name: name.to_owned(),
+            reason,
+        })?;
+        Ok(Self {
+            name: name.to_owned(),
+            ros_name,
+            qos,
+            state: Mutex::new(State {
+                publisher: None,
+                subscription: None,
+                reported: false,
+            }),
+        })
+    }
+
+    /// The name given.
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// The ROS name it maps to, before expansion (e.g. `motor/cmd`).
+    pub fn ros_name(&self) -> &str {
+        &self.ros_name
+    }
+
+    /// The fully-qualified ROS topic once an endpoint exists (e.g. `/robot1/motor/cmd`).
+    pub fn resolved_name(&self) -> Option<String> {
+        let state = self.lock();
+        state
+            .publisher
+            .as_ref()
+            .map(|p| p.topic_name().to_string())
+            .or_else(|| {
+                state
+                    .subscription
+                    .as_ref()
+                    .map(|s| s.topic_name().to_string())
+            })
+    }
+
+    fn lock(&self) -> std::sync::MutexGuard<'_, State<T>> {
+        self.state.lock().unwrap_or_else(|p| p.into_inner())
+    }
+
+    /// Publishes `message`. Errors are logged (once per topic) and the message dropped: `tick`
+    /// must not fail on a send. Use [`try_send`](Self::try_send) to see them.
+    pub fn send(&self, message: T) {
+        if let Err(err) = self.try_send(message) {
+            let mut state = self.lock();
+            if !state.reported {
+                state.reported = true;
+                drop(state);
+                crate::hlog!(error, "{}", err);
+            }
+        }
+    }
+
+    /// Publishes `message`, returning what went wrong.
+    pub fn try_send(&self, message: T) -> Result<(), TopicError> {
+        let mut state = self.lock();
+        if state.publisher.is_none() {
+            let node = self.ros_node()?;
+            let publisher = node
+                .create_publisher::<T>(&self.ros_name, &self.qos)
+                .map_err(|e| self.endpoint_error(e))?;
+            state.publisher = Some(publisher);
+        }
+        if let Some(publisher) = &state.publisher {
+            publisher.publish(message).map_err(|e| TopicError::Send {
+                name: self.name.clone(),
+                reason: e.to_string(),
+            })?;
+        }
+        drop(state);
+        with_current_ref(|n| {
+            if let Some(n) = n {
+                n.count_sent()
+            }
+        });
+        Ok(())
+    }
+
+    /// Creates the subscriber now (else at the first `try_recv`), so that messages sent from
+    /// then on are received.
+    pub fn connect_subscriber(&self) -> Result<(), TopicError> {
+        let mut state = self.lock();
+        self.ensure_subscription(&mut state).map(|_| ())
+    }
+
+    fn ensure_subscription<'s>(
+        &self,
+        state: &'s mut State<T>,
+    ) -> Result<&'s mut Subscription<T>, TopicError> {
+        if state.subscription.is_none() {
+            let node = self.ros_node()?;
+            let subscription = node
+                .create_subscription::<T>(&self.ros_name, &self.qos)
+                .map_err(|e| self.endpoint_error(e))?;
+            state.subscription = Some(subscription);
+        }
+        state
+            .subscription
+            .as_mut()
+            .ok_or_else(|| TopicError::Endpoint {
+                name: self.name.clone(),
+                reason: "no subscription".to_owned(),
+            })
+    }
+
+    /// The next message if one has arrived (never blocks). A malformed sample or a failure to
+    /// subscribe is logged and reads as `None`.
+    pub fn try_recv(&self) -> Option<T> {
+        let mut state = self.lock();
+        let result = match self.ensure_subscription(&mut state) {
+            Ok(sub) => sub.try_take().map_err(|e| TopicError::Endpoint {
+                name: self.name.clone(),
+                reason: e.to_string(),
+            }),
+            Err(e) => Err(e),
+        };
+        match result {
+            Ok(Some(message)) => {
+                drop(state);
+                with_current_ref(|n| {
+                    if let Some(n) = n {
+                        n.count_received()
+                    }
+                });
+                Some(message)
+            }
+            Ok(None) => None,
+            Err(err) => {
+                let first = !state.reported;
+                state.reported = true;
+                drop(state);
+                if first {
+                    crate::hlog!(error, "{}", err);
+                }
+                None
+            }
+        }
+    }
+
+    /// Waits for the next message, at most `timeout` (woken by its arrival, not polling). Not
+    /// for `tick`: use [`try_recv`](Self::try_recv) there.
+    pub fn recv_timeout(&self, timeout: Duration) -> Option<T> {
+        let end = Instant::now() + timeout;
+        loop {
+            if let Some(m) = self.try_recv() {
+                return Some(m);
+            }
+            let left = end.checked_duration_since(Instant::now())?;
+            let mut state = self.lock();
+            let sub = self.ensure_subscription(&mut state).ok()?;
+            sub.wait(left);
+        }
+    }
+
+    /// Waits for the next message (blocking; `None` only if the subscriber cannot be created).
+    /// Not for `tick`: use [`try_recv`](Self::try_recv) there.
+    pub fn recv(&self) -> Option<T> {
+        loop {
+            if let Some(m) = self.try_recv() {
+                return Some(m);
+            }
+            let mut state = self.lock();
+            let sub = self.ensure_subscription(&mut state).ok()?;
+            sub.wait(Duration::from_secs(3600));
+        }
+    }
+
+    fn endpoint_error(&self, e: impl std::fmt::Display) -> TopicError {
+        TopicError::Endpoint {
+            name: self.name.clone(),
+            reason: e.to_string(),
+        }
+    }
+
+    /// The ROS node to create endpoints under: the current HORUS node's, else the process's.
+    fn ros_node(&self) -> Result<RosNode, TopicError> {
+        match current() {
+            Some(runtime) => match runtime.ros() {
+                Some(ros) => Ok(ros.node().clone()),
+                None => Err(TopicError::NoRos(self.name.clone())),
+            },
+            None => process_node().map_err(|reason| TopicError::Endpoint {
+                name: self.name.clone(),
+                reason,
+            }),
+        }
+    }
+}
+
+/// How long a dropped topic waits for its readers to acknowledge what it sent.
+pub const DROP_FLUSH_TIMEOUT: Duration = Duration::from_secs(1);
+
+impl<T: Message> Drop for Topic<T> {
+    /// Before the writer leaves the graph, its readers get what it sent last (the zero command
+    /// a `shutdown` sends just before the process exits), waiting at most
+    /// [`DROP_FLUSH_TIMEOUT`] for their acknowledgments.
+    fn drop(&mut self) {
+        let state = self.state.get_mut().unwrap_or_else(|p| p.into_inner());
+        if let Some(publisher) = &state.publisher {
+            if !publisher.wait_for_acknowledgments(DROP_FLUSH_TIMEOUT) {
+                tracing::debug!(topic = %self.name, "readers did not acknowledge everything");
+            }
+        }
+    }
+}
+
+/// The node of topics used outside any scheduled node: `horus_<program>`, created on first use
+/// and kept while an endpoint uses it.
+fn process_node() -> Result<RosNode, String> {
+    static NODE: OnceLock<Mutex<WeakNode>> = OnceLock::new();
+    let slot = NODE.get_or_init(|| Mutex::new(WeakNode::default()));
+    let mut weak = slot.lock().unwrap_or_else(|p| p.into_inner());
+    if let Some(node) = weak.upgrade() {
+        return Ok(node);
+    }
+    let context = Context::from_env().map_err(|e| e.to_string())?;
+    let program = std::env::args()
+        .next()
+        .and_then(|a| {
+            std::path::Path::new(&a)
+                .file_name()
+                .map(|f| f.to_string_lossy().into_owned())
+        })
+        .unwrap_or_else(|| "program".to_owned());
+    let name: String = format!("horus_{program}")
+        .chars()
+        .map(|c| if c.is_ascii_alphanumeric() { c } else { '_' })
+        .collect();
+    let node = context.create_node(&name, "/").map_err(|e| e.to_string())?;
+    *weak = node.downgrade();
+    Ok(node)
+}

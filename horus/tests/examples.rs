@@ -1,0 +1,264 @@
+//! Runs the crate's examples as the programs they are (separate processes, `--ros-args`,
+//! Ctrl+C), inside the test network namespace. `cargo test` builds them with the tests.
+
+use std::io::{BufRead, BufReader};
+use std::path::PathBuf;
+use std::process::{Child, Command, Stdio};
+use std::sync::mpsc;
+use std::time::{Duration, Instant};
+
+use horus::prelude::*;
+
+const WAIT: Duration = Duration::from_secs(30);
+
+message! {
+    /// The motor controller example's command type.
+    CmdVel { linear: f32, angular: f32 }
+    /// Its output type.
+    MotorCommand { left_rpm: f32, right_rpm: f32 }
+}
+
+fn example(name: &str) -> PathBuf {
+    let exe = std::env::current_exe().expect("current exe");
+    let dir = exe
+        .parent()
+        .and_then(|deps| deps.parent())
+        .expect("target/<profile>");
+    let path = dir.join("examples").join(name);
+    assert!(path.exists(), "{} not built", path.display());
+    path
+}
+
+/// A running example whose stdout lines arrive on a channel.
+struct Running {
+    child: Child,
+    lines: mpsc::Receiver<String>,
+    seen: Vec<String>,
+}
+
+impl Running {
+    fn start(name: &str, domain: u32, args: &[&str], env: &[(&str, &str)]) -> Self {
+        let mut child = Command::new(example(name))
+            .args(args)
+            .env("ROS_DOMAIN_ID", domain.to_string())
+            .envs(env.iter().copied())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::inherit())
+            .spawn()
+            .expect("spawn example");
+        let stdout = child.stdout.take().expect("stdout");
+        let (tx, lines) = mpsc::channel();
+        std::thread::spawn(move || {
+            for line in BufReader::new(stdout)
+                .lines()
+                .map_while(std::io::Result::ok)
+            {
+                if tx.send(line).is_err() {
+                    break;
+                }
+            }
+        });
+        Self {
+            child,
+            lines,
+            seen: Vec::new(),
+        }
+    }
+
+    /// Waits for a line containing `what` (woken by each line; bounded).
+    fn expect_line(&mut self, what: &str) -> String {
+        let end = Instant::now() + WAIT;
+        loop {
+            let left = end.saturating_duration_since(Instant::now());
+            match self.lines.recv_timeout(left) {
+                Ok(line) => {
+                    self.seen.push(line.clone());
+                    if line.contains(what) {
+                        return line;
+                    }
+                }
+                Err(_) => panic!("no line with {what:?}; saw {:#?}", self.seen),
+            }
+        }
+    }
+
+    fn interrupt(&self) {
+        let pid = nix::unistd::Pid::from_raw(i32::try_from(self.child.id()).expect("pid"));
+        nix::sys::signal::kill(pid, nix::sys::signal::Signal::SIGINT).expect("SIGINT");
+    }
+
+    fn wait_success(mut self) -> Vec<String> {
+        let status = self.child.wait().expect("wait");
+        let mut seen = std::mem::take(&mut self.seen);
+        seen.extend(self.lines.try_iter());
+        assert!(status.success(), "{status}; output {seen:#?}");
+        seen
+    }
+}
+
+impl Drop for Running {
+    /// A test that failed leaves no example behind.
+    fn drop(&mut self) {
+        if let Ok(None) = self.child.try_wait() {
+            let _ = self.child.kill();
+            let _ = self.child.wait();
+        }
+    }
+}
+
+#[test]
+fn talker_and_listener_talk_across_processes_with_ros_args() {
+    let domain = 181;
+    let mut listener = Running::start(
+        "listener",
+        domain,
+        &["--count", "3", "--ros-args", "-r", "chatter:=/demo/chatter"],
+        &[],
+    );
+    listener.expect_line("listening");
+    let talker = Running::start(
+        "talker",
+        domain,
+        &["--ros-args", "-r", "__ns:=/demo", "-r", "__node:=speaker"],
+        &[("TALKER_RATE_HZ", "20")],
+    );
+    let heard = listener.expect_line("I heard: [Hello World: ");
+    assert!(heard.ends_with(']'), "{heard}");
+    let lines = listener.wait_success();
+    assert_eq!(
+        lines.iter().filter(|l| l.contains("I heard")).count(),
+        3,
+        "{lines:#?}"
+    );
+    talker.interrupt();
+    let lines = talker.wait_success();
+    assert!(
+        lines.iter().any(|l| l.contains("shut down after")),
+        "{lines:#?}"
+    );
+}
+
+#[test]
+fn lidar_publishes_scans_from_its_parameter_port_and_stops_its_motor_on_ctrl_c() {
+    let domain = own_domain();
+    let scans = Topic::<LaserScan>::new("/scan").expect("topic");
+    scans.connect_subscriber().expect("subscribe");
+    let mut lidar = Running::start(
+        "lidar",
+        domain,
+        &["--ros-args", "-p", "port:=/dev/sim0"],
+        &[],
+    );
+    lidar.expect_line("connected on /dev/sim0");
+    let scan = scans.recv_timeout(WAIT).expect("a scan");
+    assert_eq!(scan.ranges.len(), 360);
+    assert_eq!(scan.header.frame_id, "laser");
+    lidar.interrupt();
+    let lines = lidar.wait_success();
+    assert!(
+        lines
+            .iter()
+            .any(|l| l.contains("motor of /dev/sim0 stopped")),
+        "shutdown ran on Ctrl+C: {lines:#?}"
+    );
+}
+
+/// The domain of this test process's own topics (they live in its process-wide context,
+/// configured from the environment): the examples it talks to join it.
+fn own_domain() -> u32 {
+    std::env::var("ROS_DOMAIN_ID")
+        .ok()
+        .and_then(|d| d.parse().ok())
+        .unwrap_or(0)
+}
+
+#[test]
+fn motor_controller_drives_and_zeroes_the_motors_on_ctrl_c() {
+    let domain = own_domain();
+    let commands = Topic::<MotorCommand>::new("/motor/cmd").expect("topic");
+    commands.connect_subscriber().expect("subscribe");
+    let cmd_vel = Topic::<CmdVel>::new("/cmd_vel").expect("topic");
+    let mut motor = Running::start("motor_controller", domain, &[], &[]);
+    motor.expect_line("ready");
+    let end = Instant::now() + WAIT;
+    let driven = loop {
+        assert!(Instant::now() < end, "no motor command");
+        cmd_vel.send(CmdVel {
+            linear: 1.0,
+            angular: 0.5,
+        });
+        if let Some(c) = commands.recv_timeout(Duration::from_millis(200)) {
+            if c.left_rpm != 0.0 {
+                break c;
+            }
+        }
+    };
+    // (1 ∓ 0.5 × 0.3 / 2) × 100, in f32.
+    assert!((driven.left_rpm - 92.5).abs() < 1e-3, "{driven:?}");
+    assert!((driven.right_rpm - 107.5).abs() < 1e-3, "{driven:?}");
+    motor.interrupt();
+    // Its shutdown zeroes the motors: the zero command reaches us before it leaves.
+    let end = Instant::now() + WAIT;
+    let zero = loop {
+        let left = end.saturating_duration_since(Instant::now());
+        match commands.recv_timeout(left) {
+            Some(c) if c.left_rpm == 0.0 && c.right_rpm == 0.0 => break Some(c),
+            Some(_) => continue,
+            None => break None,
+        }
+    };
+    assert!(zero.is_some(), "no zero command after Ctrl+C");
+    let lines = motor.wait_success();
+    assert!(
+        lines.iter().any(|l| l.contains("Motors zeroed")),
+        "{lines:#?}"
+    );
+}
+
+#[test]
+fn a_node_serves_and_calls_add_two_ints_from_tick() {
+    let node = Running::start("add_two_ints_node", 184, &["--count", "2"], &[]);
+    let lines = node.wait_success();
+    assert!(
+        lines
+            .iter()
+            .any(|l| l.contains("Result of add_two_ints: for 2 + 3 = 5")),
+        "{lines:#?}"
+    );
+    assert!(
+        lines
+            .iter()
+            .any(|l| l.contains("Result of add_two_ints: for 3 + 4 = 7")),
+        "{lines:#?}"
+    );
+    assert!(lines.iter().any(|l| l.contains("Incoming request")));
+}
+
+#[test]
+fn malformed_ros_args_stop_the_program_with_rcls_message() {
+    let out = Command::new(example("talker"))
+        .args(["--ros-args", "-r", "foo:="])
+        .env("ROS_DOMAIN_ID", "185")
+        .output()
+        .expect("run");
+    assert!(!out.status.success());
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains(
+            "Couldn't parse remap rule: '-r foo:='. Error: Expected lexeme type 18, got 1 at index 5"
+        ),
+        "{stderr}"
+    );
+    let out = Command::new(example("talker"))
+        .args(["--ros-args", "--custom-ros-arg"])
+        .env("ROS_DOMAIN_ID", "185")
+        .output()
+        .expect("run");
+    assert!(!out.status.success());
+    assert!(
+        String::from_utf8_lossy(&out.stderr)
+            .contains("found unknown ROS arguments: '--custom-ros-arg'"),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
