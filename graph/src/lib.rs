@@ -30,7 +30,7 @@ pub use error::GraphError;
 pub use event::GraphEvent;
 pub use horus_ros_msgs::rmw_dds_common::Gid;
 pub use info::{ServiceEndpointInfo, ServiceEndpointType, TopicEndpointInfo, TopicEndpointType};
-pub use live::{apply_discovery_event, Graph, GraphStartError};
+pub use live::{apply_discovery_event, Graph, GraphStartError, GraphView, GraphWatcher};
 pub use query::{NamesAndTypes, NodeInfo};
 
 /// Node name reported for an endpoint whose participant is unknown (rmw_dds_common
