@@ -9,7 +9,8 @@
 //!    2 s timeout against one `ServiceServer` in its own `Context`: calls per second over the
 //!    wall time, p50 / p99 / max latency, calls lost (any error) and misrouted (a reply with
 //!    another call's sum).
-//! 2. **Hostile peers**: the p50 / p99 of one good client's sequential calls, alone, then while
+//! 2. **Hostile peers**: the p50 / p99 of one good client's calls (one every 5 ms for a phase of
+//!    5 s), alone, then while
 //!    a stalling peer sends requests on the request topic at 10 Hz naming a reply reader that
 //!    does not exist (rmw_fastrtps convention; on the Cyclone backend an rmw_cyclonedds header
 //!    from a participant with no reply reader), then after it stopped, then while a garbage
@@ -20,7 +21,7 @@
 //!
 //! Environment: `HORUS_BENCH_RELIABILITY_CALLS` (N, calls per client; default 300),
 //! `HORUS_BENCH_RELIABILITY_PER_CONTEXT` (clients per context, default 8),
-//! `HORUS_BENCH_RELIABILITY_GOOD_CALLS` (calls per hostile-peer phase; default 300),
+//! `HORUS_BENCH_RELIABILITY_PHASE_SECS` (length of each hostile-peer phase; default 5),
 //! `HORUS_BENCH_RELIABILITY_ONLY` (comma-separated subset of `clients,hostile,idle`),
 //! `HORUS_BENCH_RELIABILITY_BACKENDS` (comma-separated subset of `rustdds,cyclone`).
 //! The Cyclone DDS variants run with the environment's `CYCLONEDDS_URI`; when it is unset, the
@@ -38,7 +39,10 @@ use horus_ros_services::prelude::*;
 use horus_ros_services::NodeServices;
 
 const DEFAULT_CALLS: usize = 300;
-const DEFAULT_GOOD_CALLS: usize = 300;
+/// How long each hostile-peer phase lasts by default.
+const DEFAULT_PHASE_SECS: usize = 5;
+/// The good client calls once per period (a steady load, not a saturating one).
+const GOOD_CALL_PERIOD: Duration = Duration::from_millis(5);
 const CALL_TIMEOUT: Duration = Duration::from_secs(2);
 const DISCOVERY_TIMEOUT: Duration = Duration::from_secs(30);
 const DEFAULT_CLIENTS_PER_CONTEXT: usize = 8;
@@ -297,11 +301,12 @@ impl Rng {
     }
 }
 
-/// Runs `peer` on its own thread (every `period`) while `good` makes `calls` calls; returns the
-/// good client's sorted latencies and its failures.
+/// Runs `peer` on its own thread (every `period`) while `good` makes sequential calls for
+/// `phase`, one every [`GOOD_CALL_PERIOD`]; returns the good client's sorted latencies and its
+/// failures.
 fn measure_with_peer(
     good: &mut ServiceClient<AddTwoInts>,
-    calls: usize,
+    phase: Duration,
     peer: Option<(Duration, Box<dyn FnMut(i64) + Send>)>,
 ) -> (Vec<Duration>, usize) {
     let stop = Arc::new(AtomicBool::new(false));
@@ -316,14 +321,18 @@ fn measure_with_peer(
             }
         })
     });
-    let mut latencies = Vec::with_capacity(calls);
+    let mut latencies = Vec::new();
     let mut failed = 0;
-    for i in 0..calls as i64 {
+    let start = Instant::now();
+    let mut i = 0;
+    while start.elapsed() < phase {
         let t = Instant::now();
         match good.call(AddTwoIntsRequest { a: i, b: 1 }, CALL_TIMEOUT) {
             Ok(r) if r.sum == i + 1 => latencies.push(t.elapsed()),
             _ => failed += 1,
         }
+        i += 1;
+        thread::sleep(GOOD_CALL_PERIOD.saturating_sub(t.elapsed()));
     }
     stop.store(true, Ordering::SeqCst);
     if let Some(p) = peer {
@@ -333,7 +342,7 @@ fn measure_with_peer(
     (latencies, failed)
 }
 
-fn hostile(backend: Backend, domain: u32, calls: usize) {
+fn hostile(backend: Backend, domain: u32, phase: Duration) {
     let service = "/reliability_hostile";
     let server_node = context(backend, domain)
         .create_node("hostile_server", "/")
@@ -349,23 +358,24 @@ fn hostile(backend: Backend, domain: u32, calls: usize) {
         .expect("node");
     let writer = Arc::new(hostile_writer(&peer_node, service));
     // The peer's writer must be matched with the server's reader before its samples count.
-    let _ = measure_with_peer(&mut good, 50, None);
-    let report = |phase: &str, (latencies, failed): (Vec<Duration>, usize)| {
+    let _ = measure_with_peer(&mut good, Duration::from_millis(500), None);
+    let report = |what: &str, (latencies, failed): (Vec<Duration>, usize)| {
         println!(
-            "  {backend:>8} good client, {phase:<34}: p50 {:>7.2} ms, p99 {:>7.2} ms, max {:>8.2} \
-             ms, failed {failed} of {calls}",
+            "  {backend:>8} good client, {what:<34}: p50 {:>7.2} ms, p99 {:>7.2} ms, max {:>8.2} \
+             ms, failed {failed} of {}",
             ms(percentile(&latencies, 50.0)),
             ms(percentile(&latencies, 99.0)),
             ms(latencies.last().copied().unwrap_or_default()),
+            latencies.len() + failed,
         );
     };
-    report("alone", measure_with_peer(&mut good, calls, None));
+    report("alone", measure_with_peer(&mut good, phase, None));
     let w = Arc::clone(&writer);
     report(
         "with a stalling peer at 10 Hz",
         measure_with_peer(
             &mut good,
-            calls,
+            phase,
             Some((
                 Duration::from_millis(100),
                 Box::new(move |n| write_stalling_request(&w, backend, n)),
@@ -374,7 +384,7 @@ fn hostile(backend: Backend, domain: u32, calls: usize) {
     );
     report(
         "after the stalling peer stopped",
-        measure_with_peer(&mut good, calls, None),
+        measure_with_peer(&mut good, phase, None),
     );
     let w = Arc::clone(&writer);
     let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
@@ -382,7 +392,7 @@ fn hostile(backend: Backend, domain: u32, calls: usize) {
         "with a garbage peer at 100 Hz",
         measure_with_peer(
             &mut good,
-            calls,
+            phase,
             Some((
                 Duration::from_millis(10),
                 Box::new(move |_| {
@@ -468,7 +478,10 @@ fn main() {
         "HORUS_BENCH_RELIABILITY_PER_CONTEXT",
         DEFAULT_CLIENTS_PER_CONTEXT,
     );
-    let good_calls = env_usize("HORUS_BENCH_RELIABILITY_GOOD_CALLS", DEFAULT_GOOD_CALLS);
+    let phase = Duration::from_secs(env_usize(
+        "HORUS_BENCH_RELIABILITY_PHASE_SECS",
+        DEFAULT_PHASE_SECS,
+    ) as u64);
     let only = std::env::var("HORUS_BENCH_RELIABILITY_ONLY").unwrap_or_default();
     let wanted = |v: &str| only.is_empty() || only.split(',').any(|o| o.trim() == v);
     let backends: Vec<Backend> = Backend::ALL
@@ -504,10 +517,13 @@ fn main() {
         }
     }
     if wanted("hostile") {
-        println!("one good client ({good_calls} sequential calls per phase) and a hostile peer:");
+        println!(
+            "one good client (a call every {GOOD_CALL_PERIOD:?} for {phase:?} per phase) and a \
+             hostile peer:"
+        );
         for &backend in &backends {
             domain += 1;
-            hostile(backend, domain, good_calls);
+            hostile(backend, domain, phase);
         }
     }
     if wanted("idle") {
