@@ -301,13 +301,16 @@ impl Rng {
     }
 }
 
+/// What a hostile peer does each time (given a counter).
+type PeerAction = Box<dyn FnMut(i64) + Send>;
+
 /// Runs `peer` on its own thread (every `period`) while `good` makes sequential calls for
 /// `phase`, one every [`GOOD_CALL_PERIOD`]; returns the good client's sorted latencies and its
 /// failures.
 fn measure_with_peer(
     good: &mut ServiceClient<AddTwoInts>,
     phase: Duration,
-    peer: Option<(Duration, Box<dyn FnMut(i64) + Send>)>,
+    peer: Option<(Duration, PeerAction)>,
 ) -> (Vec<Duration>, usize) {
     let stop = Arc::new(AtomicBool::new(false));
     let peer = peer.map(|(period, mut act)| {

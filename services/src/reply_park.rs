@@ -230,8 +230,8 @@ mod tests {
     #[test]
     fn old_items_expire_in_order() {
         let mut park = Park::default();
-        park.park(gid(1), 1, 1).unwrap();
-        park.park(gid(2), 2, 1).unwrap();
+        park.park(gid(1), 1, 1).expect("fits");
+        park.park(gid(2), 2, 1).expect("fits");
         let now = Instant::now();
         assert!(park.expire(now, MAX_AGE).is_empty());
         assert!(park
