@@ -82,8 +82,9 @@ impl<S: Service> ServiceServerBuilder<S> {
         self
     }
 
-    /// The longest the server thread sleeps between checks: requests wake it at once (no fixed
-    /// polling delay); this bounds how long `stop()` and a missed wake-up can take.
+    /// The longest the server thread sleeps between checks: requests, `stop()` and graph changes
+    /// while replies are parked wake it at once (no fixed polling delay); this bounds how long a
+    /// missed wake-up can delay a request.
     pub fn poll_interval(mut self, interval: Duration) -> Self {
         self.poll_interval = interval.max(Duration::from_micros(100));
         self

@@ -17,10 +17,11 @@ use horus_ros_services::prelude::*;
 use horus_ros_services::{DdsServiceServer, ServiceServerTrait};
 
 const SECOND: Duration = Duration::from_secs(1);
-/// Below this, a p99 is scheduling noise on a loaded 2-core machine: "not moved by more than 2×"
-/// is checked against at least this much. A server stalled by a peer delays calls by hundreds of
-/// milliseconds (500 ms per unanswerable request before), far above it.
-const P99_FLOOR: Duration = Duration::from_millis(25);
+/// Below this, a p99 is scheduling noise on a loaded 2-core machine (tests of this file run
+/// beside one with 65 threads): "not moved by more than 2×" is checked against at least this
+/// much. A server stalled by a peer delays calls by 500 ms per unanswerable request (what
+/// rmw-style waiting for the client's reader did here before), far above it.
+const P99_FLOOR: Duration = Duration::from_millis(100);
 
 fn context(domain: u32) -> Context {
     Context::builder()
