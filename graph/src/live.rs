@@ -82,6 +82,16 @@ impl Shared {
             .is_some_and(|m| m.contains_key(&remote))
     }
 
+    fn matched_in_participant(&self, local: Gid, participant: Gid) -> Option<Gid> {
+        let prefix = participant.prefix();
+        self.state()
+            .matches
+            .get(&local)?
+            .keys()
+            .find(|remote| remote.prefix() == prefix)
+            .copied()
+    }
+
     /// Tells every live watcher of a change (outside every lock of the graph), forgetting the
     /// dropped ones.
     fn tell_watchers(&self) {
@@ -114,6 +124,12 @@ impl GraphView<'_> {
     /// Whether our endpoint `local` is matched with `remote` (see [`Graph::is_matched`]).
     pub fn is_matched(&self, local: Gid, remote: Gid) -> bool {
         self.shared.is_matched(local, remote)
+    }
+
+    /// An endpoint of `participant` matched with our `local` (see
+    /// [`Graph::matched_in_participant`]).
+    pub fn matched_in_participant(&self, local: Gid, participant: Gid) -> Option<Gid> {
+        self.shared.matched_in_participant(local, participant)
     }
 
     /// Runs `f` on the cache as it is now (see [`Graph::read`]).
@@ -276,6 +292,13 @@ impl Graph {
     /// reaches the reader), as the DDS layer reported it.
     pub fn is_matched(&self, local: Gid, remote: Gid) -> bool {
         self.shared.is_matched(local, remote)
+    }
+
+    /// An endpoint of the participant of `participant` (any GID of it: the participant's or an
+    /// endpoint's) that our endpoint `local` is matched with, if any — from the matches the DDS
+    /// layer reported, whether or not discovery has listed that endpoint yet.
+    pub fn matched_in_participant(&self, local: Gid, participant: Gid) -> Option<Gid> {
+        self.shared.matched_in_participant(local, participant)
     }
 
     /// When our endpoint `local` was matched with `remote`, if it is.

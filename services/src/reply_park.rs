@@ -15,8 +15,9 @@ use std::time::{Duration, Instant};
 use horus_ros_rmw::Gid;
 
 /// How long a parked reply waits for its client's reply reader to be matched before it is
-/// dropped.
-pub(crate) const MAX_AGE: Duration = Duration::from_secs(2);
+/// dropped: longer than discovery takes between two loaded processes (a reader's announcement can
+/// take seconds to be matched), shorter than the timeouts callers usually give.
+pub(crate) const MAX_AGE: Duration = Duration::from_secs(5);
 /// Most replies parked for one client (one request writer).
 pub(crate) const MAX_PER_CLIENT: usize = 64;
 /// Most bytes of replies parked for one client (one reply is always admitted).

@@ -148,7 +148,6 @@ impl<S: Service> ServiceServerBuilder<S> {
         let wire = ServerWire::new(
             Arc::clone(&runtime.graph),
             topics.name.clone(),
-            topics.reply.dds_topic_name.clone(),
             reply_writer,
             self.flavour,
             runtime.node.context().backend(),

@@ -3,7 +3,7 @@
 //! convention, and answering it in that convention once the client can hear the reply (never
 //! waiting for that: see `reply_park`).
 
-use std::collections::{HashMap, HashSet};
+use std::collections::HashSet;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard};
 use std::time::Instant;
@@ -17,10 +17,6 @@ use crate::wire::{
     encode, is_horus_client_id, is_reader, peer_vendor, CycloneHeader, WireFlavour,
     HORUS_CLIENT_MARKER,
 };
-
-/// Most request writers whose matched reply reader is remembered (see
-/// [`ServerWire::recipient_matched`]); beyond, the table starts afresh.
-const MAX_KNOWN_READERS: usize = 4096;
 
 /// What a reply to one request needs, in the convention of the client that sent it.
 #[derive(Clone, Copy, Debug)]
@@ -147,8 +143,6 @@ impl GraphWatcher for ParkWatcher {
 pub(crate) struct ServerWire {
     graph: Arc<Graph>,
     service: ServiceName,
-    /// The DDS reply topic (`rr/…Reply`).
-    reply_topic: String,
     reply_writer: Gid,
     flavour: Option<WireFlavour>,
     backend: Backend,
@@ -160,9 +154,6 @@ pub(crate) struct ServerWire {
     parked: Arc<AtomicUsize>,
     /// Which warnings about peers are logged.
     warnings: Mutex<PeerWarnings>,
-    /// For an rmw_cyclonedds-convention client (by request writer): a reply reader of its
-    /// participant found matched with our writer.
-    known_readers: Mutex<HashMap<Gid, Gid>>,
     /// Kept alive while the server is (the graph holds it weakly).
     watcher: Mutex<Option<Arc<ParkWatcher>>>,
 }
@@ -172,12 +163,11 @@ fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
 }
 
 impl ServerWire {
-    /// The wire of the server of `service` replying with `reply_writer` on `reply_topic`; every
+    /// The wire of the server of `service` replying with `reply_writer`; every
     /// client is taken to follow `flavour` if given, else the convention of its DDS vendor.
     pub(crate) fn new(
         graph: Arc<Graph>,
         service: ServiceName,
-        reply_topic: String,
         reply_writer: Gid,
         flavour: Option<WireFlavour>,
         backend: Backend,
@@ -185,7 +175,6 @@ impl ServerWire {
         Self {
             graph,
             service,
-            reply_topic,
             reply_writer,
             flavour,
             backend,
@@ -193,7 +182,6 @@ impl ServerWire {
             park: Mutex::new(Park::default()),
             parked: Arc::new(AtomicUsize::new(0)),
             warnings: Mutex::new(PeerWarnings::default()),
-            known_readers: Mutex::new(HashMap::new()),
             watcher: Mutex::new(None),
         }
     }
@@ -511,34 +499,11 @@ impl ServerWire {
         match recipient {
             Recipient::Reader(reader) => self.graph.is_matched(self.reply_writer, reader),
             Recipient::ParticipantOf(request_writer) => {
-                let known = lock(&self.known_readers).get(&request_writer).copied();
-                if known.is_some_and(|r| self.graph.is_matched(self.reply_writer, r)) {
-                    return true;
-                }
-                // Readers of our reply topic in the requesting participant (its node may not be
-                // known yet: look at the DDS topic, not at clients by node).
-                let prefix = request_writer.prefix();
-                let found = self
-                    .graph
-                    .read(|c| c.subscriptions_info_by_topic(&self.reply_topic, true))
-                    .iter()
-                    .map(|r| r.endpoint_gid)
-                    .filter(|r| r.prefix() == prefix)
-                    .find(|r| self.graph.is_matched(self.reply_writer, *r));
-                let mut known = lock(&self.known_readers);
-                match found {
-                    Some(reader) => {
-                        if known.len() >= MAX_KNOWN_READERS {
-                            known.clear();
-                        }
-                        known.insert(request_writer, reader);
-                        true
-                    }
-                    None => {
-                        known.remove(&request_writer);
-                        false
-                    }
-                }
+                // A reader of our reply topic in the requesting participant: our writer's matches
+                // (reported by the DDS layer) say it, even before discovery lists the reader.
+                self.graph
+                    .matched_in_participant(self.reply_writer, request_writer)
+                    .is_some()
             }
             Recipient::Anyone => true,
         }

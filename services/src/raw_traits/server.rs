@@ -98,7 +98,6 @@ impl<S: Service> DdsServiceServerBuilder<S> {
         let wire = ServerWire::new(
             Arc::clone(&runtime.graph),
             topics.name,
-            topics.reply.dds_topic_name,
             writer.gid(),
             self.flavour,
             runtime.node.context().backend(),
@@ -145,7 +144,7 @@ impl<S: Service> DdsServiceServerBuilder<S> {
 ///   rmw_fastrtps-convention request, or the header of an rmw_cyclonedds one.
 /// - `send_reply` never blocks: if the client's reply reader is not matched yet, the reply is
 ///   parked (bounded per client) and sent by the background thread once it is, or dropped after
-///   2 s.
+///   5 s.
 /// - Requests taken but never answered are forgotten beyond 4096 outstanding (oldest first).
 pub struct DdsServiceServer<S: Service> {
     shared: Arc<Shared>,
