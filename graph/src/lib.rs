@@ -32,7 +32,7 @@ pub use error::GraphError;
 pub use event::GraphEvent;
 pub use horus_ros_msgs::rmw_dds_common::Gid;
 pub use info::{ServiceEndpointInfo, ServiceEndpointType, TopicEndpointInfo, TopicEndpointType};
-pub use live::{apply_discovery_event, Graph, GraphStartError};
+pub use live::{apply_discovery_event, Graph, GraphStartError, GraphView, GraphWatcher};
 pub use query::{NamesAndTypes, NodeInfo};
 pub use snapshot::{GraphSnapshot, ParticipantSnapshot};
 

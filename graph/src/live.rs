@@ -68,12 +68,75 @@ struct Shared {
     state: Mutex<State>,
     changed: Condvar,
     subscribers: Mutex<Vec<Sender<GraphEvent>>>,
+    watchers: Mutex<Vec<Weak<dyn GraphWatcher>>>,
     stop: AtomicBool,
 }
 
 impl Shared {
     fn state(&self) -> MutexGuard<'_, State> {
         self.state.lock().unwrap_or_else(|p| p.into_inner())
+    }
+
+    fn is_matched(&self, local: Gid, remote: Gid) -> bool {
+        self.state()
+            .matches
+            .get(&local)
+            .is_some_and(|m| m.contains_key(&remote))
+    }
+
+    fn matched_in_participant(&self, local: Gid, participant: Gid) -> Option<Gid> {
+        let prefix = participant.prefix();
+        self.state()
+            .matches
+            .get(&local)?
+            .keys()
+            .find(|remote| remote.prefix() == prefix)
+            .copied()
+    }
+
+    /// Tells every live watcher of a change (outside every lock of the graph), forgetting the
+    /// dropped ones.
+    fn tell_watchers(&self) {
+        let live: Vec<Arc<dyn GraphWatcher>> = {
+            let mut watchers = self.watchers.lock().unwrap_or_else(|p| p.into_inner());
+            watchers.retain(|w| w.strong_count() > 0);
+            watchers.iter().filter_map(Weak::upgrade).collect()
+        };
+        let view = GraphView { shared: self };
+        for watcher in live {
+            watcher.graph_changed(&view);
+        }
+    }
+}
+
+/// Told of every change of a [`Graph`] (endpoints, participants, nodes, matches made or lost),
+/// on the graph's own thread, right after the change is applied: see [`Graph::watch`].
+pub trait GraphWatcher: Send + Sync {
+    /// The graph changed; `graph` answers queries on it as it is now. Runs on the graph's
+    /// thread: keep it short and never block in it (e.g. wake a thread of your own).
+    fn graph_changed(&self, graph: &GraphView<'_>);
+}
+
+/// The graph as a [`GraphWatcher`] sees it during [`graph_changed`](GraphWatcher::graph_changed).
+pub struct GraphView<'a> {
+    shared: &'a Shared,
+}
+
+impl GraphView<'_> {
+    /// Whether our endpoint `local` is matched with `remote` (see [`Graph::is_matched`]).
+    pub fn is_matched(&self, local: Gid, remote: Gid) -> bool {
+        self.shared.is_matched(local, remote)
+    }
+
+    /// An endpoint of `participant` matched with our `local` (see
+    /// [`Graph::matched_in_participant`]).
+    pub fn matched_in_participant(&self, local: Gid, participant: Gid) -> Option<Gid> {
+        self.shared.matched_in_participant(local, participant)
+    }
+
+    /// Runs `f` on the cache as it is now (see [`Graph::read`]).
+    pub fn read<R>(&self, f: impl FnOnce(&GraphCache) -> R) -> R {
+        f(&self.shared.state().cache)
     }
 }
 
@@ -124,6 +187,7 @@ impl Graph {
             }),
             changed: Condvar::new(),
             subscribers: Mutex::new(Vec::new()),
+            watchers: Mutex::new(Vec::new()),
             stop: AtomicBool::new(false),
         });
         let worker_shared = Arc::clone(&shared);
@@ -161,6 +225,17 @@ impl Graph {
             .unwrap_or_else(|p| p.into_inner())
             .push(tx);
         rx
+    }
+
+    /// Tells `watcher` of every change from now on, until it is dropped (the graph keeps only a
+    /// weak reference). This is how a thread that waits on something else (a DDS reader) learns
+    /// of graph changes without polling: its watcher wakes it.
+    pub fn watch(&self, watcher: Weak<dyn GraphWatcher>) {
+        self.shared
+            .watchers
+            .lock()
+            .unwrap_or_else(|p| p.into_inner())
+            .push(watcher);
     }
 
     /// Waits until the graph changes, at most `timeout`; returns whether it changed
@@ -225,11 +300,14 @@ impl Graph {
     /// Whether our endpoint `local` is matched with `remote` (data from the writer of the pair
     /// reaches the reader), as the DDS layer reported it.
     pub fn is_matched(&self, local: Gid, remote: Gid) -> bool {
-        self.shared
-            .state()
-            .matches
-            .get(&local)
-            .is_some_and(|m| m.contains_key(&remote))
+        self.shared.is_matched(local, remote)
+    }
+
+    /// An endpoint of the participant of `participant` (any GID of it: the participant's or an
+    /// endpoint's) that our endpoint `local` is matched with, if any — from the matches the DDS
+    /// layer reported, whether or not discovery has listed that endpoint yet.
+    pub fn matched_in_participant(&self, local: Gid, participant: Gid) -> Option<Gid> {
+        self.shared.matched_in_participant(local, participant)
     }
 
     /// When our endpoint `local` was matched with `remote`, if it is.
@@ -327,7 +405,7 @@ fn run(shared: &Shared, mut feed: DiscoveryFeed) {
         let Some(first) = feed.next_timeout(STOP_CHECK_INTERVAL) else {
             continue;
         };
-        let events = {
+        let (events, changed) = {
             let mut state = shared.state();
             let mut changed = apply(&mut state, first);
             for _ in 1..MAX_BATCH {
@@ -340,9 +418,12 @@ fn run(shared: &Shared, mut feed: DiscoveryFeed) {
                 state.generation += 1;
                 state.changed_at = Instant::now();
             }
-            state.cache.drain_events()
+            (state.cache.drain_events(), changed)
         };
         shared.changed.notify_all();
+        if changed {
+            shared.tell_watchers();
+        }
         if !events.is_empty() {
             let mut subscribers = shared.subscribers.lock().unwrap_or_else(|p| p.into_inner());
             subscribers.retain(|s| events.iter().all(|e| s.send(e.clone()).is_ok()));

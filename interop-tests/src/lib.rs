@@ -54,6 +54,22 @@ impl Peer {
         Ok(Self { child })
     }
 
+    /// The peer's standard output, line by line as it is printed (read by a thread of its own);
+    /// `None` if already taken. [`wait`](Self::wait) then reports no standard output.
+    pub fn stdout_lines(&mut self) -> Option<std::sync::mpsc::Receiver<String>> {
+        let stdout = self.child.stdout.take()?;
+        let (tx, rx) = std::sync::mpsc::channel();
+        std::thread::spawn(move || {
+            for line in std::io::BufRead::lines(std::io::BufReader::new(stdout)) {
+                let Ok(line) = line else { break };
+                if tx.send(line).is_err() {
+                    break;
+                }
+            }
+        });
+        Some(rx)
+    }
+
     /// Waits for the peer to exit, at most `limit`; kills it past that.
     pub fn wait(mut self, limit: Duration) -> std::io::Result<PeerOutput> {
         let deadline = Instant::now() + limit;

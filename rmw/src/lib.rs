@@ -38,6 +38,6 @@ pub use gid::Gid;
 pub use node::{Node, NodeError, WeakNode};
 pub use pubsub::{EndpointError, PublishError, Publisher, Subscription, TakeError};
 pub use raw::{
-    RawEndpointSpec, RawReader, RawSample, RawWriter, SampleId, ServiceEndpointId,
+    RawEndpointSpec, RawReader, RawReaderWaker, RawSample, RawWriter, SampleId, ServiceEndpointId,
     ServiceEndpointRole,
 };

@@ -24,6 +24,7 @@ use crate::qos::{EndpointKind, Qos};
 use crate::Gid;
 
 const DATA: mio::Token = mio::Token(0);
+const WAKE: mio::Token = mio::Token(1);
 
 /// A sample's identity: the GID of the writer that wrote it and its sequence number there
 /// (`rmw_request_id_t` / DDS `SampleIdentity`).
@@ -219,6 +220,40 @@ pub struct RawReader {
     registration: Registration,
     topic: String,
     reader: ReaderImpl,
+    waker: RawReaderWaker,
+}
+
+/// Makes a [`RawReader`]'s current or next [`wait`](RawReader::wait) return, from any thread
+/// (e.g. to stop the thread waiting on it, or to tell it of something other than data). Cheap
+/// to clone; all clones wake the same reader.
+#[derive(Clone)]
+pub struct RawReaderWaker(WakerImpl);
+
+#[derive(Clone)]
+enum WakerImpl {
+    RustDds(std::sync::Arc<mio::Waker>),
+    #[cfg(feature = "cyclone")]
+    Cyclone(horus_ros_rmw_cyclone::GuardCondition),
+}
+
+impl std::fmt::Debug for RawReaderWaker {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("RawReaderWaker")
+    }
+}
+
+impl RawReaderWaker {
+    /// Wakes the reader's waiting thread (or makes its next wait return at once).
+    pub fn wake(&self) {
+        let result = match &self.0 {
+            WakerImpl::RustDds(waker) => waker.wake().map_err(|e| e.to_string()),
+            #[cfg(feature = "cyclone")]
+            WakerImpl::Cyclone(guard) => guard.trigger().map_err(|e| e.to_string()),
+        };
+        if let Err(e) = result {
+            tracing::debug!("could not wake a reader: {e}");
+        }
+    }
 }
 
 // One per entity, used in place: boxing the larger variant would buy nothing.
@@ -305,7 +340,7 @@ impl Node {
                     name: spec.dds_topic_name.clone(),
                     source,
                 })?;
-        let (reader, gid) = match &self.context().inner().dds {
+        let (reader, gid, waker) = match &self.context().inner().dds {
             Dds::RustDds(p) => {
                 let topic = create_topic(p, spec, &dds_qos)?;
                 let mut reader = p
@@ -320,7 +355,9 @@ impl Node {
                 poll.registry()
                     .register(&mut reader, DATA, mio::Interest::READABLE)
                     .map_err(fail)?;
-                (ReaderImpl::RustDds { poll, reader }, gid)
+                let waker = mio::Waker::new(poll.registry(), WAKE).map_err(fail)?;
+                let waker = WakerImpl::RustDds(std::sync::Arc::new(waker));
+                (ReaderImpl::RustDds { poll, reader }, gid, waker)
             }
             #[cfg(feature = "cyclone")]
             Dds::Cyclone(p) => {
@@ -332,7 +369,8 @@ impl Node {
                     spec.user_data().as_bytes(),
                 )
                 .map_err(dds_error("reader", spec))?;
-                (ReaderImpl::Cyclone(reader), gid)
+                let waker = WakerImpl::Cyclone(reader.guard());
+                (ReaderImpl::Cyclone(reader), gid, waker)
             }
         };
         let registration = Registration::new(
@@ -344,6 +382,7 @@ impl Node {
             registration,
             topic: spec.dds_topic_name.clone(),
             reader,
+            waker: RawReaderWaker(waker),
         })
     }
 }
@@ -463,8 +502,14 @@ impl RawReader {
         }
     }
 
-    /// Waits until data may be there, at most `timeout`; returns whether something was
-    /// signalled. Take until `None` after it: wake-ups are edge-triggered.
+    /// A handle that wakes this reader's [`wait`](Self::wait) from any thread.
+    pub fn waker(&self) -> RawReaderWaker {
+        self.waker.clone()
+    }
+
+    /// Waits until data may be there or the reader's [`waker`](Self::waker) was woken, at most
+    /// `timeout`; returns whether something was signalled. Take until `None` after it: wake-ups
+    /// are edge-triggered.
     pub fn wait(&mut self, timeout: Duration) -> bool {
         match &mut self.reader {
             ReaderImpl::RustDds { poll, .. } => wait_on(poll, timeout),

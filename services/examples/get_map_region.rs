@@ -132,6 +132,7 @@ fn main() -> Result<()> {
         }
         Err(ServiceError::NoServer) => println!("no server found"),
         Err(ServiceError::Transport(msg)) => println!("transport error: {msg}"),
+        Err(ServiceError::ServerGone) => println!("the server left before answering"),
     }
     let inverted = GetMapRegionRequest {
         x_min: 10.0,

@@ -22,12 +22,18 @@ pub enum ServiceError {
     /// `call_resilient`.
     #[error("service transport error: {0}")]
     Transport(String),
+    /// Every server the request went to left the graph before answering: at once when it left
+    /// gracefully (its endpoints were withdrawn), at its participant's lease expiry when it died
+    /// (e.g. was killed). The request is lost; nobody will answer it. Retried by
+    /// `call_resilient` (a retry waits for a server again, and gives `NoServer` if none comes).
+    #[error("the server left the graph before answering")]
+    ServerGone,
 }
 
 impl ServiceError {
-    /// Whether `call_resilient` retries after this error (Timeout and Transport).
+    /// Whether `call_resilient` retries after this error (Timeout, Transport and ServerGone).
     pub fn is_transient(&self) -> bool {
-        matches!(self, Self::Timeout | Self::Transport(_))
+        matches!(self, Self::Timeout | Self::Transport(_) | Self::ServerGone)
     }
 }
 

@@ -30,6 +30,7 @@ mod introspection;
 mod naming;
 mod node_services;
 mod raw_traits;
+mod reply_park;
 mod retry;
 mod runtime;
 mod server;

@@ -72,6 +72,10 @@ pub enum TransportError {
     /// The DDS layer failed to send or receive.
     #[error("transport failure: {0}")]
     Transport(String),
+    /// Every server the request went to left the graph before answering (see
+    /// [`ServiceError::ServerGone`]).
+    #[error("the server left the graph before answering")]
+    ServerGone,
 }
 
 impl From<TransportError> for ServiceError {
@@ -80,6 +84,7 @@ impl From<TransportError> for ServiceError {
             TransportError::Timeout => Self::Timeout,
             TransportError::NoServer => Self::NoServer,
             TransportError::ServiceFailed(message) => Self::ServiceFailed(message),
+            TransportError::ServerGone => Self::ServerGone,
             other => Self::Transport(other.to_string()),
         }
     }

@@ -5,14 +5,14 @@ use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::Arc;
 use std::thread::JoinHandle;
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use horus_ros_msgs::description::EVENT_SUFFIX;
 use horus_ros_msgs::service_msgs::msg::ServiceEventInfo;
 use horus_ros_msgs::{dds_type_name, Service};
 use horus_ros_rmw::names::ServiceName;
 use horus_ros_rmw::qos::Qos;
-use horus_ros_rmw::{Gid, Node, RawReader, RawSample, RawWriter};
+use horus_ros_rmw::{Gid, Node, RawReader, RawReaderWaker, RawSample, RawWriter};
 
 use crate::introspection::{encode_event, EventType, Introspection, IntrospectionState};
 use crate::naming::{default_service_name, ServiceTopics};
@@ -82,8 +82,9 @@ impl<S: Service> ServiceServerBuilder<S> {
         self
     }
 
-    /// The longest the server thread sleeps between checks: requests wake it at once (no fixed
-    /// polling delay); this bounds how long `stop()` and a missed wake-up can take.
+    /// The longest the server thread sleeps between checks: requests, `stop()` and graph changes
+    /// while replies are parked wake it at once (no fixed polling delay); this bounds how long a
+    /// missed wake-up can delay a request.
     pub fn poll_interval(mut self, interval: Duration) -> Self {
         self.poll_interval = interval.max(Duration::from_micros(100));
         self
@@ -130,6 +131,7 @@ impl<S: Service> ServiceServerBuilder<S> {
         let requests = runtime.node.create_raw_reader(&topics.request)?;
         let replies = runtime.node.create_raw_writer(&topics.reply)?;
         let shared = Arc::new(ServerShared::default());
+        let waker = requests.waker();
         let request_reader = requests.gid();
         let reply_writer = replies.gid();
         let introspection = Introspection::new(
@@ -143,17 +145,19 @@ impl<S: Service> ServiceServerBuilder<S> {
         if let Some((state, qos)) = &self.introspection {
             introspection.configure(*state, qos)?;
         }
+        let wire = ServerWire::new(
+            Arc::clone(&runtime.graph),
+            topics.name.clone(),
+            reply_writer,
+            self.flavour,
+            runtime.node.context().backend(),
+        );
+        // Parked replies go out when their client's reader is matched: the graph wakes us.
+        wire.wake_on_graph_change(waker.clone());
         let worker = ServerLoop::<S> {
             requests,
             replies,
-            wire: ServerWire::new(
-                Arc::clone(&runtime.graph),
-                topics.name.clone(),
-                topics.reply.dds_topic_name.clone(),
-                reply_writer,
-                self.flavour,
-                runtime.node.context().backend(),
-            ),
+            wire,
             handler,
             poll_interval: self.poll_interval,
             shared: Arc::clone(&shared),
@@ -165,6 +169,7 @@ impl<S: Service> ServiceServerBuilder<S> {
         tracing::debug!(service = %topics.name, "service server started");
         Ok(ServiceServer {
             shared,
+            waker,
             thread: Some(thread),
             name: topics.name,
             request_reader,
@@ -186,6 +191,8 @@ struct ServerShared {
 /// A running service server; it serves until [`stop`](Self::stop)ped or dropped.
 pub struct ServiceServer<S: Service> {
     shared: Arc<ServerShared>,
+    /// Wakes the server thread (to stop it).
+    waker: RawReaderWaker,
     thread: Option<JoinHandle<()>>,
     name: ServiceName,
     request_reader: Gid,
@@ -253,6 +260,7 @@ impl<S: Service> ServiceServer<S> {
     /// Stops serving; the endpoints leave the graph when the server is dropped.
     pub fn stop(&self) {
         self.shared.stop.store(true, Ordering::SeqCst);
+        self.waker.wake();
     }
 }
 
@@ -284,7 +292,7 @@ impl<S: Service> ServerLoop<S> {
                     Ok(Some(sample)) => self.serve(sample),
                     Ok(None) => break,
                     Err(e) => {
-                        tracing::warn!(service = %self.wire.service(), "dropped a request: {e}");
+                        self.wire.warn_unreadable(&e);
                         errors += 1;
                         if errors >= MAX_ERRORS_PER_DRAIN {
                             break;
@@ -292,36 +300,52 @@ impl<S: Service> ServerLoop<S> {
                     }
                 }
             }
-            // Woken at once by a request; the interval only bounds stop() and missed wake-ups.
-            self.requests.wait(self.poll_interval);
+            // Parked replies whose client can hear them now go out; old ones are dropped.
+            let next_expiry = self.wire.flush(&self.replies);
+            let wait = next_expiry.map_or(self.poll_interval, |t| {
+                t.saturating_duration_since(Instant::now())
+                    .min(self.poll_interval)
+            });
+            // Woken at once by a request, by stop() and by graph changes while replies are
+            // parked; the interval only bounds missed wake-ups.
+            self.requests.wait(wait);
         }
     }
 
-    /// Answers one request in its client's convention, once the client's reply reader is
-    /// matched (or after a bounded wait).
+    /// Answers one request in its client's convention: at once if the client's reply reader is
+    /// matched, else parked until it is (never waiting here).
     fn serve(&mut self, sample: RawSample) {
         let Some(request) = self.wire.interpret(sample) else {
             return;
         };
         let (outcome, response) = self.handle(&request);
-        let Some(reply) = self.wire.reply(&request.route, outcome) else {
+        let Some(mut reply) = self.wire.reply(&request.route, outcome) else {
             return;
         };
-        self.wire.wait_until_sendable(&reply);
-        if let Err(e) = self.wire.write(&self.replies, reply) {
-            tracing::warn!(service = %self.wire.service(), "could not send a reply: {e}");
-            return;
-        }
         // rcl `rcl_send_response`: RESPONSE_SENT once the response is sent.
         if let Some(response) = response {
-            self.introspection.emit(
-                ServiceEventInfo::RESPONSE_SENT,
-                request.writer_guid,
-                request.sequence_number,
-                |info, contents| {
-                    encode_event::<S::Request, S::Response>(info, contents, None, Some(&response))
-                },
-            );
+            if self.introspection.state() != IntrospectionState::Off {
+                let introspection = Arc::clone(&self.introspection);
+                let (client_gid, sequence_number) = (request.writer_guid, request.sequence_number);
+                reply = reply.on_sent(Box::new(move || {
+                    introspection.emit(
+                        ServiceEventInfo::RESPONSE_SENT,
+                        client_gid,
+                        sequence_number,
+                        |info, contents| {
+                            encode_event::<S::Request, S::Response>(
+                                info,
+                                contents,
+                                None,
+                                Some(&response),
+                            )
+                        },
+                    );
+                }));
+            }
+        }
+        if let Err(e) = self.wire.send_or_park(&self.replies, reply) {
+            tracing::warn!(service = %self.wire.service(), "could not send a reply: {e}");
         }
     }
 

@@ -1,26 +1,22 @@
 //! What both servers ([`ServiceServer`](crate::ServiceServer) and
 //! [`DdsServiceServer`](crate::DdsServiceServer)) share: reading a request in its client's wire
-//! convention, and answering it in that convention once the client can hear the reply.
+//! convention, and answering it in that convention once the client can hear the reply (never
+//! waiting for that: see `reply_park`).
 
 use std::collections::HashSet;
-use std::sync::{Arc, Mutex};
-use std::time::{Duration, Instant};
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Arc, Mutex, MutexGuard};
+use std::time::Instant;
 
-use horus_ros_graph::Graph;
+use horus_ros_graph::{Graph, GraphView, GraphWatcher};
 use horus_ros_rmw::names::ServiceName;
-use horus_ros_rmw::{Backend, Gid, PublishError, RawSample, RawWriter, SampleId};
+use horus_ros_rmw::{Backend, Gid, PublishError, RawReaderWaker, RawSample, RawWriter, SampleId};
 
+use crate::reply_park::{Park, PeerWarnings, WarningKind, MAX_AGE};
 use crate::wire::{
     encode, is_horus_client_id, is_reader, peer_vendor, CycloneHeader, WireFlavour,
     HORUS_CLIENT_MARKER,
 };
-
-/// How long a reply waits for the client's reply reader to be matched before it is sent anyway
-/// (rmw_fastrtps and rmw_cyclonedds wait too, so that a fresh client's first reply is not lost).
-const REPLY_MATCH_WAIT: Duration = Duration::from_millis(500);
-
-/// Longest single wait of [`ServerWire::wait_until_sendable`] between checks.
-const MATCH_CHECK_INTERVAL: Duration = Duration::from_millis(10);
 
 /// What a reply to one request needs, in the convention of the client that sent it.
 #[derive(Clone, Copy, Debug)]
@@ -31,6 +27,7 @@ pub(crate) enum ReplyRoute {
         reply_to: Gid,
         sequence_number: i64,
         horus_client: bool,
+        request_writer: Gid,
     },
     /// rmw_cyclonedds: echo the header; the client's reply reader is found from the participant
     /// of its request writer.
@@ -38,6 +35,26 @@ pub(crate) enum ReplyRoute {
         header: CycloneHeader,
         request_writer: Gid,
     },
+}
+
+impl ReplyRoute {
+    /// The client: the request writer (whose parked replies are bounded together).
+    fn client(&self) -> Gid {
+        match *self {
+            Self::FastRtps { request_writer, .. } | Self::CycloneDds { request_writer, .. } => {
+                request_writer
+            }
+        }
+    }
+
+    /// Whose reply reader the reply waits for.
+    fn recipient(&self) -> Recipient {
+        match *self {
+            Self::FastRtps { reply_to, .. } if is_reader(reply_to) => Recipient::Reader(reply_to),
+            Self::FastRtps { .. } => Recipient::Anyone,
+            Self::CycloneDds { request_writer, .. } => Recipient::ParticipantOf(request_writer),
+        }
+    }
 }
 
 /// A received request: its message (after any rmw_cyclonedds header) and how to answer it.
@@ -87,34 +104,70 @@ enum Recipient {
     Anyone,
 }
 
-/// A reply ready to write once its client can hear it (or at its deadline).
+/// Run once a reply is written (e.g. to publish a `RESPONSE_SENT` introspection event).
+pub(crate) type OnSent = Box<dyn FnOnce() + Send>;
+
+/// A reply ready to write once its client can hear it.
 pub(crate) struct Reply {
     body: Vec<u8>,
     related: Option<SampleId>,
     recipient: Recipient,
-    deadline: Instant,
+    client: Gid,
+    on_sent: Option<OnSent>,
+}
+
+impl Reply {
+    /// Runs `f` once the reply is written (never if it is dropped).
+    pub(crate) fn on_sent(mut self, f: OnSent) -> Self {
+        self.on_sent = Some(f);
+        self
+    }
+}
+
+/// Wakes a server's thread when the graph changes while replies are parked (their clients'
+/// readers may have been matched).
+struct ParkWatcher {
+    parked: Arc<AtomicUsize>,
+    waker: RawReaderWaker,
+}
+
+impl GraphWatcher for ParkWatcher {
+    fn graph_changed(&self, _graph: &GraphView<'_>) {
+        if self.parked.load(Ordering::SeqCst) > 0 {
+            self.waker.wake();
+        }
+    }
 }
 
 /// Interprets requests and writes replies for one server, per client wire convention.
 pub(crate) struct ServerWire {
     graph: Arc<Graph>,
     service: ServiceName,
-    /// The DDS reply topic (`rr/…Reply`).
-    reply_topic: String,
     reply_writer: Gid,
     flavour: Option<WireFlavour>,
     backend: Backend,
     /// Request writers already told about (once each) as unanswerable on this backend.
     refused: Mutex<HashSet<Gid>>,
+    /// Replies waiting for their client's reply reader to be matched.
+    park: Mutex<Park<Reply>>,
+    /// How many replies are parked (read by the watcher without the park's lock).
+    parked: Arc<AtomicUsize>,
+    /// Which warnings about peers are logged.
+    warnings: Mutex<PeerWarnings>,
+    /// Kept alive while the server is (the graph holds it weakly).
+    watcher: Mutex<Option<Arc<ParkWatcher>>>,
+}
+
+fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
+    m.lock().unwrap_or_else(|p| p.into_inner())
 }
 
 impl ServerWire {
-    /// The wire of the server of `service` replying with `reply_writer` on `reply_topic`; every
+    /// The wire of the server of `service` replying with `reply_writer`; every
     /// client is taken to follow `flavour` if given, else the convention of its DDS vendor.
     pub(crate) fn new(
         graph: Arc<Graph>,
         service: ServiceName,
-        reply_topic: String,
         reply_writer: Gid,
         flavour: Option<WireFlavour>,
         backend: Backend,
@@ -122,11 +175,50 @@ impl ServerWire {
         Self {
             graph,
             service,
-            reply_topic,
             reply_writer,
             flavour,
             backend,
             refused: Mutex::new(HashSet::new()),
+            park: Mutex::new(Park::default()),
+            parked: Arc::new(AtomicUsize::new(0)),
+            warnings: Mutex::new(PeerWarnings::default()),
+            watcher: Mutex::new(None),
+        }
+    }
+
+    /// Has `waker` woken whenever the graph changes while replies are parked: the thread it
+    /// wakes then calls [`flush`](Self::flush).
+    pub(crate) fn wake_on_graph_change(&self, waker: RawReaderWaker) {
+        let watcher = Arc::new(ParkWatcher {
+            parked: Arc::clone(&self.parked),
+            waker,
+        });
+        let weak: std::sync::Weak<dyn GraphWatcher> = Arc::downgrade(&watcher) as _;
+        self.graph.watch(weak);
+        *lock(&self.watcher) = Some(watcher);
+    }
+
+    /// Logs a request that could not be taken (undecodable), limited in rate like the warnings
+    /// about peers (the sender is not known).
+    pub(crate) fn warn_unreadable(&self, e: &dyn std::fmt::Display) {
+        self.warn_peer(
+            Gid::default(),
+            WarningKind::Malformed,
+            format_args!("dropped a request: {e}"),
+        );
+    }
+
+    /// Logs `message` about `peer`, limited to one per peer and kind every few seconds.
+    fn warn_peer(&self, peer: Gid, kind: WarningKind, message: std::fmt::Arguments<'_>) {
+        let allowed = lock(&self.warnings).allow(peer, kind, Instant::now());
+        match allowed {
+            Some(0) => tracing::warn!(service = %self.service, client = %peer, "{message}"),
+            Some(held) => tracing::warn!(
+                service = %self.service,
+                client = %peer,
+                "{message} ({held} more like it not logged)"
+            ),
+            None => {}
         }
     }
 
@@ -161,7 +253,11 @@ impl ServerWire {
             WireFlavour::CycloneDds => {
                 let Some((header, message)) = CycloneHeader::split(&sample.body, sample.big_endian)
                 else {
-                    tracing::warn!(service = %self.service, "request shorter than rmw_cyclonedds' header; dropped");
+                    self.warn_peer(
+                        sample.id.writer,
+                        WarningKind::Malformed,
+                        format_args!("request shorter than rmw_cyclonedds' header; dropped"),
+                    );
                     return None;
                 };
                 // 16 header bytes: the message keeps its 8-byte alignment.
@@ -191,10 +287,28 @@ impl ServerWire {
                     reply_to,
                     sequence_number: sample.id.sequence_number,
                     horus_client,
+                    request_writer: sample.id.writer,
                 };
                 (route, 0, *reply_to.as_bytes(), sample.id.sequence_number)
             }
         };
+        // A client whose replies are parked up to their bound gets no more work done for it
+        // until its reader is matched or they age out.
+        let client = route.client();
+        if lock(&self.park).holds(client)
+            && !lock(&self.park).admits(client)
+            && !self.recipient_matched(route.recipient())
+        {
+            self.warn_peer(
+                client,
+                WarningKind::Overflow,
+                format_args!(
+                    "request dropped: the replies parked for this client (its reply reader is \
+                     not matched) are at their bound"
+                ),
+            );
+            return None;
+        }
         Some(Request {
             route,
             writer_guid,
@@ -213,12 +327,13 @@ impl ServerWire {
         route: &ReplyRoute,
         outcome: Result<Vec<u8>, String>,
     ) -> Option<Reply> {
-        let deadline = Instant::now() + REPLY_MATCH_WAIT;
+        let (recipient, client) = (route.recipient(), route.client());
         match *route {
             ReplyRoute::FastRtps {
                 reply_to,
                 sequence_number,
                 horus_client,
+                ..
             } => {
                 let (body, sequence_number) = match outcome {
                     Ok(body) => (body, sequence_number),
@@ -230,14 +345,13 @@ impl ServerWire {
                         }
                     },
                     Err(message) => {
-                        tracing::warn!(service = %self.service, "handler failed; a ROS client gets no reply: {message}");
+                        self.warn_peer(
+                            client,
+                            WarningKind::Malformed,
+                            format_args!("handler failed; a ROS client gets no reply: {message}"),
+                        );
                         return None;
                     }
-                };
-                let recipient = if is_reader(reply_to) {
-                    Recipient::Reader(reply_to)
-                } else {
-                    Recipient::Anyone
                 };
                 Some(Reply {
                     body,
@@ -246,18 +360,17 @@ impl ServerWire {
                         sequence_number,
                     }),
                     recipient,
-                    deadline,
+                    client,
+                    on_sent: None,
                 })
             }
-            ReplyRoute::CycloneDds {
-                header,
-                request_writer,
-            } => match outcome {
+            ReplyRoute::CycloneDds { header, .. } => match outcome {
                 Ok(body) => Some(Reply {
                     body: header.prepend(&body),
                     related: None,
-                    recipient: Recipient::ParticipantOf(request_writer),
-                    deadline,
+                    recipient,
+                    client,
+                    on_sent: None,
                 }),
                 Err(message) if is_horus_client_id(header.guid) => {
                     let body = match encode(&message) {
@@ -274,14 +387,19 @@ impl ServerWire {
                     Some(Reply {
                         body: header.prepend(&body),
                         related: None,
-                        recipient: Recipient::ParticipantOf(request_writer),
-                        deadline,
+                        recipient,
+                        client,
+                        on_sent: None,
                     })
                 }
                 Err(message) => {
-                    tracing::warn!(
-                        service = %self.service,
-                        "handler failed for an rmw_cyclonedds client, which gets no reply: {message}"
+                    self.warn_peer(
+                        client,
+                        WarningKind::Malformed,
+                        format_args!(
+                            "handler failed for an rmw_cyclonedds client, which gets no reply: \
+                             {message}"
+                        ),
                     );
                     None
                 }
@@ -289,49 +407,103 @@ impl ServerWire {
         }
     }
 
-    /// Whether `reply` can go now: its client's reply reader is matched with our writer, or it
-    /// waited long enough.
-    pub(crate) fn can_send(&self, reply: &Reply) -> bool {
-        Instant::now() >= reply.deadline || self.recipient_matched(reply.recipient)
+    /// Sends `reply` now if its client's reply reader is matched with our writer (after any
+    /// replies parked for that client), else parks it (bounded per client: count, bytes, age;
+    /// beyond, it is dropped with a warning limited in rate). Never waits. Errs only if a write
+    /// of this reply failed.
+    pub(crate) fn send_or_park(
+        &self,
+        writer: &RawWriter,
+        reply: Reply,
+    ) -> Result<(), PublishError> {
+        let mut park = lock(&self.park);
+        let mut result = Ok(());
+        if self.recipient_matched(reply.recipient) {
+            for earlier in park.take_client(reply.client) {
+                self.write_logged(writer, earlier);
+            }
+            result = self.write_now(writer, reply);
+        } else {
+            let (client, bytes) = (reply.client, reply.body.len());
+            if park.park(client, reply, bytes).is_err() {
+                self.warn_peer(
+                    client,
+                    WarningKind::Overflow,
+                    format_args!(
+                        "reply dropped: the replies parked for this client (its reply reader is \
+                         not matched) are at their bound"
+                    ),
+                );
+            }
+        }
+        self.parked.store(park.len(), Ordering::SeqCst);
+        result
     }
 
-    /// Waits until `reply` can go (at most until its deadline).
-    pub(crate) fn wait_until_sendable(&self, reply: &Reply) {
-        loop {
-            let now = Instant::now();
-            if now >= reply.deadline || self.recipient_matched(reply.recipient) {
-                return;
-            }
-            // Matches being made are graph changes.
-            self.graph
-                .wait_for_graph_change((reply.deadline - now).min(MATCH_CHECK_INTERVAL));
+    /// Sends the parked replies whose clients' readers are matched now, drops those older than
+    /// their age limit (debug log); returns when the next parked reply reaches it.
+    pub(crate) fn flush(&self, writer: &RawWriter) -> Option<Instant> {
+        let mut park = lock(&self.park);
+        if park.len() == 0 {
+            return None;
         }
+        for client in park.clients() {
+            if park
+                .first(client)
+                .is_some_and(|r| self.recipient_matched(r.recipient))
+            {
+                for reply in park.take_client(client) {
+                    self.write_logged(writer, reply);
+                }
+            }
+        }
+        for (client, _reply) in park.expire(Instant::now(), MAX_AGE) {
+            tracing::debug!(
+                service = %self.service,
+                %client,
+                "reply dropped: the client's reply reader was not matched within {MAX_AGE:?}"
+            );
+        }
+        self.parked.store(park.len(), Ordering::SeqCst);
+        park.next_expiry(MAX_AGE)
+    }
+
+    /// Replies parked now.
+    pub(crate) fn parked(&self) -> usize {
+        self.parked.load(Ordering::SeqCst)
     }
 
     /// Writes `reply` with `writer` (to its one reader if that is matched, else to all: clients
-    /// filter).
-    pub(crate) fn write(&self, writer: &RawWriter, reply: Reply) -> Result<(), PublishError> {
+    /// filter), then runs its `on_sent`.
+    fn write_now(&self, writer: &RawWriter, reply: Reply) -> Result<(), PublishError> {
         let only_to = match reply.recipient {
             Recipient::Reader(r) if self.graph.is_matched(self.reply_writer, r) => Some(r),
             _ => None,
         };
-        writer
-            .write(reply.body, reply.related, only_to)
-            .map(|_id| ())
+        writer.write(reply.body, reply.related, only_to)?;
+        if let Some(on_sent) = reply.on_sent {
+            on_sent();
+        }
+        Ok(())
     }
 
+    /// [`write_now`](Self::write_now), logging a failure.
+    fn write_logged(&self, writer: &RawWriter, reply: Reply) {
+        if let Err(e) = self.write_now(writer, reply) {
+            tracing::warn!(service = %self.service, "could not send a reply: {e}");
+        }
+    }
+
+    /// Whether the client of `recipient` can hear a reply now.
     fn recipient_matched(&self, recipient: Recipient) -> bool {
         match recipient {
             Recipient::Reader(reader) => self.graph.is_matched(self.reply_writer, reader),
             Recipient::ParticipantOf(request_writer) => {
-                // Readers of our reply topic in the requesting participant (its node may not be
-                // known yet: look at the DDS topic, not at clients by node).
-                let prefix = request_writer.prefix();
+                // A reader of our reply topic in the requesting participant: our writer's matches
+                // (reported by the DDS layer) say it, even before discovery lists the reader.
                 self.graph
-                    .read(|c| c.subscriptions_info_by_topic(&self.reply_topic, true))
-                    .iter()
-                    .filter(|r| r.endpoint_gid.prefix() == prefix)
-                    .any(|r| self.graph.is_matched(self.reply_writer, r.endpoint_gid))
+                    .matched_in_participant(self.reply_writer, request_writer)
+                    .is_some()
             }
             Recipient::Anyone => true,
         }

@@ -86,6 +86,11 @@ impl Drop for RawWriter {
     }
 }
 
+/// Waiter token of a reader's data.
+const DATA: usize = 0;
+/// Waiter token of a reader's guard condition.
+const WAKE: usize = 1;
+
 /// A sample taken from a [`RawReader`].
 pub(crate) struct Sample {
     /// The CDR body (after the encapsulation header).
@@ -102,6 +107,8 @@ pub(crate) struct Sample {
 /// endpoints while it exists.
 pub(crate) struct RawReader {
     waiter: cyc::Waiter,
+    /// Wakes `wait` from other threads (see `crate::raw::RawReaderWaker`).
+    guard: cyc::GuardCondition,
     reader: cyc::Reader,
     local_endpoints: Arc<LocalEndpoints>,
     gid: Gid,
@@ -126,11 +133,14 @@ impl RawReader {
             )
             .map_err(fail)?;
         let mut waiter = cyc::Waiter::new().map_err(fail)?;
-        waiter.attach_reader(&reader, 0).map_err(fail)?;
+        waiter.attach_reader(&reader, DATA).map_err(fail)?;
+        let guard = cyc::GuardCondition::new().map_err(fail)?;
+        waiter.attach_guard(&guard, WAKE).map_err(fail)?;
         let gid = register(p, &reader.entity(), EndpointKind::Reader)?;
         Ok((
             Self {
                 waiter,
+                guard,
                 reader,
                 local_endpoints: Arc::clone(&p.local_endpoints),
                 gid,
@@ -165,10 +175,23 @@ impl RawReader {
         }))
     }
 
-    /// Waits until a sample is there, at most `timeout`.
+    /// The guard condition that wakes [`wait`](Self::wait).
+    pub(crate) fn guard(&self) -> cyc::GuardCondition {
+        self.guard.clone()
+    }
+
+    /// Waits until a sample is there or the guard condition is triggered (which it resets), at
+    /// most `timeout`.
     pub(crate) fn wait(&self, timeout: Duration) -> bool {
         match self.waiter.wait(timeout) {
-            Ok(triggered) => !triggered.is_empty(),
+            Ok(triggered) => {
+                if triggered.contains(&WAKE) {
+                    if let Err(e) = self.guard.take() {
+                        tracing::debug!("could not reset a reader's guard condition: {e}");
+                    }
+                }
+                !triggered.is_empty()
+            }
             Err(e) => {
                 tracing::debug!("waiting for data failed: {e}");
                 false

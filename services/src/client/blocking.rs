@@ -135,7 +135,8 @@ impl<S: Service> ServiceClient<S> {
     /// Calls once: waits (within `timeout`) for a server, sends, waits for the reply.
     ///
     /// `NoServer` if no server of this service and type appeared within `timeout`; `Timeout` if
-    /// one was there but did not answer in time; `ServiceFailed` if its handler returned `Err`.
+    /// one was there but did not answer in time; `ServiceFailed` if its handler returned `Err`;
+    /// `ServerGone` as soon as every server the request went to has left the graph.
     pub fn call(
         &mut self,
         request: S::Request,

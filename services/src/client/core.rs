@@ -3,14 +3,15 @@
 
 use std::collections::HashMap;
 use std::sync::atomic::{AtomicI64, Ordering};
-use std::sync::{Condvar, Mutex, MutexGuard};
+use std::sync::{Arc, Condvar, Mutex, MutexGuard};
 use std::task::Waker;
 use std::time::{Duration, Instant};
 
+use horus_ros_graph::{GraphView, GraphWatcher};
 use horus_ros_msgs::Service;
 use horus_ros_rmw::names::ServiceName;
 use horus_ros_rmw::qos::Qos;
-use horus_ros_rmw::{Gid, Node, RawReader, RawSample, RawWriter, SampleId};
+use horus_ros_rmw::{Gid, Node, RawReader, RawReaderWaker, RawSample, RawWriter, SampleId};
 
 use horus_ros_msgs::service_msgs::msg::ServiceEventInfo;
 
@@ -41,9 +42,12 @@ pub(crate) struct RequestKey {
 }
 
 /// A server usable now: both endpoints known and matched with ours.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub(crate) struct ReadyServer {
     flavour: WireFlavour,
+    /// The request readers of every server a request sent now reaches (matched with our
+    /// request writer).
+    reached: Vec<Gid>,
 }
 
 /// Where an outstanding request stands.
@@ -51,6 +55,46 @@ pub(crate) struct Slot<R> {
     result: Option<Result<R, ServiceError>>,
     waker: Option<Waker>,
     deadline: Instant,
+    /// The request readers of the servers the request went to (matched with our request writer
+    /// when it was sent) that are still matched: when none is left, the call ends with
+    /// [`ServiceError::ServerGone`].
+    servers: Vec<Gid>,
+}
+
+/// The calls in flight, shared with the graph's thread: a graph change that leaves a call with
+/// none of the servers it went to ends it with [`ServiceError::ServerGone`] and wakes its caller
+/// (the slot's waker, the condition variable, and the reply reader's wait).
+pub(crate) struct Calls<R> {
+    pending: Mutex<HashMap<RequestKey, Slot<R>>>,
+    completed: Condvar,
+    request_writer: Gid,
+    reply_waker: RawReaderWaker,
+}
+
+impl<R: Send + 'static> GraphWatcher for Calls<R> {
+    fn graph_changed(&self, graph: &GraphView<'_>) {
+        let mut pending = lock(&self.pending);
+        let mut ended = false;
+        for slot in pending.values_mut() {
+            if slot.result.is_some() || slot.servers.is_empty() {
+                continue;
+            }
+            slot.servers
+                .retain(|reader| graph.is_matched(self.request_writer, *reader));
+            if slot.servers.is_empty() {
+                slot.result = Some(Err(ServiceError::ServerGone));
+                if let Some(waker) = slot.waker.take() {
+                    waker.wake();
+                }
+                ended = true;
+            }
+        }
+        drop(pending);
+        if ended {
+            self.completed.notify_all();
+            self.reply_waker.wake();
+        }
+    }
 }
 
 /// Options shared by the client kinds.
@@ -91,9 +135,9 @@ pub(crate) struct ClientCore<C: Codec> {
     introspection: std::sync::Arc<Introspection>,
     flavour: Option<WireFlavour>,
     pub(crate) poll_interval: Duration,
-    pending: Mutex<HashMap<RequestKey, Slot<C::Response>>>,
+    /// The calls in flight (also held, weakly, by the graph: see [`Calls`]).
+    calls: Arc<Calls<C::Response>>,
     unsent_wakers: Mutex<Vec<Waker>>,
-    pub(crate) completed: Condvar,
 }
 
 fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
@@ -154,6 +198,14 @@ impl<C: Codec> ClientCore<C> {
         if let Some((state, qos)) = &options.introspection {
             introspection.configure(*state, qos)?;
         }
+        let calls = Arc::new(Calls {
+            pending: Mutex::new(HashMap::new()),
+            completed: Condvar::new(),
+            request_writer: requests.gid(),
+            reply_waker: replies.waker(),
+        });
+        let watcher: std::sync::Weak<dyn GraphWatcher> = Arc::downgrade(&calls) as _;
+        runtime.graph.watch(watcher);
         Ok(Self {
             client_gid,
             introspection,
@@ -167,9 +219,8 @@ impl<C: Codec> ClientCore<C> {
             name: topics.name,
             flavour: options.flavour,
             poll_interval: options.poll_interval,
-            pending: Mutex::new(HashMap::new()),
+            calls,
             unsent_wakers: Mutex::new(Vec::new()),
-            completed: Condvar::new(),
         })
     }
 
@@ -185,6 +236,8 @@ impl<C: Codec> ClientCore<C> {
         let key = self.send(request, server, deadline)?;
         loop {
             self.drain_replies();
+            // A reply, or the end of every server the request went to (the graph's watcher wakes
+            // the reply reader's wait then).
             if let Some(result) = self.take_result(key) {
                 return result;
             }
@@ -263,7 +316,8 @@ impl<C: Codec> ClientCore<C> {
     /// the first reply can be lost).
     pub(crate) fn ready_server(&self) -> Option<ReadyServer> {
         let graph = &self.runtime.graph;
-        self.servers().into_iter().find_map(|(reader, writer)| {
+        let servers = self.servers();
+        let flavour = servers.iter().find_map(|&(reader, writer)| {
             graph.matched_since(self.request_writer, reader)?;
             let reply_match = graph.matched_since(self.reply_reader, writer)?;
             let backend = self.runtime.node.context().backend();
@@ -275,8 +329,14 @@ impl<C: Codec> ClientCore<C> {
             let settled = flavour != WireFlavour::CycloneDds
                 || backend.announces_user_data()
                 || reply_match.elapsed() >= CYCLONE_MATCH_SETTLE;
-            settled.then_some(ReadyServer { flavour })
-        })
+            settled.then_some(flavour)
+        })?;
+        let reached = servers
+            .into_iter()
+            .map(|(reader, _)| reader)
+            .filter(|reader| graph.is_matched(self.request_writer, *reader))
+            .collect();
+        Some(ReadyServer { flavour, reached })
     }
 
     /// Waits until a server is ready, at most until `deadline`: `NoServer` if none ever showed
@@ -336,7 +396,7 @@ impl<C: Codec> ClientCore<C> {
     ) -> Result<RequestKey, ServiceError> {
         let body = self.codec.encode(request)?;
         // The pending lock is held while writing, so a reply cannot be routed before its slot exists.
-        let mut pending = lock(&self.pending);
+        let mut pending = lock(&self.calls.pending);
         let requests = lock(&self.requests);
         let key = match server.flavour {
             WireFlavour::FastRtps => {
@@ -374,6 +434,7 @@ impl<C: Codec> ClientCore<C> {
                 result: None,
                 waker: None,
                 deadline,
+                servers: server.reached,
             },
         );
         // rcl `rcl_send_request`: REQUEST_SENT with the sequence number the RMW gave (under the
@@ -401,7 +462,7 @@ impl<C: Codec> ClientCore<C> {
         }
         drop(replies);
         if routed {
-            self.completed.notify_all();
+            self.calls.completed.notify_all();
         }
     }
 
@@ -464,7 +525,7 @@ impl<C: Codec> ClientCore<C> {
                 )
             }
         };
-        let mut pending = lock(&self.pending);
+        let mut pending = lock(&self.calls.pending);
         // rcl `rcl_take_response_with_info`: RESPONSE_RECEIVED for every response taken (a
         // horus-ros server's error reply is no response).
         if let Ok(response) = &outcome {
@@ -492,7 +553,7 @@ impl<C: Codec> ClientCore<C> {
 
     /// The result of `key` if it is in, removing its slot.
     pub(crate) fn take_result(&self, key: RequestKey) -> Option<Result<C::Response, ServiceError>> {
-        let mut pending = lock(&self.pending);
+        let mut pending = lock(&self.calls.pending);
         let done = pending.get(&key).is_some_and(|s| s.result.is_some());
         if done {
             pending.remove(&key).and_then(|s| s.result)
@@ -503,20 +564,20 @@ impl<C: Codec> ClientCore<C> {
 
     /// Stores the waker to wake when `key`'s reply arrives.
     pub(crate) fn set_waker(&self, key: RequestKey, waker: &Waker) {
-        if let Some(slot) = lock(&self.pending).get_mut(&key) {
+        if let Some(slot) = lock(&self.calls.pending).get_mut(&key) {
             slot.waker = Some(waker.clone());
         }
     }
 
     /// Forgets `key` (its call timed out or was abandoned): a late reply is then dropped.
     pub(crate) fn forget(&self, key: RequestKey) {
-        lock(&self.pending).remove(&key);
+        lock(&self.calls.pending).remove(&key);
     }
 
     /// Waits until some reply is routed or `timeout` passes (async clients' blocking wait).
     pub(crate) fn wait_completion(&self, timeout: Duration) {
-        let pending = lock(&self.pending);
-        let _ = self.completed.wait_timeout(pending, timeout);
+        let pending = lock(&self.calls.pending);
+        let _ = self.calls.completed.wait_timeout(pending, timeout);
     }
 
     /// Parks the waker of a future still waiting for a usable server.
@@ -531,7 +592,7 @@ impl<C: Codec> ClientCore<C> {
             w.wake();
         }
         let now = Instant::now();
-        for slot in lock(&self.pending)
+        for slot in lock(&self.calls.pending)
             .values_mut()
             .filter(|s| s.deadline <= now)
         {
@@ -543,6 +604,6 @@ impl<C: Codec> ClientCore<C> {
 
     /// Requests waiting for their reply now.
     pub(crate) fn pending_count(&self) -> usize {
-        lock(&self.pending).len()
+        lock(&self.calls.pending).len()
     }
 }

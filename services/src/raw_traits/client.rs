@@ -294,6 +294,7 @@ fn transport_error(e: ServiceError) -> TransportError {
         ServiceError::NoServer => TransportError::NoServer,
         ServiceError::ServiceFailed(message) => TransportError::ServiceFailed(message),
         ServiceError::Transport(message) => TransportError::Transport(message),
+        ServiceError::ServerGone => TransportError::ServerGone,
     }
 }
 

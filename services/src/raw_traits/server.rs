@@ -7,25 +7,23 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard};
 use std::task::Waker;
 use std::thread::JoinHandle;
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use horus_ros_msgs::Service;
 use horus_ros_rmw::names::ServiceName;
 use horus_ros_rmw::qos::Qos;
-use horus_ros_rmw::{Gid, Node, RawReader, RawWriter};
+use horus_ros_rmw::{Gid, Node, RawReader, RawReaderWaker, RawWriter};
 
 use super::{encapsulate_into, le_body, ServiceRequest, ServiceServerTrait, TransportError};
 use crate::naming::{default_service_name, ServiceTopics};
 use crate::runtime::Runtime;
-use crate::server_wire::{Reply, ReplyRoute, Request, ServerWire};
+use crate::server_wire::{ReplyRoute, Request, ServerWire};
 use crate::wire::WireFlavour;
 use crate::SetupError;
 
-/// Longest sleep of the request thread (bounds drop time).
+/// Longest sleep of the request thread (it is woken by requests, by drop and by graph changes
+/// while replies are parked: this only bounds a missed wake-up).
 const TICK: Duration = Duration::from_millis(10);
-
-/// Sleep of the request thread while replies wait for their client's reader to match.
-const DEFERRED_TICK: Duration = Duration::from_millis(1);
 
 /// Most requests received and not yet taken; beyond, the oldest is dropped.
 const MAX_QUEUED: usize = 4096;
@@ -97,24 +95,25 @@ impl<S: Service> DdsServiceServerBuilder<S> {
         )?;
         let reader = runtime.node.create_raw_reader(&topics.request)?;
         let writer = runtime.node.create_raw_writer(&topics.reply)?;
+        let wire = ServerWire::new(
+            Arc::clone(&runtime.graph),
+            topics.name,
+            writer.gid(),
+            self.flavour,
+            runtime.node.context().backend(),
+        );
+        // Parked replies go out when their client's reader is matched: the graph wakes the
+        // request thread, which flushes them.
+        wire.wake_on_graph_change(reader.waker());
         let shared = Arc::new(Shared {
             request_reader: reader.gid(),
             reply_writer: writer.gid(),
-            wire: ServerWire::new(
-                Arc::clone(&runtime.graph),
-                topics.name,
-                topics.reply.dds_topic_name,
-                writer.gid(),
-                self.flavour,
-                runtime.node.context().backend(),
-            ),
+            wire,
             _runtime: runtime,
             queue: Mutex::new(VecDeque::new()),
             waker: Mutex::new(None),
-            replies: Mutex::new(Replies {
-                writer,
-                deferred: VecDeque::new(),
-            }),
+            writer: Mutex::new(writer),
+            pump_waker: reader.waker(),
             stop: AtomicBool::new(false),
         });
         let pump = {
@@ -143,8 +142,9 @@ impl<S: Service> DdsServiceServerBuilder<S> {
 ///   (1, 2, 3…): DDS sequence numbers are per client writer and would collide between clients.
 ///   The server keeps, per number, what the reply needs: the `related_sample_identity` of an
 ///   rmw_fastrtps-convention request, or the header of an rmw_cyclonedds one.
-/// - `send_reply` never blocks: if the client's reply reader is not matched yet, the reply
-///   waits (at most 500 ms, in the background) and is then sent.
+/// - `send_reply` never blocks: if the client's reply reader is not matched yet, the reply is
+///   parked (bounded per client) and sent by the background thread once it is, or dropped after
+///   5 s.
 /// - Requests taken but never answered are forgotten beyond 4096 outstanding (oldest first).
 pub struct DdsServiceServer<S: Service> {
     shared: Arc<Shared>,
@@ -193,6 +193,7 @@ impl<S: Service> DdsServiceServer<S> {
 impl<S: Service> Drop for DdsServiceServer<S> {
     fn drop(&mut self) {
         self.shared.stop.store(true, Ordering::SeqCst);
+        self.shared.pump_waker.wake();
         if let Some(pump) = self.pump.take() {
             let _ = pump.join();
         }
@@ -242,16 +243,14 @@ impl<S: Service> ServiceServerTrait for DdsServiceServer<S> {
         let Some(reply) = self.shared.wire.reply(&route, Ok(body.into_owned())) else {
             return Ok(());
         };
-        let mut replies = self.shared.replies();
-        if replies.deferred.is_empty() && self.shared.wire.can_send(&reply) {
-            self.shared
-                .wire
-                .write(&replies.writer, reply)
-                .map_err(|e| TransportError::Transport(e.to_string()))
-        } else {
-            replies.deferred.push_back(reply);
-            Ok(())
+        let writer = lock(&self.shared.writer);
+        let result = self.shared.wire.send_or_park(&writer, reply);
+        drop(writer);
+        if self.shared.wire.parked() > 0 {
+            // The request thread sends it once the client's reader is matched.
+            self.shared.pump_waker.wake();
         }
+        result.map_err(|e| TransportError::Transport(e.to_string()))
     }
 
     /// Whether a received request is waiting (non-destructive).
@@ -270,12 +269,6 @@ impl<S: Service> ServiceServerTrait for DdsServiceServer<S> {
     }
 }
 
-/// The reply writer and the replies waiting for their client's reply reader, oldest first.
-struct Replies {
-    writer: RawWriter,
-    deferred: VecDeque<Reply>,
-}
-
 struct Shared {
     /// Keeps the node alive.
     _runtime: Runtime,
@@ -284,7 +277,9 @@ struct Shared {
     reply_writer: Gid,
     queue: Mutex<VecDeque<Request>>,
     waker: Mutex<Option<Waker>>,
-    replies: Mutex<Replies>,
+    writer: Mutex<RawWriter>,
+    /// Wakes the request thread.
+    pump_waker: RawReaderWaker,
     stop: AtomicBool,
 }
 
@@ -301,18 +296,13 @@ impl Shared {
         lock(&self.waker)
     }
 
-    fn replies(&self) -> MutexGuard<'_, Replies> {
-        lock(&self.replies)
-    }
-
     /// The request thread: queues requests, wakes the waker, sends deferred replies.
     fn pump(&self, mut reader: RawReader) {
+        let mut next_expiry: Option<Instant> = None;
         while !self.stop.load(Ordering::SeqCst) {
-            let tick = if self.replies().deferred.is_empty() {
-                TICK
-            } else {
-                DEFERRED_TICK
-            };
+            let tick = next_expiry.map_or(TICK, |t| {
+                t.saturating_duration_since(Instant::now()).min(TICK)
+            });
             reader.wait(tick);
             let mut arrived = false;
             let mut errors = 0;
@@ -331,7 +321,7 @@ impl Shared {
                     }
                     Ok(None) => break,
                     Err(e) => {
-                        tracing::warn!(service = %self.wire.service(), "dropped a request: {e}");
+                        self.wire.warn_unreadable(&e);
                         errors += 1;
                         if errors >= MAX_ERRORS_PER_DRAIN {
                             break;
@@ -345,25 +335,8 @@ impl Shared {
                     w.wake();
                 }
             }
-            self.flush();
-        }
-    }
-
-    /// Sends the deferred replies that can go now.
-    fn flush(&self) {
-        let mut replies = self.replies();
-        if replies.deferred.is_empty() {
-            return;
-        }
-        let waiting = std::mem::take(&mut replies.deferred);
-        for reply in waiting {
-            if self.wire.can_send(&reply) {
-                if let Err(e) = self.wire.write(&replies.writer, reply) {
-                    tracing::warn!(service = %self.wire.service(), "could not send a reply: {e}");
-                }
-            } else {
-                replies.deferred.push_back(reply);
-            }
+            // Parked replies whose client can hear them now go out; old ones are dropped.
+            next_expiry = self.wire.flush(&lock(&self.writer));
         }
     }
 }

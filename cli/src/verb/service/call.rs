@@ -245,6 +245,7 @@ fn call_error(e: ServiceError, service: &ServiceName, timeout: Duration) -> CliE
         ),
         ServiceError::ServiceFailed(m) => format!("The service {service} failed: {m}"),
         ServiceError::Transport(m) => format!("Calling {service} failed: {m}"),
+        ServiceError::ServerGone => format!("The server of {service} left before answering"),
     })
 }
 

@@ -224,6 +224,9 @@ fn call_describe(
         horus_ros_services::ServiceError::Timeout => {
             format!("no response within {} s", timeout.as_secs_f64())
         }
+        horus_ros_services::ServiceError::ServerGone => {
+            "its server left before answering".to_owned()
+        }
         horus_ros_services::ServiceError::ServiceFailed(m)
         | horus_ros_services::ServiceError::Transport(m) => m,
     })
