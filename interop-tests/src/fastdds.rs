@@ -1,5 +1,6 @@
 //! An eProsima Fast DDS 2.9 peer (the DDS under `rmw_fastrtps_cpp`, Jazzy's default RMW):
-//! `peers/fastdds/ros_participant.cpp`, built with the system C++ compiler against Debian's
+//! `peers/fastdds/ros_participant.cpp` (an AddTwoInts server and client, or a demo_nodes talker or
+//! listener), built with the system C++ compiler against Debian's
 //! `libfastrtps-dev` / `libfastcdr-dev` (`scripts/setup` installs them) the first time a test
 //! needs it, into `<target dir>/interop-peers/`, and rebuilt only when a source is newer than the
 //! binary. Building needs no network, so it also works inside `scripts/isolated`.
@@ -227,6 +228,75 @@ impl Served {
     }
 }
 
+/// What a chatter peer (talker or listener) announced it created (its first stdout line).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct ChatterCreated {
+    /// The participant's GID (dotted hex).
+    pub participant: String,
+    /// Its RTPS vendor id as 4 hex digits (`010f`).
+    pub vendor: String,
+    /// `talk` or `listen`.
+    pub mode: String,
+    /// The DDS topic (`rt/chatter`).
+    pub topic: String,
+    /// The DDS type name (`std_msgs::msg::dds_::String_`).
+    pub type_name: String,
+    /// The talker's writer or the listener's reader (dotted hex).
+    pub endpoint: String,
+    /// The whole line, parsed (including `qos`, as Fast DDS reports its endpoint's QoS).
+    pub json: Value,
+}
+
+impl ChatterCreated {
+    fn parse(line: &str) -> Result<Self, String> {
+        let json: Value =
+            serde_json::from_str(line.trim()).map_err(|e| format!("{e} in {line:?}"))?;
+        let field = |key: &str| -> Result<String, String> {
+            json[key]
+                .as_str()
+                .map(str::to_owned)
+                .ok_or_else(|| format!("no string at {key:?} in {line:?}"))
+        };
+        let mode = field("mode")?;
+        Ok(Self {
+            participant: field("participant")?,
+            vendor: field("vendor")?,
+            topic: field("topic")?,
+            type_name: field("type")?,
+            endpoint: field(if mode == "talk" { "writer" } else { "reader" })?,
+            mode,
+            json,
+        })
+    }
+}
+
+/// A message the listening peer took, as it printed it (`{"heard": ..., "writer": ...}`).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Heard {
+    /// The message's `data`.
+    pub data: String,
+    /// The writer it came from (dotted hex GID).
+    pub writer: String,
+}
+
+impl Heard {
+    /// Parses a `{"heard": ...}` line; `None` for any other line.
+    pub fn parse(line: &str) -> Option<Self> {
+        let json: Value = serde_json::from_str(line.trim()).ok()?;
+        Some(Self {
+            data: json.get("heard")?.as_str()?.to_owned(),
+            writer: json.get("writer")?.as_str()?.to_owned(),
+        })
+    }
+}
+
+/// The message a talking peer published, from its `{"published": ...}` line; `None` for any
+/// other line.
+pub fn published(line: &str) -> Option<String> {
+    let json: Value = serde_json::from_str(line.trim()).ok()?;
+    Some(json.get("published")?.as_str()?.to_owned())
+}
+
 /// A running Fast DDS peer; killed when dropped.
 #[derive(Debug)]
 pub struct FastDdsPeer {
@@ -250,6 +320,54 @@ impl FastDdsPeer {
         linger: Duration,
     ) -> Result<Self, String> {
         Self::spawn(domain, namespace, node, service, linger, None, None)
+    }
+
+    /// Starts the peer as demo_nodes_cpp's talker on rmw_fastrtps_cpp: node
+    /// `namespace`/`node` with a `std_msgs/msg/String` writer on `topic` (fully qualified, e.g.
+    /// `/chatter`; DDS topic `rt/chatter`) with rclcpp's default QoS, publishing
+    /// `Hello World: <n>` every 50 ms until `count` were published (0: no limit), `linger` is
+    /// over or [`leave`](Self::leave). It prints `{"published": ...}` per message.
+    pub fn start_talker(
+        domain: u32,
+        namespace: &str,
+        node: &str,
+        topic: &str,
+        linger: Duration,
+        count: u32,
+    ) -> Result<Self, String> {
+        Self::spawn(
+            domain,
+            namespace,
+            node,
+            topic,
+            linger,
+            Some(("talk", count)),
+            None,
+        )
+    }
+
+    /// Starts the peer as demo_nodes_cpp's listener on rmw_fastrtps_cpp: node
+    /// `namespace`/`node` with a `std_msgs/msg/String` reader on `topic` with rclcpp's default
+    /// QoS, printing a [`Heard`] line per message (read them with
+    /// [`next_heard`](Self::next_heard)) until it heard `count` (0: no limit), `linger` is over
+    /// or [`leave`](Self::leave). It exits 0 iff it heard `count`.
+    pub fn start_listener(
+        domain: u32,
+        namespace: &str,
+        node: &str,
+        topic: &str,
+        linger: Duration,
+        count: u32,
+    ) -> Result<Self, String> {
+        Self::spawn(
+            domain,
+            namespace,
+            node,
+            topic,
+            linger,
+            Some(("listen", count)),
+            None,
+        )
     }
 
     /// Like [`start`](Self::start), with the peer's `ros_discovery_info` writer sending its
@@ -278,7 +396,15 @@ impl FastDdsPeer {
         limit: Duration,
         count: u32,
     ) -> Result<Self, String> {
-        Self::spawn(domain, namespace, node, service, limit, Some(count), None)
+        Self::spawn(
+            domain,
+            namespace,
+            node,
+            service,
+            limit,
+            Some(("call", count)),
+            None,
+        )
     }
 
     fn spawn(
@@ -287,7 +413,7 @@ impl FastDdsPeer {
         node: &str,
         service: &str,
         linger: Duration,
-        calls: Option<u32>,
+        mode: Option<(&str, u32)>,
         info_heartbeat: Option<Duration>,
     ) -> Result<Self, String> {
         let binary = peer_binary()?;
@@ -298,8 +424,8 @@ impl FastDdsPeer {
             service.to_owned(),
             format!("{:.3}", linger.as_secs_f64()),
         ];
-        if let Some(count) = calls {
-            args.extend(["call".to_owned(), count.to_string()]);
+        if let Some((mode, count)) = mode {
+            args.extend([mode.to_owned(), count.to_string()]);
         }
         let mut command = Command::new(&binary);
         if let Some(period) = info_heartbeat {
@@ -344,10 +470,32 @@ impl FastDdsPeer {
 
     /// Waits at most `limit` for the line the peer prints once everything is created.
     pub fn created(&mut self, limit: Duration) -> Result<Created, String> {
+        Created::parse(&self.first_line(limit)?)
+    }
+
+    /// Waits at most `limit` for the line a talker or listener peer prints once its node and
+    /// endpoint are created.
+    pub fn chatter_created(&mut self, limit: Duration) -> Result<ChatterCreated, String> {
+        ChatterCreated::parse(&self.first_line(limit)?)
+    }
+
+    /// The next message a listener peer heard, waiting at most `limit` in all; `None` past that
+    /// or once it has exited and everything it printed was read. Other lines are skipped.
+    pub fn next_heard(&mut self, limit: Duration) -> Option<Heard> {
+        let deadline = Instant::now() + limit;
+        loop {
+            let line = self.next_line(deadline.saturating_duration_since(Instant::now()))?;
+            if let Some(heard) = Heard::parse(&line) {
+                return Some(heard);
+            }
+        }
+    }
+
+    fn first_line(&mut self, limit: Duration) -> Result<String, String> {
         match self.lines.recv_timeout(limit) {
             Ok(line) => {
                 self.seen.push(line.clone());
-                Created::parse(&line)
+                Ok(line)
             }
             Err(RecvTimeoutError::Timeout) => Err(format!(
                 "the Fast DDS peer printed nothing within {limit:?}"

@@ -41,8 +41,22 @@
 // final `{"summary": {...}}` line, all within LINGER seconds; then leaves as above. Exit status 0
 // iff all COUNT replies arrived with the right sums, else 1.
 //
+// Chatter (`talk COUNT` / `listen COUNT`, with TOPIC in place of SERVICE): its node is a
+// demo_nodes_cpp talker or listener on rmw_fastrtps_cpp -- one writer (talk) or reader (listen)
+// on `rt<TOPIC>` of `std_msgs::msg::dds_::String_`, with rclcpp's default QoS (KEEP_LAST 10,
+// RELIABLE, VOLATILE) mapped as rmw_fastrtps_cpp `publisher.cpp` / `subscription.cpp` (jazzy)
+// do: the same QoS as the service endpoints above, std_msgs/msg/String's type hash in USER_DATA.
+// It prints the same kind of first line (`"mode": "talk"` / `"listen"`, `"topic"`, `"type"`,
+// `"writer"` or `"reader"`, `"qos"`). The talker then publishes `Hello World: <n>` (n = 1, 2, …)
+// every 50 ms (demo_nodes_cpp's talker: every second), printing `{"published": "<data>"}` per
+// message, until COUNT were published (0: no limit), LINGER is over or SIGTERM; the listener
+// prints `{"heard": "<data>", "writer": "<GID>"}` per message taken until it heard COUNT (0: no
+// limit), LINGER is over or SIGTERM. Then it leaves as above. Exit status 0 iff the listener
+// heard COUNT messages (always 0 for the talker).
+//
 // usage: ros_participant DOMAIN NAMESPACE NODE SERVICE LINGER [call COUNT]
-//   SERVICE is a fully qualified service name (`/add_two_ints`).
+//        ros_participant DOMAIN NAMESPACE NODE TOPIC LINGER talk|listen COUNT
+//   SERVICE and TOPIC are fully qualified names (`/add_two_ints`, `/chatter`).
 
 #include <chrono>
 #include <csignal>
@@ -113,6 +127,9 @@ const char * const REQUEST_HASH =
   "RIHS01_000c5fd92d6b2e1a05949348f584d6d652adea1e92d691792011ac2273508302";
 const char * const RESPONSE_HASH =
   "RIHS01_de5c030d4af33cba2749310b249737b631594703f9300495f48bffb2b44dcc2f";
+// std_msgs/msg/String's (the msgs crate's test vectors, msgs/tests/hashes.rs).
+const char * const STRING_HASH =
+  "RIHS01_df668c740482bbd48fb39d76a70dfd4bd59db1288021743503259e948f6b1a18";
 
 // ---------------------------------------------------------------------------------------------
 // Message types (rmw_dds_common jazzy msg/*.msg; example_interfaces srv/AddTwoInts.srv)
@@ -145,6 +162,11 @@ struct AddTwoIntsRequest
 struct AddTwoIntsResponse
 {
   int64_t sum = 0;
+};
+
+struct StringMsg
+{
+  std::string data;  // std_msgs/msg/String.msg: string data
 };
 
 void serialize_gid(eprosima::fastcdr::Cdr & cdr, const Gid & gid)
@@ -231,6 +253,10 @@ size_t serialized_size(const AddTwoIntsRequest &) {return 16;}
 void serialize(eprosima::fastcdr::Cdr & cdr, const AddTwoIntsResponse & m) {cdr.serialize(m.sum);}
 void deserialize(eprosima::fastcdr::Cdr & cdr, AddTwoIntsResponse & m) {cdr.deserialize(m.sum);}
 size_t serialized_size(const AddTwoIntsResponse &) {return 8;}
+
+void serialize(eprosima::fastcdr::Cdr & cdr, const StringMsg & m) {cdr.serialize(m.data);}
+void deserialize(eprosima::fastcdr::Cdr & cdr, StringMsg & m) {cdr.deserialize(m.data);}
+size_t serialized_size(const StringMsg & m) {return 4 + m.data.size() + 1;}
 
 // A keyless TopicDataType writing XCDR1 with the encapsulation header, the way the
 // rmw_fastrtps_shared_cpp TypeSupport does (`TypeSupport_impl.cpp`: DDS_CDR, DEFAULT_ENDIAN,
@@ -696,18 +722,129 @@ static void on_sigterm(int)
   g_leave = 1;
 }
 
+// The chatter modes' node: a demo_nodes_cpp talker (`talking`) or listener on `rt<topic>`,
+// created as rmw_fastrtps_cpp creates a publisher / subscription (then announced in `info`'s
+// node through `publish_info`). Prints the first line, then publishes or listens until `count`
+// (0: no limit), `end` or SIGTERM. True unless listening and fewer than `count` were heard.
+static bool chatter(
+  DomainParticipant * participant, Publisher * publisher, Subscriber * subscriber,
+  ParticipantEntitiesInfo & info, const std::function<void()> & publish_info,
+  const std::string & topic, bool talking, long count,
+  std::chrono::steady_clock::time_point end)
+{
+  using Clock = std::chrono::steady_clock;
+  TypeSupport string_type(new RosType<StringMsg>("std_msgs::msg::dds_::String_", 4096));
+  string_type.register_type(participant);
+  // rmw_fastrtps_shared_cpp `namespace_prefix.cpp`: topics get the `rt` prefix.
+  const std::string topic_name = "rt" + topic;
+  Topic * dds_topic = participant->create_topic(
+    topic_name, string_type.get_type_name(), participant->get_default_topic_qos());
+  if (dds_topic == nullptr) {
+    std::fprintf(stderr, "ros_participant: could not create the topic %s\n", topic_name.c_str());
+    return false;
+  }
+  // rclcpp's default QoS (rmw_qos_profile_default: KEEP_LAST 10, RELIABLE, VOLATILE), as
+  // rmw_fastrtps_cpp `publisher.cpp` / `subscription.cpp` (jazzy) set it with
+  // RMW_FASTRTPS_USE_QOS_FROM_XML unset: PREALLOCATED_WITH_REALLOC, no data sharing, the
+  // participant's publishing mode (SYNCHRONOUS unless RMW_FASTRTPS_PUBLICATION_MODE says
+  // otherwise, rmw_fastrtps_shared_cpp `participant.cpp`), then `get_datawriter_qos` /
+  // `get_datareader_qos` (XCDR1, typehash USER_DATA): what the service endpoints get too.
+  DataWriter * writer = nullptr;
+  DataReader * reader = nullptr;
+  std::string endpoint;
+  if (talking) {
+    writer = publisher->create_datawriter(dds_topic, service_writer_qos(publisher, STRING_HASH));
+    if (writer != nullptr) {
+      info.node_entities_info_seq[0].writer_gid_seq.push_back(to_gid(writer->guid()));
+      endpoint = "\"writer\": " + json_string(dotted(to_gid(writer->guid()))) +
+        ", \"qos\": " + qos_json(writer->get_qos());
+    }
+  } else {
+    reader =
+      subscriber->create_datareader(dds_topic, service_reader_qos(subscriber, STRING_HASH));
+    if (reader != nullptr) {
+      info.node_entities_info_seq[0].reader_gid_seq.push_back(to_gid(reader->guid()));
+      endpoint = "\"reader\": " + json_string(dotted(to_gid(reader->guid()))) +
+        ", \"qos\": " + qos_json(reader->get_qos());
+    }
+  }
+  if (writer == nullptr && reader == nullptr) {
+    std::fprintf(stderr, "ros_participant: could not create the %s\n",
+      talking ? "publisher" : "subscription");
+    return false;
+  }
+  publish_info();
+
+  const NodeEntitiesInfo & node = info.node_entities_info_seq[0];
+  std::ostringstream line;
+  line << "{\"participant\": " << json_string(dotted(info.gid))
+       << ", \"vendor\": \"010f\""
+       << ", \"mode\": \"" << (talking ? "talk" : "listen") << "\""
+       << ", \"node\": {\"namespace\": " << json_string(node.node_namespace)
+       << ", \"name\": " << json_string(node.node_name) << "}"
+       << ", \"topic\": " << json_string(topic_name)
+       << ", \"type\": " << json_string(string_type.get_type_name())
+       << ", " << endpoint << "}";
+  print_line(line.str());
+
+  long done = 0;
+  if (talking) {
+    // demo_nodes_cpp `talker.cpp`: "Hello World: " + count, count starting at 1. The period is
+    // a publishing rate, not a synchronisation: the listener side waits for what it hears.
+    auto next = Clock::now();
+    while (Clock::now() < end && !g_leave && (count == 0 || done < count)) {
+      StringMsg message;
+      message.data = "Hello World: " + std::to_string(done + 1);
+      if (!writer->write(&message)) {
+        std::fprintf(stderr, "ros_participant: could not publish\n");
+        return false;
+      }
+      ++done;
+      print_line("{\"published\": " + json_string(message.data) + "}");
+      next += std::chrono::milliseconds(50);
+      std::this_thread::sleep_until(next);
+    }
+    return true;
+  }
+  while (Clock::now() < end && !g_leave && (count == 0 || done < count)) {
+    reader->wait_for_unread_message(eprosima::fastrtps::Duration_t(0, 50000000));
+    StringMsg message;
+    SampleInfo sample;
+    while ((count == 0 || done < count) &&
+      reader->take_next_sample(&message, &sample) == ReturnCode_t::RETCODE_OK)
+    {
+      if (!sample.valid_data) {
+        continue;
+      }
+      ++done;
+      print_line(
+        "{\"heard\": " + json_string(message.data) + ", \"writer\": " +
+        json_string(dotted(to_gid(eprosima::fastrtps::rtps::iHandle2GUID(
+          sample.publication_handle)))) + "}");
+    }
+  }
+  return count == 0 || done >= count;
+}
+
 int main(int argc, char ** argv)
 {
   std::signal(SIGTERM, on_sigterm);
   const bool calling = argc == 8 && std::strcmp(argv[6], "call") == 0;
-  if (argc != 6 && !calling) {
+  const bool talking = argc == 8 && std::strcmp(argv[6], "talk") == 0;
+  const bool listening = argc == 8 && std::strcmp(argv[6], "listen") == 0;
+  if (argc != 6 && !calling && !talking && !listening) {
     std::fprintf(
-      stderr, "usage: %s DOMAIN NAMESPACE NODE SERVICE LINGER [call COUNT]\n", argv[0]);
+      stderr, "usage: %s DOMAIN NAMESPACE NODE SERVICE LINGER [call COUNT]\n"
+      "       %s DOMAIN NAMESPACE NODE TOPIC LINGER talk|listen COUNT\n", argv[0], argv[0]);
     return 2;
   }
-  const long count = calling ? std::strtol(argv[7], nullptr, 10) : 0;
+  const long count = argc == 8 ? std::strtol(argv[7], nullptr, 10) : 0;
   if (calling && count < 1) {
     std::fprintf(stderr, "ros_participant: COUNT must be at least 1\n");
+    return 2;
+  }
+  if (count < 0) {
+    std::fprintf(stderr, "ros_participant: COUNT must not be negative\n");
     return 2;
   }
   const uint32_t domain = static_cast<uint32_t>(std::strtoul(argv[1], nullptr, 10));
@@ -807,6 +944,24 @@ int main(int argc, char ** argv)
   info.node_entities_info_seq.push_back(node);
   publish_info();  // the node, no endpoints yet
 
+  const auto end = std::chrono::steady_clock::now() +
+    std::chrono::microseconds(static_cast<int64_t>(linger * 1e6));
+  // Leave as rmw does: the node goes (ros_discovery_info republished), then the endpoints and
+  // the participant are deleted, which Fast DDS announces (SEDP / SPDP disposal).
+  auto leave = [&](bool ok) {
+      info.node_entities_info_seq.clear();
+      publish_info();
+      info_writer->wait_for_acknowledgments(eprosima::fastrtps::Duration_t(0, 200000000));
+      participant->delete_contained_entities();
+      factory->delete_participant(participant);
+      return ok ? 0 : 1;
+    };
+  if (talking || listening) {
+    return leave(
+      chatter(
+        participant, publisher, subscriber, info, publish_info, service, talking, count, end));
+  }
+
   // The service: rmw_fastrtps_cpp `rmw_service.cpp` creates the request reader, then the reply
   // writer, then announces both GIDs.
   const std::string request_topic_name = "rq" + service + "Request";
@@ -882,8 +1037,6 @@ int main(int argc, char ** argv)
        << ", \"reply_reader\": " << qos_json(reply_reader->get_qos()) << "}}";
   print_line(line.str());
 
-  const auto end = std::chrono::steady_clock::now() +
-    std::chrono::microseconds(static_cast<int64_t>(linger * 1e6));
   bool ok = true;
   if (calling) {
     ok = call(
@@ -897,12 +1050,5 @@ int main(int argc, char ** argv)
     }
   }
 
-  // Leave as rmw does: the node goes (ros_discovery_info republished), then the endpoints and
-  // the participant are deleted, which Fast DDS announces (SEDP / SPDP disposal).
-  info.node_entities_info_seq.clear();
-  publish_info();
-  info_writer->wait_for_acknowledgments(eprosima::fastrtps::Duration_t(0, 200000000));
-  participant->delete_contained_entities();
-  factory->delete_participant(participant);
-  return ok ? 0 : 1;
+  return leave(ok);
 }
