@@ -2,7 +2,6 @@
 //! the same output, plus what ros2cli lacks (`service info -v` on Jazzy graphs, `graph --watch`,
 //! `--json` everywhere, service calls without the package installed).
 
-mod dynamic;
 mod error;
 mod session;
 mod verb;
@@ -10,6 +9,8 @@ mod verb;
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
+// The dynamic type system lives in the library target (src/lib.rs), reachable by fuzz targets.
+use horus_ros_cli::dynamic;
 
 use error::CliError;
 

@@ -12,6 +12,8 @@
 
 pub mod cdr;
 pub mod convert;
+#[doc(hidden)]
+pub mod fuzzing;
 pub mod pyyaml;
 pub mod repr;
 pub mod yaml;
