@@ -4,7 +4,6 @@
 
 mod args;
 mod daemon;
-mod dynamic;
 mod error;
 mod session;
 mod verb;
@@ -13,6 +12,8 @@ use std::io::IsTerminal;
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
+// The dynamic type system lives in the library target (src/lib.rs), reachable by fuzz targets.
+use horus_ros_cli::dynamic;
 
 use error::CliError;
 

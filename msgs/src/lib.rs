@@ -13,6 +13,8 @@ mod macros;
 pub mod cdr;
 pub mod description;
 pub mod field;
+#[doc(hidden)]
+pub mod fuzzing;
 pub mod message;
 pub mod rihs;
 pub mod type_hash;

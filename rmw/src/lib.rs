@@ -16,6 +16,8 @@ mod cyclone;
 mod dds;
 pub mod discovery;
 mod entities;
+#[doc(hidden)]
+pub mod fuzzing;
 pub mod gid;
 mod late_joiner;
 mod local_sink;

@@ -26,6 +26,8 @@ mod macros;
 
 mod client;
 mod error;
+#[doc(hidden)]
+pub mod fuzzing;
 mod introspection;
 mod naming;
 mod node_services;

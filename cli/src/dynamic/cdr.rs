@@ -4,17 +4,22 @@
 //! elements, arrays as their elements, nested structs inline. `wchar` / `wstring` follow
 //! rmw_cyclonedds (16-bit units; `wstring` length in units, no terminator).
 
-use super::{Container, Elem, Schema, Value};
+use super::{Container, Elem, Schema, Value, MAX_NESTING};
 
-/// Encodes a struct value of type `type_name` as a little-endian body.
+/// Encodes a struct value of type `type_name` as a little-endian body (`type_name` having passed
+/// [`Schema::check`]).
 pub fn encode(schema: &Schema, type_name: &str, value: &Value) -> Result<Vec<u8>, String> {
-    let mut w = Writer { out: Vec::new() };
+    let mut w = Writer {
+        out: Vec::new(),
+        depth: 0,
+    };
     w.strukt(schema, type_name, value)?;
     Ok(w.out)
 }
 
-/// Decodes a body (in either byte order) as a struct of type `type_name`. Trailing bytes
-/// (padding) are ignored.
+/// Decodes a body (in either byte order) as a struct of type `type_name` (which has passed
+/// [`Schema::check`]: no element then takes 0 bytes, so a count is checked against the bytes
+/// left before anything is decoded). Trailing bytes (padding) are ignored.
 pub fn decode(
     schema: &Schema,
     type_name: &str,
@@ -25,12 +30,20 @@ pub fn decode(
         body,
         pos: 0,
         big_endian,
+        depth: 0,
     };
     r.strukt(schema, type_name)
 }
 
 struct Writer {
     out: Vec<u8>,
+    /// Structs being written around the current one.
+    depth: usize,
+}
+
+/// The error for a value nested deeper than [`Schema::check`] allows (a type not checked).
+fn too_deep(name: &str) -> String {
+    format!("type '{name}' nests structs more than {MAX_NESTING} deep")
 }
 
 fn mismatch(what: &str) -> String {
@@ -50,6 +63,16 @@ impl Writer {
     }
 
     fn strukt(&mut self, schema: &Schema, name: &str, v: &Value) -> Result<(), String> {
+        if self.depth >= MAX_NESTING {
+            return Err(too_deep(name));
+        }
+        self.depth += 1;
+        let result = self.fields(schema, name, v);
+        self.depth -= 1;
+        result
+    }
+
+    fn fields(&mut self, schema: &Schema, name: &str, v: &Value) -> Result<(), String> {
         let s = schema.get(name).map_err(|e| e.to_string())?;
         let Value::Struct(fields) = v else {
             return Err(mismatch(name));
@@ -146,6 +169,8 @@ struct Reader<'a> {
     body: &'a [u8],
     pos: usize,
     big_endian: bool,
+    /// Structs being read around the current one.
+    depth: usize,
 }
 
 impl Reader<'_> {
@@ -181,20 +206,41 @@ impl Reader<'_> {
         Ok(s)
     }
 
+    /// Bytes not read yet.
+    fn left(&self) -> usize {
+        self.body.len().saturating_sub(self.pos)
+    }
+
     fn strukt(&mut self, schema: &Schema, name: &str) -> Result<Value, String> {
+        if self.depth >= MAX_NESTING {
+            return Err(too_deep(name));
+        }
+        self.depth += 1;
+        let result = self.fields(schema, name);
+        self.depth -= 1;
+        result
+    }
+
+    fn fields(&mut self, schema: &Schema, name: &str) -> Result<Value, String> {
         let s = schema.get(name).map_err(|e| e.to_string())?;
         let mut fields = Vec::with_capacity(s.members.len());
         for m in &s.members {
             let v = match m.ty.container {
                 Container::Single => self.elem(schema, &m.ty.elem)?,
-                Container::Array(n) => Value::List(
-                    (0..n)
-                        .map(|_| self.elem(schema, &m.ty.elem))
-                        .collect::<Result<_, _>>()?,
-                ),
+                Container::Array(n) => {
+                    // Every element takes at least one byte (checked types).
+                    if n > self.left() {
+                        return Err(format!("reply body truncated at byte {}", self.pos));
+                    }
+                    Value::List(
+                        (0..n)
+                            .map(|_| self.elem(schema, &m.ty.elem))
+                            .collect::<Result<_, _>>()?,
+                    )
+                }
                 Container::Sequence(bound) => {
                     let n = self.u32()? as usize;
-                    if bound.is_some_and(|b| n > b) || n > self.body.len() {
+                    if bound.is_some_and(|b| n > b) || n > self.left() {
                         return Err(format!("field '{}': sequence of {n} elements", m.name));
                     }
                     Value::List(
@@ -243,6 +289,9 @@ impl Reader<'_> {
             }
             Elem::WStr(_) => {
                 let n = self.u32()? as usize;
+                if n > self.left() / 2 {
+                    return Err(format!("reply body truncated at byte {}", self.pos));
+                }
                 let units = (0..n)
                     .map(|_| self.take::<2>().map(u16::from_le_bytes))
                     .collect::<Result<Vec<u16>, _>>()?;

@@ -12,6 +12,8 @@
 
 pub mod cdr;
 pub mod convert;
+#[doc(hidden)]
+pub mod fuzzing;
 pub mod pyyaml;
 pub mod repr;
 pub mod yaml;
@@ -20,6 +22,17 @@ use std::collections::HashMap;
 
 use horus_ros_msgs::description::EMPTY_STRUCTURE_MEMBER;
 use horus_ros_msgs::{FieldType, IndividualTypeDescription, TypeDescription};
+
+/// The deepest nesting of structs [`Schema::check`] accepts. rosidl sets no limit; ROS
+/// interfaces nest a few levels, and rclpy, recursing per level, stops near Python's limit of
+/// 1000 frames.
+pub const MAX_NESTING: usize = 100;
+
+/// The most values (fields, fixed-array elements, nested structs) outside sequences that
+/// [`Schema::check`] accepts in a type: what its default value materializes before any byte is
+/// read. ROS interfaces hold a few hundred at most; a description that claims more (`uint8[4e9]`)
+/// is refused rather than allocated.
+pub const MAX_FIXED_VALUES: u64 = 1 << 20;
 
 /// The element type of a field (what a single value, array element or sequence element is).
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -168,31 +181,85 @@ impl Schema {
             .ok_or_else(|| SchemaError(format!("the type description lacks type '{name}'")))
     }
 
-    /// Checks that every nested type `root` uses (recursively) is known and none contains itself.
+    /// Checks that type `root` can be used: every nested type it uses (recursively) is known,
+    /// none contains itself, every struct has a field and every fixed array an element (as
+    /// rosidl guarantees: rosidl_adapter `parser.py` takes only array sizes `> 0`, rosidl_parser
+    /// gives empty structs a placeholder member), structs nest at most [`MAX_NESTING`] deep and
+    /// a value of the type holds at most [`MAX_FIXED_VALUES`] values outside sequences.
+    ///
+    /// Descriptions come from the network: these bounds are what keep [`Schema::default_value`],
+    /// [`cdr::decode`] and the printers from recursing without end, allocating without bound or
+    /// decoding elements that take no bytes. Call it before using a type.
     pub fn check(&self, root: &str) -> Result<(), SchemaError> {
-        fn walk<'a>(
-            schema: &'a Schema,
-            name: &'a str,
-            path: &mut Vec<&'a str>,
-        ) -> Result<(), SchemaError> {
-            if path.contains(&name) {
-                return Err(SchemaError(format!("type '{name}' contains itself")));
-            }
-            let s = schema.get(name)?;
-            path.push(name);
-            for m in &s.members {
-                if let Elem::Nested(n) = &m.ty.elem {
-                    walk(schema, n, path)?;
-                }
-            }
-            path.pop();
-            Ok(())
-        }
-        walk(self, root, &mut Vec::new())
+        self.check_struct(root, &mut Vec::new(), &mut HashMap::new())
+            .map(|_values| ())
     }
 
-    /// The default value of struct `name`: each field's `.msg` default, else zero / empty.
+    /// The number of values in a `name` outside sequences (fixed arrays and nested structs
+    /// counted with their elements), once its types are checked; `done` remembers the types
+    /// already checked, `path` the structs being checked around this one.
+    fn check_struct<'a>(
+        &'a self,
+        name: &'a str,
+        path: &mut Vec<&'a str>,
+        done: &mut HashMap<&'a str, u64>,
+    ) -> Result<u64, SchemaError> {
+        if let Some(values) = done.get(name) {
+            return Ok(*values);
+        }
+        if path.contains(&name) {
+            return Err(SchemaError(format!("type '{name}' contains itself")));
+        }
+        if path.len() >= MAX_NESTING {
+            return Err(SchemaError(format!(
+                "type '{}' nests structs more than {MAX_NESTING} deep",
+                path[0]
+            )));
+        }
+        let s = self.get(name)?;
+        if s.members.is_empty() {
+            return Err(SchemaError(format!("type '{name}' has no fields")));
+        }
+        path.push(name);
+        let mut values: u64 = 1;
+        for m in &s.members {
+            let element = match &m.ty.elem {
+                Elem::Nested(n) => self.check_struct(n, path, done)?,
+                _ => 1,
+            };
+            let member = match m.ty.container {
+                Container::Single => element,
+                Container::Array(0) => {
+                    return Err(SchemaError(format!(
+                        "field '{}' of '{name}' is an array of 0 elements",
+                        m.name
+                    )))
+                }
+                Container::Array(n) => 1u64
+                    .saturating_add(u64::try_from(n).unwrap_or(u64::MAX).saturating_mul(element)),
+                Container::Sequence(_) => 1,
+            };
+            values = values.saturating_add(member);
+            if values > MAX_FIXED_VALUES {
+                return Err(SchemaError(format!(
+                    "type '{name}' holds more than {MAX_FIXED_VALUES} values in fixed-size fields"
+                )));
+            }
+        }
+        path.pop();
+        done.insert(name, values);
+        Ok(values)
+    }
+
+    /// The default value of struct `name`: each field's `.msg` default, else zero / empty
+    /// (after [`Schema::check`] of `name`).
     pub fn default_value(&self, name: &str) -> Result<Value, SchemaError> {
+        self.check(name)?;
+        self.checked_default(name)
+    }
+
+    /// [`Schema::default_value`] of a type already checked.
+    fn checked_default(&self, name: &str) -> Result<Value, SchemaError> {
         let s = self.get(name)?;
         let mut fields = Vec::with_capacity(s.members.len());
         for m in &s.members {
@@ -202,7 +269,7 @@ impl Schema {
     }
 
     /// A member's default value.
-    pub fn member_default(&self, m: &Member) -> Result<Value, SchemaError> {
+    fn member_default(&self, m: &Member) -> Result<Value, SchemaError> {
         if !m.default.is_empty() {
             if let Some(v) = yaml::parse_default(self, m) {
                 return Ok(v);
@@ -219,7 +286,7 @@ impl Schema {
     }
 
     /// The zero value of an element.
-    pub fn elem_default(&self, e: &Elem) -> Result<Value, SchemaError> {
+    fn elem_default(&self, e: &Elem) -> Result<Value, SchemaError> {
         Ok(match e {
             Elem::Bool => Value::Bool(false),
             Elem::Byte => Value::Byte(0),
@@ -227,7 +294,7 @@ impl Schema {
             Elem::Int { .. } => Value::Int(0),
             Elem::F32 | Elem::F64 | Elem::LongDouble => Value::Float(0.0),
             Elem::Str(_) | Elem::WStr(_) => Value::Str(String::new()),
-            Elem::Nested(n) => self.default_value(n)?,
+            Elem::Nested(n) => self.checked_default(n)?,
         })
     }
 }
@@ -371,7 +438,199 @@ pub fn convert_type(t: &FieldType) -> Result<FieldTy, SchemaError> {
 mod tests {
     use super::*;
     use horus_ros_msgs::rcl_interfaces::srv::SetParameters;
-    use horus_ros_msgs::{Message, Service};
+    use horus_ros_msgs::{Field, Message, Service};
+
+    /// A field of `type_id` (`capacity` for arrays), nested type `nested` if not empty.
+    fn field(name: &str, type_id: u8, capacity: u64, nested: &str) -> Field {
+        Field {
+            name: name.to_owned(),
+            r#type: FieldType {
+                type_id,
+                capacity,
+                string_capacity: 0,
+                nested_type_name: nested.to_owned(),
+            },
+            default_value: String::new(),
+        }
+    }
+
+    /// A description of `types` (name, fields), the first being the main one.
+    fn description(types: Vec<(String, Vec<Field>)>) -> TypeDescription {
+        let mut all = types
+            .into_iter()
+            .map(|(type_name, fields)| IndividualTypeDescription { type_name, fields });
+        let main = all.next().expect("a main type");
+        TypeDescription {
+            type_description: main,
+            referenced_type_descriptions: all.collect(),
+        }
+    }
+
+    fn check_error(types: Vec<(String, Vec<Field>)>) -> String {
+        let d = description(types);
+        let root = d.type_description.type_name.clone();
+        let schema = Schema::from_description(&d).expect("fields convert");
+        let error = schema.check(&root).expect_err("refused").0;
+        assert_eq!(
+            schema
+                .default_value(&root)
+                .expect_err("no default either")
+                .0,
+            error
+        );
+        error
+    }
+
+    const NESTED_ARRAY: u8 = FieldType::FIELD_TYPE_NESTED_TYPE + 48;
+    const UINT8_ARRAY: u8 = FieldType::FIELD_TYPE_UINT8 + 48;
+
+    #[test]
+    fn a_huge_fixed_array_is_refused_before_anything_is_allocated() {
+        // What fuzzing found (fuzz/regressions/dynamic_description/fixed_array_*): a description
+        // claiming `uint8[2^62]` made the default value allocate it.
+        let e = check_error(vec![(
+            "p/msg/A".into(),
+            vec![field("data", UINT8_ARRAY, 1 << 62, "")],
+        )]);
+        assert!(e.contains("more than 1048576 values"), "{e}");
+        // Within the bound: materialized.
+        let d = description(vec![(
+            "p/msg/A".into(),
+            vec![field("data", UINT8_ARRAY, 1000, "")],
+        )]);
+        let schema = Schema::from_description(&d).expect("schema");
+        assert!(schema.check("p/msg/A").is_ok());
+        let Value::Struct(fields) = schema.default_value("p/msg/A").expect("default") else {
+            panic!("not a struct")
+        };
+        assert_eq!(fields, vec![Value::List(vec![Value::Int(0); 1000])]);
+    }
+
+    #[test]
+    fn nested_fixed_arrays_multiply() {
+        // 1024 × 1024 values of B in A: over the bound although each array is small.
+        let e = check_error(vec![
+            (
+                "p/msg/A".into(),
+                vec![field("b", NESTED_ARRAY, 1024, "p/msg/B")],
+            ),
+            ("p/msg/B".into(), vec![field("data", UINT8_ARRAY, 1024, "")]),
+        ]);
+        assert!(e.contains("'p/msg/A' holds more than"), "{e}");
+    }
+
+    #[test]
+    fn fan_out_without_arrays_is_counted_once_per_type() {
+        // T0 holds two T1, T1 two T2, … T40: 2^40 values, and a walk that did not remember
+        // the types it checked would take 2^40 steps.
+        let types: Vec<(String, Vec<Field>)> = (0..=40)
+            .map(|i| {
+                let fields = if i == 40 {
+                    vec![field("x", FieldType::FIELD_TYPE_UINT8, 0, "")]
+                } else {
+                    let next = format!("p/msg/T{}", i + 1);
+                    vec![
+                        field("l", FieldType::FIELD_TYPE_NESTED_TYPE, 0, &next),
+                        field("r", FieldType::FIELD_TYPE_NESTED_TYPE, 0, &next),
+                    ]
+                };
+                (format!("p/msg/T{i}"), fields)
+            })
+            .collect();
+        let e = check_error(types);
+        assert!(e.contains("more than 1048576 values"), "{e}");
+    }
+
+    #[test]
+    fn deep_nesting_and_cycles_are_refused() {
+        let chain = |n: usize| -> Vec<(String, Vec<Field>)> {
+            (0..n)
+                .map(|i| {
+                    let fields = if i + 1 == n {
+                        vec![field("x", FieldType::FIELD_TYPE_UINT8, 0, "")]
+                    } else {
+                        let next = format!("p/msg/T{}", i + 1);
+                        vec![field("n", FieldType::FIELD_TYPE_NESTED_TYPE, 0, &next)]
+                    };
+                    (format!("p/msg/T{i}"), fields)
+                })
+                .collect()
+        };
+        let d = description(chain(MAX_NESTING));
+        let schema = Schema::from_description(&d).expect("schema");
+        assert!(schema.check("p/msg/T0").is_ok());
+        let e = check_error(chain(MAX_NESTING + 1));
+        assert!(e.contains("nests structs more than 100 deep"), "{e}");
+        let e = check_error(vec![
+            (
+                "p/msg/A".into(),
+                vec![field("b", FieldType::FIELD_TYPE_NESTED_TYPE, 0, "p/msg/B")],
+            ),
+            (
+                "p/msg/B".into(),
+                vec![field("a", NESTED_ARRAY, 2, "p/msg/A")],
+            ),
+        ]);
+        assert!(e.contains("contains itself"), "{e}");
+    }
+
+    #[test]
+    fn structs_without_fields_and_empty_arrays_are_refused() {
+        // Both would make elements that take no byte: a sequence count could not be checked
+        // against the bytes left.
+        let e = check_error(vec![
+            (
+                "p/msg/A".into(),
+                vec![field("b", FieldType::FIELD_TYPE_NESTED_TYPE, 0, "p/msg/B")],
+            ),
+            ("p/msg/B".into(), Vec::new()),
+        ]);
+        assert!(e.contains("'p/msg/B' has no fields"), "{e}");
+        let e = check_error(vec![(
+            "p/msg/A".into(),
+            vec![field("data", UINT8_ARRAY, 0, "")],
+        )]);
+        assert!(e.contains("array of 0 elements"), "{e}");
+    }
+
+    #[test]
+    fn decoding_an_unchecked_recursive_type_is_an_error_not_a_stack_overflow() {
+        let d = description(vec![(
+            "p/msg/A".into(),
+            vec![
+                field("x", FieldType::FIELD_TYPE_UINT8, 0, ""),
+                field("a", FieldType::FIELD_TYPE_NESTED_TYPE, 0, "p/msg/A"),
+            ],
+        )]);
+        let schema = Schema::from_description(&d).expect("schema");
+        let e = cdr::decode(&schema, "p/msg/A", &[0; 4096], false).expect_err("refused");
+        assert!(e.contains("more than 100 deep"), "{e}");
+    }
+
+    #[test]
+    fn counts_larger_than_the_bytes_left_are_refused_at_once() {
+        let d = description(vec![(
+            "p/msg/A".into(),
+            vec![
+                field("data", UINT8_ARRAY, 1000, ""),
+                field("s", FieldType::FIELD_TYPE_UINT8 + 144, 0, ""),
+            ],
+        )]);
+        let schema = Schema::from_description(&d).expect("schema");
+        assert!(cdr::decode(&schema, "p/msg/A", &[0; 999], false).is_err());
+        let mut body = vec![0; 1000];
+        body.extend_from_slice(&u32::MAX.to_le_bytes());
+        let e = cdr::decode(&schema, "p/msg/A", &body, false).expect_err("refused");
+        assert!(e.contains("sequence of 4294967295 elements"), "{e}");
+        body.truncate(1000);
+        body.extend_from_slice(&2u32.to_le_bytes());
+        body.extend_from_slice(&[7, 8]);
+        let Value::Struct(fields) = cdr::decode(&schema, "p/msg/A", &body, false).expect("fits")
+        else {
+            panic!("not a struct")
+        };
+        assert_eq!(fields[1], Value::List(vec![Value::Int(7), Value::Int(8)]));
+    }
 
     #[test]
     fn sub_description_of_a_service_part_hashes_like_the_compiled_type() {
