@@ -20,16 +20,9 @@ fn valid(args: &[&str]) -> bool {
     Arguments::parse(&argv(args)).is_ok()
 }
 
+/// A parameters file for `--params-file` (`test_params.yaml` beside this file).
 fn params_file() -> String {
-    let path = std::env::temp_dir().join(format!("horus_args_{}.yaml", std::process::id()));
-    std::fs::write(
-        &path,
-        "/**:\n  ros__parameters:\n    foo: 1\n    nested:\n      bar: [1.5, 2.0]\n\
-         lidar:\n  ros__parameters:\n    port: \"/dev/ttyUSB0\"\n    on: yes\n\
-         /robot:\n  arm:\n    ros__parameters:\n      joints: [a, b]\n",
-    )
-    .expect("write");
-    path.to_string_lossy().into_owned()
+    concat!(env!("CARGO_MANIFEST_DIR"), "/src/args/test_params.yaml").to_owned()
 }
 
 #[test]
