@@ -22,6 +22,7 @@ mod info;
 mod live;
 mod query;
 mod snapshot;
+mod subscription;
 
 #[cfg(test)]
 mod tests;
@@ -35,6 +36,9 @@ pub use info::{ServiceEndpointInfo, ServiceEndpointType, TopicEndpointInfo, Topi
 pub use live::{apply_discovery_event, Graph, GraphStartError, GraphView, GraphWatcher};
 pub use query::{NamesAndTypes, NodeInfo};
 pub use snapshot::{GraphSnapshot, ParticipantSnapshot};
+pub use subscription::{
+    GraphSubscription, RecvError, SubscriptionInterrupter, SUBSCRIPTION_CAPACITY,
+};
 
 /// Node name reported for an endpoint whose participant is unknown (rmw_dds_common
 /// `graph_cache.cpp`, `EndpointCreator::BARE_DDS_PARTICIPANT`); also used as its namespace.

@@ -4,19 +4,18 @@
 //! `rcl_service_server_is_available`.
 
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::mpsc::{self, Receiver, Sender};
 use std::sync::{Arc, Condvar, Mutex, MutexGuard, OnceLock, Weak};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
 use std::collections::{BTreeMap, HashMap};
 
-use horus_ros_rmw::{Context, DiscoveryEvent, DiscoveryFeed, DiscoveryFeedError, Gid, VendorId};
+use horus_ros_rmw::{
+    Context, DiscoveryEvent, DiscoveryFeed, DiscoveryFeedError, FeedWaker, Gid, VendorId,
+};
 
-use crate::{EndpointEntry, GraphCache, GraphEvent};
-
-/// How long the background thread waits for discovery before checking whether to stop.
-const STOP_CHECK_INTERVAL: Duration = Duration::from_millis(100);
+use crate::subscription::{EventQueue, GraphSubscription};
+use crate::{EndpointEntry, GraphCache};
 /// Most discovery events applied under one lock, so readers are never held off for long.
 const MAX_BATCH: usize = 1024;
 
@@ -67,7 +66,7 @@ struct State {
 struct Shared {
     state: Mutex<State>,
     changed: Condvar,
-    subscribers: Mutex<Vec<Sender<GraphEvent>>>,
+    subscribers: Mutex<Vec<Weak<EventQueue>>>,
     watchers: Mutex<Vec<Weak<dyn GraphWatcher>>>,
     stop: AtomicBool,
 }
@@ -142,9 +141,12 @@ impl GraphView<'_> {
 
 /// The live ROS graph of one context: every participant, node and endpoint it can see, its own
 /// included. Dropping it stops the background thread.
+#[must_use = "the graph stops following discovery when dropped"]
 pub struct Graph {
     shared: Arc<Shared>,
     worker: Option<JoinHandle<()>>,
+    /// Wakes the background thread (to stop it).
+    feed_waker: FeedWaker,
 }
 
 impl std::fmt::Debug for Graph {
@@ -190,6 +192,7 @@ impl Graph {
             watchers: Mutex::new(Vec::new()),
             stop: AtomicBool::new(false),
         });
+        let feed_waker = feed.waker();
         let worker_shared = Arc::clone(&shared);
         let worker = std::thread::Builder::new()
             .name("horus-ros-graph".to_owned())
@@ -197,6 +200,7 @@ impl Graph {
         Ok(Self {
             shared,
             worker: Some(worker),
+            feed_waker,
         })
     }
 
@@ -216,15 +220,17 @@ impl Graph {
         self.shared.state().changed_at
     }
 
-    /// Every change from now on, as typed events (the receiver may be dropped at any time).
-    pub fn subscribe(&self) -> Receiver<GraphEvent> {
-        let (tx, rx) = mpsc::channel();
+    /// Every change from now on, as typed events in a bounded queue (see
+    /// [`GraphSubscription`] for what happens to a subscriber that falls behind). Dropping the
+    /// subscription unsubscribes.
+    pub fn subscribe(&self) -> GraphSubscription {
+        let (subscription, queue) = GraphSubscription::new();
         self.shared
             .subscribers
             .lock()
             .unwrap_or_else(|p| p.into_inner())
-            .push(tx);
-        rx
+            .push(Arc::downgrade(&queue));
+        subscription
     }
 
     /// Tells `watcher` of every change from now on, until it is dropped (the graph keeps only a
@@ -360,6 +366,7 @@ impl Graph {
 impl Drop for Graph {
     fn drop(&mut self) {
         self.shared.stop.store(true, Ordering::SeqCst);
+        self.feed_waker.wake();
         if let Some(worker) = self.worker.take() {
             let _ = worker.join();
         }
@@ -402,7 +409,8 @@ fn apply(state: &mut State, event: DiscoveryEvent) -> bool {
 /// The background thread: applies discovery events in batches and tells waiters and subscribers.
 fn run(shared: &Shared, mut feed: DiscoveryFeed) {
     while !shared.stop.load(Ordering::SeqCst) {
-        let Some(first) = feed.next_timeout(STOP_CHECK_INTERVAL) else {
+        // Woken by discovery, by our own context's changes and by `Graph::drop`.
+        let Some(first) = feed.next_timeout(None) else {
             continue;
         };
         let (events, changed) = {
@@ -426,7 +434,18 @@ fn run(shared: &Shared, mut feed: DiscoveryFeed) {
         }
         if !events.is_empty() {
             let mut subscribers = shared.subscribers.lock().unwrap_or_else(|p| p.into_inner());
-            subscribers.retain(|s| events.iter().all(|e| s.send(e.clone()).is_ok()));
+            subscribers.retain(|s| match s.upgrade() {
+                Some(queue) => {
+                    queue.push(&events);
+                    true
+                }
+                None => false,
+            });
         }
+    }
+    // Subscribers learn that no event will come any more.
+    let subscribers = shared.subscribers.lock().unwrap_or_else(|p| p.into_inner());
+    for queue in subscribers.iter().filter_map(Weak::upgrade) {
+        queue.close();
     }
 }

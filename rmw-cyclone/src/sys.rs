@@ -1213,6 +1213,11 @@ impl Waiter {
     /// Blocks the calling thread until something attached triggers or `timeout` passes;
     /// returns the tokens of what triggered (empty on timeout).
     pub fn wait(&self, timeout: Duration) -> Result<Vec<usize>> {
+        self.wait_for(Some(timeout))
+    }
+
+    /// [`wait`](Self::wait), with no time limit when `timeout` is `None`.
+    pub fn wait_for(&self, timeout: Option<Duration>) -> Result<Vec<usize>> {
         let mut xs: Vec<c::dds_attach_t> = vec![0; self.attached.len().max(1)];
         // SAFETY: live waitset; `xs` has room for `xs.len()` tokens; Cyclone writes at most
         // that many and returns the number triggered (possibly more than fit).
@@ -1221,7 +1226,7 @@ impl Waiter {
                 self.handle.id,
                 xs.as_mut_ptr(),
                 xs.len(),
-                duration_to_dds(Some(timeout)),
+                duration_to_dds(timeout),
             )
         })? as usize;
         Ok(xs[..n.min(xs.len())].iter().map(|t| *t as usize).collect())

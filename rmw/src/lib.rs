@@ -33,7 +33,7 @@ pub use backend::{
 };
 pub use context::{
     env::{DiscoveryOptions, DiscoveryRange, DomainId},
-    Context, ContextBuilder, ContextError, DiscoveryFeed, DiscoveryFeedError,
+    Context, ContextBuilder, ContextError, DiscoveryFeed, DiscoveryFeedError, FeedWaker,
 };
 pub use discovery::{DiscoveredEndpoint, DiscoveredParticipant, DiscoveryEvent, VendorId};
 pub use gid::Gid;

@@ -382,20 +382,13 @@ impl<M: Message> Subscription<M> {
         }
     }
 
-    /// Waits until a message may have arrived, at most `timeout`; returns whether something
-    /// was signalled. Take until `None` after it: wake-ups are edge-triggered.
-    pub fn wait(&mut self, timeout: std::time::Duration) -> bool {
+    /// Waits until a message may have arrived, at most `timeout` (a `Duration`, or `None` for
+    /// no limit); returns whether something was signalled. Take until `None` after it: wake-ups
+    /// are edge-triggered.
+    pub fn wait(&mut self, timeout: impl Into<Option<std::time::Duration>>) -> bool {
+        let timeout = timeout.into();
         match &mut self.reader {
-            TypedReader::RustDds { poll, .. } => {
-                let mut events = rustdds::mio1::Events::with_capacity(4);
-                match poll.poll(&mut events, Some(timeout)) {
-                    Ok(()) => !events.is_empty(),
-                    Err(e) => {
-                        tracing::debug!("poll failed: {e}");
-                        false
-                    }
-                }
-            }
+            TypedReader::RustDds { poll, .. } => crate::raw::wait_on(poll, timeout),
             #[cfg(feature = "cyclone")]
             TypedReader::Cyclone(reader) => reader.wait(timeout),
         }

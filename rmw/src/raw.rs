@@ -179,10 +179,11 @@ fn describe(
     }
 }
 
-/// Waits on `poll` until it signals or `timeout` passes; returns whether it signalled.
-fn wait_on(poll: &mut mio::Poll, timeout: Duration) -> bool {
+/// Waits on `poll` until it signals or `timeout` passes (no limit: `None`); returns whether it
+/// signalled.
+pub(crate) fn wait_on(poll: &mut mio::Poll, timeout: Option<Duration>) -> bool {
     let mut events = mio::Events::with_capacity(4);
-    match poll.poll(&mut events, Some(timeout)) {
+    match poll.poll(&mut events, timeout) {
         Ok(()) => !events.is_empty(),
         Err(e) => {
             tracing::debug!("poll failed: {e}");
@@ -508,9 +509,10 @@ impl RawReader {
     }
 
     /// Waits until data may be there or the reader's [`waker`](Self::waker) was woken, at most
-    /// `timeout`; returns whether something was signalled. Take until `None` after it: wake-ups
-    /// are edge-triggered.
-    pub fn wait(&mut self, timeout: Duration) -> bool {
+    /// `timeout` (a `Duration`, or `None` for no limit); returns whether something was
+    /// signalled. Take until `None` after it: wake-ups are edge-triggered.
+    pub fn wait(&mut self, timeout: impl Into<Option<Duration>>) -> bool {
+        let timeout = timeout.into();
         match &mut self.reader {
             ReaderImpl::RustDds { poll, .. } => wait_on(poll, timeout),
             #[cfg(feature = "cyclone")]

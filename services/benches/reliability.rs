@@ -17,7 +17,9 @@
 //!    peer writes random bodies of 0 B to 1 MiB on the request topic.
 //! 3. **Idle cost**: the CPU time and the thread count of a process holding a context and a
 //!    node, then the same with `NodeServices` (7 servers) started, each over 10 s of idleness
-//!    (from `/proc/self/stat`, in a child process of its own).
+//!    (from `/proc/self/stat`, in a child process of its own), and the wake-ups per second of
+//!    our own threads (named `horus-…`) and of the DDS stack's threads: context switches from
+//!    `/proc/self/task/*/status` (a thread that sleeps until an event has none while idle).
 //!
 //! Environment: `HORUS_BENCH_RELIABILITY_CALLS` (N, calls per client; default 300),
 //! `HORUS_BENCH_RELIABILITY_PER_CONTEXT` (clients per context, default 8),
@@ -426,19 +428,97 @@ fn cpu_and_threads() -> (f64, usize) {
     ((ticks(14) + ticks(15)) / USER_HZ, threads)
 }
 
+/// Context switches so far of each thread of this process, by thread id: (name, switches).
+fn thread_switches() -> std::collections::BTreeMap<u32, (String, u64)> {
+    let mut out = std::collections::BTreeMap::new();
+    let Ok(tasks) = std::fs::read_dir("/proc/self/task") else {
+        return out;
+    };
+    for task in tasks.flatten() {
+        let Some(tid) = task.file_name().to_str().and_then(|t| t.parse().ok()) else {
+            continue;
+        };
+        let name = std::fs::read_to_string(task.path().join("comm")).unwrap_or_default();
+        let status = std::fs::read_to_string(task.path().join("status")).unwrap_or_default();
+        let switches = status
+            .lines()
+            .filter(|l| l.contains("ctxt_switches"))
+            .filter_map(|l| l.split_whitespace().nth(1)?.parse::<u64>().ok())
+            .sum();
+        out.insert(tid, (name.trim().to_owned(), switches));
+    }
+    out
+}
+
+/// Wake-ups per second over `elapsed` between two [`thread_switches`], split into our own
+/// threads (`horus-…`) and the others (the DDS stack's), with the busiest of ours.
+fn wakeups(
+    before: &std::collections::BTreeMap<u32, (String, u64)>,
+    after: &std::collections::BTreeMap<u32, (String, u64)>,
+    elapsed: Duration,
+    measuring_thread: u32,
+) -> String {
+    let (mut ours, mut dds) = (0u64, 0u64);
+    let mut busiest: Vec<(u64, String)> = Vec::new();
+    for (tid, (name, switches)) in after {
+        if *tid == measuring_thread {
+            continue;
+        }
+        let delta = switches.saturating_sub(before.get(tid).map_or(0, |(_, s)| *s));
+        if name.starts_with("horus-") {
+            ours += delta;
+            if delta > 0 {
+                busiest.push((delta, name.clone()));
+            }
+        } else {
+            dds += delta;
+        }
+    }
+    busiest.sort_by(|a, b| b.cmp(a));
+    let per_second = |n: u64| n as f64 / elapsed.as_secs_f64();
+    let busiest: Vec<String> = busiest
+        .iter()
+        .take(3)
+        .map(|(n, name)| format!("{name} {:.1}/s", per_second(*n)))
+        .collect();
+    format!(
+        "wake-ups/s: ours {:.1}{}, DDS stack {:.1}",
+        per_second(ours),
+        if busiest.is_empty() {
+            String::new()
+        } else {
+            format!(" ({})", busiest.join(", "))
+        },
+        per_second(dds)
+    )
+}
+
+/// The kernel's id of the calling thread.
+fn current_tid() -> u32 {
+    std::fs::read_link("/proc/thread-self")
+        .ok()
+        .and_then(|p| p.file_name()?.to_str()?.parse().ok())
+        .unwrap_or(0)
+}
+
 fn idle_child(backend: Backend) {
     let node = context(backend, 71)
         .create_node("idle_node", "/")
         .expect("node");
+    let me = current_tid();
     let measure = |label: &str| {
         thread::sleep(Duration::from_secs(1));
         let (cpu0, _) = cpu_and_threads();
+        let switches0 = thread_switches();
         let t = Instant::now();
         thread::sleep(IDLE_MEASURE);
+        let elapsed = t.elapsed();
+        let switches1 = thread_switches();
         let (cpu1, threads) = cpu_and_threads();
         println!(
-            "  {backend:>8} idle {label:<28}: {:>5.2} % of one CPU, {threads} threads",
-            100.0 * (cpu1 - cpu0) / t.elapsed().as_secs_f64()
+            "  {backend:>8} idle {label:<28}: {:>5.2} % of one CPU, {threads} threads, {}",
+            100.0 * (cpu1 - cpu0) / elapsed.as_secs_f64(),
+            wakeups(&switches0, &switches1, elapsed, me)
         );
     };
     measure("context + node");

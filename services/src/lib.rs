@@ -56,7 +56,7 @@ pub use raw_traits::{
     RosService, ServiceClientTrait, ServiceRequest, ServiceServerTrait, TransportError,
 };
 pub use retry::RetryConfig;
-pub use server::{ServiceServer, ServiceServerBuilder, DEFAULT_POLL_INTERVAL};
+pub use server::{ServiceServer, ServiceServerBuilder};
 pub use wire::WireFlavour;
 
 pub use horus_ros_msgs::{Message, Service};

@@ -21,9 +21,6 @@ use crate::server_wire::{Request, ServerWire};
 use crate::wire::{decode, encode, WireFlavour};
 use crate::SetupError;
 
-/// The default [`poll_interval`](ServiceServerBuilder::poll_interval).
-pub const DEFAULT_POLL_INTERVAL: Duration = Duration::from_millis(5);
-
 /// Most undecodable samples skipped in one drain before the thread checks whether to stop.
 const MAX_ERRORS_PER_DRAIN: usize = 1000;
 
@@ -37,7 +34,6 @@ pub struct ServiceServerBuilder<S: Service> {
     node: Option<Node>,
     name: Option<String>,
     qos: Qos,
-    poll_interval: Duration,
     flavour: Option<WireFlavour>,
     handler: Option<Handler<S>>,
     introspection: Option<(IntrospectionState, Qos)>,
@@ -57,7 +53,6 @@ impl<S: Service> ServiceServerBuilder<S> {
             node: None,
             name: None,
             qos: Qos::services_default(),
-            poll_interval: DEFAULT_POLL_INTERVAL,
             flavour: None,
             handler: None,
             introspection: None,
@@ -82,11 +77,10 @@ impl<S: Service> ServiceServerBuilder<S> {
         self
     }
 
-    /// The longest the server thread sleeps between checks: requests, `stop()` and graph changes
-    /// while replies are parked wake it at once (no fixed polling delay); this bounds how long a
-    /// missed wake-up can delay a request.
-    pub fn poll_interval(mut self, interval: Duration) -> Self {
-        self.poll_interval = interval.max(Duration::from_micros(100));
+    /// Accepted for the API of poll-based servers, and ignored: the server thread never wakes
+    /// on a timer. Requests, [`stop`](ServiceServer::stop), the graph changes a parked reply
+    /// waits for and a parked reply's expiry wake it, each at once.
+    pub fn poll_interval(self, _interval: Duration) -> Self {
         self
     }
 
@@ -159,7 +153,6 @@ impl<S: Service> ServiceServerBuilder<S> {
             replies,
             wire,
             handler,
-            poll_interval: self.poll_interval,
             shared: Arc::clone(&shared),
             introspection: Arc::clone(&introspection),
         };
@@ -278,7 +271,6 @@ struct ServerLoop<S: Service> {
     replies: RawWriter,
     wire: ServerWire,
     handler: Handler<S>,
-    poll_interval: Duration,
     shared: Arc<ServerShared>,
     introspection: Arc<Introspection>,
 }
@@ -287,27 +279,28 @@ impl<S: Service> ServerLoop<S> {
     fn run(mut self) {
         while !self.shared.stop.load(Ordering::SeqCst) {
             let mut errors = 0;
-            loop {
+            let drained = loop {
                 match self.requests.take() {
                     Ok(Some(sample)) => self.serve(sample),
-                    Ok(None) => break,
+                    Ok(None) => break true,
                     Err(e) => {
                         self.wire.warn_unreadable(&e);
                         errors += 1;
                         if errors >= MAX_ERRORS_PER_DRAIN {
-                            break;
+                            break false;
                         }
                     }
                 }
-            }
+            };
             // Parked replies whose client can hear them now go out; old ones are dropped.
             let next_expiry = self.wire.flush(&self.replies);
-            let wait = next_expiry.map_or(self.poll_interval, |t| {
-                t.saturating_duration_since(Instant::now())
-                    .min(self.poll_interval)
-            });
+            if !drained {
+                // Wake-ups are edge-triggered: what is left would not wake us.
+                continue;
+            }
+            let wait = next_expiry.map(|t| t.saturating_duration_since(Instant::now()));
             // Woken at once by a request, by stop() and by graph changes while replies are
-            // parked; the interval only bounds missed wake-ups.
+            // parked; with none parked, nothing else can change, so there is no time limit.
             self.requests.wait(wait);
         }
     }

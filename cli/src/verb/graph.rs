@@ -3,13 +3,10 @@
 
 use std::collections::{BTreeMap, HashMap};
 use std::io::Write;
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::mpsc::RecvTimeoutError;
-use std::sync::Arc;
-use std::time::{Duration, SystemTime, UNIX_EPOCH};
+use std::time::SystemTime;
 
 use horus_ros_graph::{
-    Gid, GraphCache, GraphEvent, NamesAndTypes, ServiceEndpointInfo, TopicEndpointInfo,
+    Gid, GraphCache, GraphEvent, NamesAndTypes, RecvError, ServiceEndpointInfo, TopicEndpointInfo,
 };
 use horus_ros_msgs::TypeHash;
 use horus_ros_rmw::names::{
@@ -22,9 +19,6 @@ use serde_json::{json, Value};
 use crate::session::{GraphSource, Session};
 use crate::verb::names;
 use crate::{CliError, Global};
-
-/// How often `--watch` checks for Ctrl+C while no graph event arrives.
-const STOP_POLL: Duration = Duration::from_millis(50);
 
 /// Arguments of `graph`.
 #[derive(Debug, clap::Args)]
@@ -751,31 +745,7 @@ impl Watcher {
 
 /// RFC 3339 UTC with milliseconds: `2026-11-22T01:23:45.678Z`.
 fn rfc3339_millis(t: SystemTime) -> String {
-    let d = t.duration_since(UNIX_EPOCH).unwrap_or_default();
-    let secs = d.as_secs();
-    let (year, month, day) = civil_from_days(secs / 86_400);
-    let rem = secs % 86_400;
-    format!(
-        "{year:04}-{month:02}-{day:02}T{:02}:{:02}:{:02}.{:03}Z",
-        rem / 3600,
-        rem % 3600 / 60,
-        rem % 60,
-        d.subsec_millis()
-    )
-}
-
-/// (year, month, day) of a day count since 1970-01-01 (Howard Hinnant's `civil_from_days`).
-fn civil_from_days(days: u64) -> (u64, u64, u64) {
-    let z = days + 719_468;
-    let era = z / 146_097;
-    let doe = z % 146_097;
-    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
-    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
-    let mp = (5 * doy + 2) / 153;
-    let day = doy - (153 * mp + 2) / 5 + 1;
-    let month = if mp < 10 { mp + 3 } else { mp - 9 };
-    let year = yoe + era * 400 + u64::from(month <= 2);
-    (year, month, day)
+    chrono::DateTime::<chrono::Utc>::from(t).to_rfc3339_opts(chrono::SecondsFormat::Millis, true)
 }
 
 /// Writes changes, one line each; `false` once stdout is gone (e.g. a closed pipe).
@@ -799,10 +769,6 @@ fn emit(out: &mut impl Write, changes: &[Change], json: bool) -> bool {
 
 /// `graph --watch`: the snapshot, then every change, until SIGINT / SIGTERM / SIGHUP.
 fn watch(global: &Global, args: &GraphArgs) -> Result<(), CliError> {
-    let stop = Arc::new(AtomicBool::new(false));
-    let flag = Arc::clone(&stop);
-    ctrlc::set_handler(move || flag.store(true, Ordering::SeqCst))
-        .map_err(|e| CliError::new(format!("could not handle Ctrl+C: {e}")))?;
     let session = Session::open(global)?;
     let mut watcher = Watcher::new(args.all);
     let stdout = std::io::stdout();
@@ -810,15 +776,22 @@ fn watch(global: &Global, args: &GraphArgs) -> Result<(), CliError> {
     // Subscribed before the snapshot, so nothing falls between them; what both hold is
     // printed once (see `Watcher`).
     let events = session.graph.subscribe();
+    // A signal closes the subscription: the loop below ends once it is drained.
+    let interrupter = events.interrupter();
+    ctrlc::set_handler(move || interrupter.interrupt())
+        .map_err(|e| CliError::new(format!("could not handle Ctrl+C: {e}")))?;
     let changes = session.graph.read(|c| watcher.snapshot(c));
     if !emit(&mut out, &changes, global.json) {
         return Ok(());
     }
-    while !stop.load(Ordering::SeqCst) {
-        let first = match events.recv_timeout(STOP_POLL) {
+    loop {
+        let first = match events.recv(None) {
             Ok(event) => event,
-            Err(RecvTimeoutError::Timeout) => continue,
-            Err(RecvTimeoutError::Disconnected) => break,
+            Err(RecvError::Lagged(missed)) => {
+                tracing::warn!("graph --watch fell behind: {missed} graph changes were not shown");
+                continue;
+            }
+            Err(_) => break,
         };
         let changes = session.graph.read(|c| {
             let mut changes = watcher.apply(c, first);
@@ -837,6 +810,7 @@ fn watch(global: &Global, args: &GraphArgs) -> Result<(), CliError> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::time::{Duration, UNIX_EPOCH};
 
     #[test]
     fn timestamps_are_rfc3339_utc_millis() {

@@ -478,12 +478,49 @@ impl DiscoveryFeed {
     }
 
     /// The next event, waiting for it at most `timeout` (woken by the DDS layer, no polling).
-    pub fn next_timeout(&mut self, timeout: std::time::Duration) -> Option<DiscoveryEvent> {
+    /// With no timeout (`None`) it waits until an event comes or the feed's
+    /// [`waker`](Self::waker) is woken; a wake-up with nothing to report returns `None`.
+    pub fn next_timeout(
+        &mut self,
+        timeout: impl Into<Option<std::time::Duration>>,
+    ) -> Option<DiscoveryEvent> {
+        let timeout = timeout.into();
         match self.feed.as_mut()? {
             FeedImpl::RustDds(f) => f.next_timeout(timeout),
             #[cfg(feature = "cyclone")]
             FeedImpl::Cyclone(f) => f.next_timeout(timeout),
         }
+    }
+
+    /// A handle that makes the current or next [`next_timeout`](Self::next_timeout) return,
+    /// from any thread (e.g. to stop the thread reading the feed).
+    pub fn waker(&self) -> FeedWaker {
+        let wake = match self.feed.as_ref() {
+            Some(FeedImpl::RustDds(f)) => Some(f.waker()),
+            #[cfg(feature = "cyclone")]
+            Some(FeedImpl::Cyclone(f)) => Some(f.waker()),
+            None => None,
+        };
+        FeedWaker(wake)
+    }
+}
+
+/// Wakes a [`DiscoveryFeed`]'s reader from any thread; cheap to clone.
+#[derive(Clone)]
+pub struct FeedWaker(Option<std::sync::Arc<dyn crate::local_sink::Wake>>);
+
+impl FeedWaker {
+    /// Makes the feed's current or next wait return.
+    pub fn wake(&self) {
+        if let Some(wake) = &self.0 {
+            wake.wake();
+        }
+    }
+}
+
+impl std::fmt::Debug for FeedWaker {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("FeedWaker")
     }
 }
 

@@ -182,8 +182,8 @@ impl RawReader {
 
     /// Waits until a sample is there or the guard condition is triggered (which it resets), at
     /// most `timeout`.
-    pub(crate) fn wait(&self, timeout: Duration) -> bool {
-        match self.waiter.wait(timeout) {
+    pub(crate) fn wait(&self, timeout: Option<Duration>) -> bool {
+        match self.waiter.wait_for(timeout) {
             Ok(triggered) => {
                 if triggered.contains(&WAKE) {
                     if let Err(e) = self.guard.take() {

@@ -178,19 +178,33 @@ impl CycloneDiscoveryFeed {
         self.pending.pop_front()
     }
 
-    /// The next event, waiting at most `timeout` for one.
-    pub(crate) fn next_timeout(&mut self, timeout: Duration) -> Option<DiscoveryEvent> {
-        let deadline = Instant::now() + timeout;
+    /// What wakes [`next_timeout`](Self::next_timeout) from another thread.
+    pub(crate) fn waker(&self) -> Arc<dyn Wake> {
+        Arc::clone(&self.guard) as Arc<dyn Wake>
+    }
+
+    /// The next event, waiting for one at most `timeout` (`None`: until one comes or the feed
+    /// is woken). A wake-up with nothing to report returns `None`.
+    pub(crate) fn next_timeout(&mut self, timeout: Option<Duration>) -> Option<DiscoveryEvent> {
+        let deadline = timeout.and_then(|t| Instant::now().checked_add(t));
+        let mut woken = false;
         loop {
             if let Some(event) = self.try_next() {
                 return Some(event);
             }
-            let now = Instant::now();
-            if now >= deadline {
-                return None;
-            }
-            match self.waiter.wait(deadline - now) {
-                Ok(triggered) => self.drain(Some(&triggered)),
+            let left = match deadline {
+                Some(d) => match d.checked_duration_since(Instant::now()) {
+                    Some(left) if !left.is_zero() => Some(left),
+                    _ => return None,
+                },
+                None if woken => return None,
+                None => None,
+            };
+            match self.waiter.wait_for(left) {
+                Ok(triggered) => {
+                    woken = true;
+                    self.drain(Some(&triggered));
+                }
                 Err(e) => {
                     tracing::warn!("waiting for discovery events failed: {e}");
                     return None;

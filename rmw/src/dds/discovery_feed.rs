@@ -155,20 +155,34 @@ impl DdsDiscoveryFeed {
         self.pending.pop_front()
     }
 
-    /// The next event, waiting at most `timeout` for one.
-    pub(crate) fn next_timeout(&mut self, timeout: Duration) -> Option<DiscoveryEvent> {
-        let deadline = Instant::now() + timeout;
+    /// What wakes [`next_timeout`](Self::next_timeout) from another thread.
+    pub(crate) fn waker(&self) -> Arc<dyn Wake> {
+        Arc::clone(&self.status.waker) as Arc<dyn Wake>
+    }
+
+    /// The next event, waiting for one at most `timeout` (`None`: until one comes or the feed
+    /// is woken). A wake-up with nothing to report returns `None`.
+    pub(crate) fn next_timeout(&mut self, timeout: Option<Duration>) -> Option<DiscoveryEvent> {
+        let deadline = timeout.and_then(|t| Instant::now().checked_add(t));
         let mut events = mio::Events::with_capacity(8);
+        let mut woken = false;
         loop {
             if let Some(event) = self.try_next() {
                 return Some(event);
             }
-            let now = Instant::now();
-            if now >= deadline {
-                return None;
-            }
-            if let Err(e) = self.status.poll.poll(&mut events, Some(deadline - now)) {
-                if e.kind() != std::io::ErrorKind::Interrupted {
+            let left = match deadline {
+                Some(d) => match d.checked_duration_since(Instant::now()) {
+                    Some(left) if !left.is_zero() => Some(left),
+                    _ => return None,
+                },
+                None if woken => return None,
+                None => None,
+            };
+            events.clear();
+            match self.status.poll.poll(&mut events, left) {
+                Ok(()) => woken = true,
+                Err(e) if e.kind() == std::io::ErrorKind::Interrupted => {}
+                Err(e) => {
                     tracing::warn!("waiting for discovery events failed: {e}");
                     return None;
                 }

@@ -55,9 +55,9 @@ impl<S: Service> ServiceClientBuilder<S> {
         self
     }
 
-    /// The longest a waiting call sleeps between checks (replies wake it at once). Default 1 ms.
-    pub fn poll_interval(mut self, interval: Duration) -> Self {
-        self.options.poll_interval = interval.max(Duration::from_micros(50));
+    /// Accepted for the API of poll-based clients, and ignored: a waiting call never wakes on
+    /// a timer (replies, a server appearing and the end of its servers wake it at once).
+    pub fn poll_interval(self, _interval: Duration) -> Self {
         self
     }
 
@@ -101,8 +101,8 @@ impl<S: Service> ServiceClient<S> {
         Self::builder().build()
     }
 
-    /// Like [`new`](Self::new), waking at least every `interval` while waiting (default 1 ms;
-    /// replies wake a waiting call at once either way).
+    /// Like [`new`](Self::new); `interval` is ignored (see
+    /// [`ServiceClientBuilder::poll_interval`]).
     pub fn with_poll_interval(interval: Duration) -> Result<Self, SetupError> {
         Self::builder().poll_interval(interval).build()
     }

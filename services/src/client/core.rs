@@ -2,7 +2,7 @@
 //! wire convention, and routing replies to the calls waiting for them.
 
 use std::collections::HashMap;
-use std::sync::atomic::{AtomicI64, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicI64, AtomicU64, Ordering};
 use std::sync::{Arc, Condvar, Mutex, MutexGuard};
 use std::task::Waker;
 use std::time::{Duration, Instant};
@@ -31,14 +31,21 @@ static NEXT_CYCLONE_SEQ: AtomicI64 = AtomicI64::new(1);
 /// before the first request (see [`ClientCore::ready_server`]).
 const CYCLONE_MATCH_SETTLE: Duration = Duration::from_millis(100);
 
-/// Longest single wait while a call waits for its server to become usable.
-const READY_CHECK_INTERVAL: Duration = Duration::from_millis(10);
-
 /// Identifies one outstanding request.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub(crate) struct RequestKey {
     flavour: WireFlavour,
     sequence: i64,
+}
+
+/// Whether a call can be sent now, and if not, when to look again.
+pub(crate) enum Readiness {
+    /// A server is usable now.
+    Ready(ReadyServer),
+    /// No server is usable yet; a graph change may make one usable, and so may the passing of
+    /// this instant (an rmw_cyclonedds server's reply writer settling, see
+    /// [`ClientCore::ready_server`]).
+    NotYet(Option<Instant>),
 }
 
 /// A server usable now: both endpoints known and matched with ours.
@@ -69,6 +76,9 @@ pub(crate) struct Calls<R> {
     completed: Condvar,
     request_writer: Gid,
     reply_waker: RawReaderWaker,
+    /// Set while the thread waiting on the reply reader also waits for a server (a request not
+    /// sent yet): graph changes then wake it.
+    wake_on_graph_change: AtomicBool,
 }
 
 impl<R: Send + 'static> GraphWatcher for Calls<R> {
@@ -92,6 +102,8 @@ impl<R: Send + 'static> GraphWatcher for Calls<R> {
         drop(pending);
         if ended {
             self.completed.notify_all();
+        }
+        if ended || self.wake_on_graph_change.load(Ordering::SeqCst) {
             self.reply_waker.wake();
         }
     }
@@ -104,7 +116,6 @@ pub(crate) struct ClientOptions {
     pub(crate) name: Option<String>,
     pub(crate) qos: Qos,
     pub(crate) flavour: Option<WireFlavour>,
-    pub(crate) poll_interval: Duration,
     pub(crate) introspection: Option<(IntrospectionState, Qos)>,
 }
 
@@ -115,7 +126,6 @@ impl Default for ClientOptions {
             name: None,
             qos: Qos::services_default(),
             flavour: None,
-            poll_interval: Duration::from_millis(1),
             introspection: None,
         }
     }
@@ -134,10 +144,15 @@ pub(crate) struct ClientCore<C: Codec> {
     client_gid: [u8; 16],
     introspection: std::sync::Arc<Introspection>,
     flavour: Option<WireFlavour>,
-    pub(crate) poll_interval: Duration,
     /// The calls in flight (also held, weakly, by the graph: see [`Calls`]).
     calls: Arc<Calls<C::Response>>,
-    unsent_wakers: Mutex<Vec<Waker>>,
+    /// Futures waiting for a usable server, with their deadlines.
+    unsent_wakers: Mutex<Vec<(Waker, Instant)>>,
+    /// The graph generation the reply thread last looked at for [`unsent_wakers`](Self::wake_due).
+    seen_generation: AtomicU64,
+    /// When the reply thread looks again without an event (`None`: never); locked after
+    /// `calls.pending`, so a call whose deadline comes sooner wakes it (see `set_waker`).
+    planned_wake: Mutex<Option<Instant>>,
 }
 
 fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
@@ -203,6 +218,7 @@ impl<C: Codec> ClientCore<C> {
             completed: Condvar::new(),
             request_writer: requests.gid(),
             reply_waker: replies.waker(),
+            wake_on_graph_change: AtomicBool::new(false),
         });
         let watcher: std::sync::Weak<dyn GraphWatcher> = Arc::downgrade(&calls) as _;
         runtime.graph.watch(watcher);
@@ -218,9 +234,10 @@ impl<C: Codec> ClientCore<C> {
             runtime,
             name: topics.name,
             flavour: options.flavour,
-            poll_interval: options.poll_interval,
             calls,
             unsent_wakers: Mutex::new(Vec::new()),
+            seen_generation: AtomicU64::new(u64::MAX),
+            planned_wake: Mutex::new(None),
         })
     }
 
@@ -246,7 +263,7 @@ impl<C: Codec> ClientCore<C> {
                 self.forget(key);
                 return Err(ServiceError::Timeout);
             }
-            self.wait_for_replies((deadline - now).min(self.poll_interval));
+            self.wait_for_replies(Some(deadline - now));
         }
     }
 
@@ -315,37 +332,55 @@ impl<C: Codec> ClientCore<C> {
     /// reader and reply writer matched with our writer and reader (so neither the request nor
     /// the first reply can be lost).
     pub(crate) fn ready_server(&self) -> Option<ReadyServer> {
+        match self.readiness() {
+            Readiness::Ready(server) => Some(server),
+            Readiness::NotYet(_) => None,
+        }
+    }
+
+    /// [`ready_server`](Self::ready_server), or when to look again if none is usable.
+    pub(crate) fn readiness(&self) -> Readiness {
         let graph = &self.runtime.graph;
         let servers = self.servers();
+        let backend = self.runtime.node.context().backend();
+        let mut settles_at: Option<Instant> = None;
         let flavour = servers.iter().find_map(|&(reader, writer)| {
             graph.matched_since(self.request_writer, reader)?;
             let reply_match = graph.matched_since(self.reply_reader, writer)?;
-            let backend = self.runtime.node.context().backend();
             let flavour =
                 WireFlavour::choose(backend, peer_vendor(graph, reader), self.flavour).ok()?;
             // An rmw_cyclonedds server waits for a client's reply reader only when the client
             // announces `clientid=` in USER_DATA, which rustdds cannot send: then give its writer
-            // time to match our reader (it learns of it about when we learn of its writer).
-            let settled = flavour != WireFlavour::CycloneDds
-                || backend.announces_user_data()
-                || reply_match.elapsed() >= CYCLONE_MATCH_SETTLE;
-            settled.then_some(flavour)
-        })?;
+            // time to match our reader (it learns of it about when we learn of its writer). No
+            // event tells when it has: the waiters look again at this instant.
+            if flavour == WireFlavour::CycloneDds && !backend.announces_user_data() {
+                let settled = reply_match + CYCLONE_MATCH_SETTLE;
+                if Instant::now() < settled {
+                    settles_at = Some(settles_at.map_or(settled, |s| s.min(settled)));
+                    return None;
+                }
+            }
+            Some(flavour)
+        });
+        let Some(flavour) = flavour else {
+            return Readiness::NotYet(settles_at);
+        };
         let reached = servers
             .into_iter()
             .map(|(reader, _)| reader)
             .filter(|reader| graph.is_matched(self.request_writer, *reader))
             .collect();
-        Some(ReadyServer { flavour, reached })
+        Readiness::Ready(ReadyServer { flavour, reached })
     }
 
     /// Waits until a server is ready, at most until `deadline`: `NoServer` if none ever showed
     /// up, `Timeout` if one was there but never became usable.
     pub(crate) fn wait_ready(&self, deadline: Instant) -> Result<ReadyServer, ServiceError> {
         loop {
-            if let Some(ready) = self.ready_server() {
-                return Ok(ready);
-            }
+            let settles_at = match self.readiness() {
+                Readiness::Ready(ready) => return Ok(ready),
+                Readiness::NotYet(settles_at) => settles_at,
+            };
             if let Some(why) = self.unusable_servers() {
                 return Err(ServiceError::Transport(why));
             }
@@ -354,10 +389,24 @@ impl<C: Codec> ClientCore<C> {
                 return Err(self.not_ready_error());
             }
             // Servers appearing and matches being made are graph changes.
+            let until = settles_at.map_or(deadline, |s| s.min(deadline));
             self.runtime
                 .graph
-                .wait_for_graph_change((deadline - now).min(READY_CHECK_INTERVAL));
+                .wait_for_graph_change(until.saturating_duration_since(now));
         }
+    }
+
+    /// Waits once for what can make a server ready (a graph change, or a settling instant),
+    /// at most until `deadline`.
+    pub(crate) fn wait_for_readiness_change(&self, deadline: Instant) {
+        let settles_at = match self.readiness() {
+            Readiness::Ready(_) => return,
+            Readiness::NotYet(settles_at) => settles_at,
+        };
+        let until = settles_at.map_or(deadline, |s| s.min(deadline));
+        self.runtime
+            .graph
+            .wait_for_graph_change(until.saturating_duration_since(Instant::now()));
     }
 
     /// Why no server can be called from this backend, when every server on the graph follows a
@@ -466,9 +515,21 @@ impl<C: Codec> ClientCore<C> {
         }
     }
 
-    /// Waits for reply data at most `timeout` (then call [`drain_replies`](Self::drain_replies)).
-    pub(crate) fn wait_for_replies(&self, timeout: Duration) {
+    /// Waits for reply data, a graph change that ends a call, or [`wake`](Self::wake), at most
+    /// `timeout` (`None`: no limit); then call [`drain_replies`](Self::drain_replies).
+    pub(crate) fn wait_for_replies(&self, timeout: Option<Duration>) {
         lock(&self.replies).wait(timeout);
+    }
+
+    /// Makes the current or next [`wait_for_replies`](Self::wait_for_replies) return.
+    pub(crate) fn wake(&self) {
+        self.calls.reply_waker.wake();
+    }
+
+    /// Whether graph changes wake [`wait_for_replies`](Self::wait_for_replies) (while the
+    /// waiting thread also waits for a server).
+    pub(crate) fn set_wake_on_graph_change(&self, on: bool) {
+        self.calls.wake_on_graph_change.store(on, Ordering::SeqCst);
     }
 
     /// The call a reply with `sequence` belongs to, and its outcome: a negative sequence number
@@ -562,10 +623,26 @@ impl<C: Codec> ClientCore<C> {
         }
     }
 
-    /// Stores the waker to wake when `key`'s reply arrives.
+    /// Stores the waker to wake when `key`'s reply arrives or its deadline passes (wakes the
+    /// reply thread if that deadline comes before it planned to look again).
     pub(crate) fn set_waker(&self, key: RequestKey, waker: &Waker) {
-        if let Some(slot) = lock(&self.calls.pending).get_mut(&key) {
+        let mut pending = lock(&self.calls.pending);
+        let Some(slot) = pending.get_mut(&key) else {
+            return;
+        };
+        let first = slot.waker.is_none();
+        if !slot.waker.as_ref().is_some_and(|w| w.will_wake(waker)) {
             slot.waker = Some(waker.clone());
+        }
+        let deadline = slot.deadline;
+        if first {
+            let mut planned = lock(&self.planned_wake);
+            if planned.is_none_or(|p| deadline < p) {
+                *planned = Some(deadline);
+                drop(planned);
+                drop(pending);
+                self.wake();
+            }
         }
     }
 
@@ -574,32 +651,94 @@ impl<C: Codec> ClientCore<C> {
         lock(&self.calls.pending).remove(&key);
     }
 
-    /// Waits until some reply is routed or `timeout` passes (async clients' blocking wait).
-    pub(crate) fn wait_completion(&self, timeout: Duration) {
-        let pending = lock(&self.calls.pending);
-        let _ = self.calls.completed.wait_timeout(pending, timeout);
-    }
-
-    /// Parks the waker of a future still waiting for a usable server.
-    pub(crate) fn park_unsent(&self, waker: &Waker) {
-        lock(&self.unsent_wakers).push(waker.clone());
-    }
-
-    /// Wakes futures waiting for a server (to retry sending) and those past their deadline
-    /// (each then re-checks its own state).
-    pub(crate) fn wake_all_expired_or_unsent(&self) {
-        for w in std::mem::take(&mut *lock(&self.unsent_wakers)) {
-            w.wake();
+    /// Waits until `key` has its result (or is forgotten), at most until `deadline` — checked
+    /// under the lock the result is stored under, so no completion is missed. Someone else
+    /// (the reply thread of an async client) takes the replies off the reader.
+    pub(crate) fn wait_completion(&self, key: RequestKey, deadline: Instant) {
+        let mut pending = lock(&self.calls.pending);
+        loop {
+            if pending.get(&key).is_none_or(|slot| slot.result.is_some()) {
+                return;
+            }
+            let now = Instant::now();
+            if now >= deadline {
+                return;
+            }
+            pending = self
+                .calls
+                .completed
+                .wait_timeout(pending, deadline - now)
+                .map(|(guard, _)| guard)
+                .unwrap_or_else(|p| p.into_inner().0);
         }
+    }
+
+    /// Parks the waker of a future still waiting for a usable server (woken when the graph
+    /// changes or its deadline passes), and wakes the reply thread to take it into account.
+    pub(crate) fn park_unsent(&self, waker: &Waker, deadline: Instant) {
+        lock(&self.unsent_wakers).push((waker.clone(), deadline));
+        self.set_wake_on_graph_change(true);
+        self.wake();
+    }
+
+    /// The async clients' reply thread, after each wake-up: wakes the futures waiting for a
+    /// server when one may be usable now (the graph changed, or one is ready) or when their
+    /// deadline passed, and the sent calls past their deadline. Returns when it must look again
+    /// without any event: the earliest deadline of a waiting future or the settling instant of
+    /// a server (`None`: only events matter).
+    pub(crate) fn wake_due(&self) -> Option<Instant> {
         let now = Instant::now();
-        for slot in lock(&self.calls.pending)
-            .values_mut()
-            .filter(|s| s.deadline <= now)
+        let mut next: Option<Instant> = None;
+        let mut earliest = |t: Instant| next = Some(next.map_or(t, |n| n.min(t)));
+        let mut to_wake = Vec::new();
         {
-            if let Some(w) = slot.waker.take() {
-                w.wake();
+            let mut unsent = lock(&self.unsent_wakers);
+            if !unsent.is_empty() {
+                let generation = self.runtime.graph.generation();
+                let changed = self.seen_generation.swap(generation, Ordering::SeqCst) != generation;
+                match self.readiness() {
+                    Readiness::Ready(_) => to_wake.append(&mut unsent),
+                    _ if changed => to_wake.append(&mut unsent),
+                    Readiness::NotYet(settles_at) => {
+                        unsent.retain(|(waker, deadline)| {
+                            if *deadline <= now {
+                                to_wake.push((waker.clone(), *deadline));
+                                false
+                            } else {
+                                true
+                            }
+                        });
+                        for (_, deadline) in unsent.iter() {
+                            earliest(*deadline);
+                        }
+                        if let Some(settles_at) = settles_at.filter(|_| !unsent.is_empty()) {
+                            earliest(settles_at);
+                        }
+                    }
+                }
+            }
+            // Re-parked futures set it again (and wake this thread).
+            self.set_wake_on_graph_change(!unsent.is_empty());
+        }
+        for (waker, _) in to_wake {
+            waker.wake();
+        }
+        let mut pending = lock(&self.calls.pending);
+        for slot in pending.values_mut() {
+            if slot.result.is_some() {
+                continue;
+            }
+            if slot.deadline <= now {
+                if let Some(w) = slot.waker.take() {
+                    w.wake();
+                }
+            } else if slot.waker.is_some() {
+                earliest(slot.deadline);
             }
         }
+        *lock(&self.planned_wake) = next;
+        drop(pending);
+        next
     }
 
     /// Requests waiting for their reply now.

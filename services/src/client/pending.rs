@@ -18,9 +18,6 @@ use super::core::{ClientCore, RequestKey};
 use super::ServiceClientBuilder;
 use crate::{IntrospectionState, ServiceError, SetupError};
 
-/// How often the reply thread wakes futures so they can notice deadlines and servers appearing.
-const TICK: Duration = Duration::from_millis(10);
-
 /// Calls a service without blocking: each call returns a [`PendingResponse`] to check, wait on,
 /// or `.await`. A background thread receives the replies.
 pub struct AsyncServiceClient<S: Service> {
@@ -56,10 +53,15 @@ impl<S: Service> AsyncServiceClient<S> {
             std::thread::Builder::new()
                 .name(format!("horus-cli{}", core.name()))
                 .spawn(move || {
+                    // Woken by replies, by graph changes that end calls or (while futures wait
+                    // for a server) may make one usable, by new futures and by drop; and at the
+                    // earliest deadline of a waiting future.
                     while !stop.load(Ordering::SeqCst) {
-                        core.wait_for_replies(TICK);
                         core.drain_replies();
-                        core.wake_all_expired_or_unsent();
+                        let next = core.wake_due();
+                        core.wait_for_replies(
+                            next.map(|t| t.saturating_duration_since(Instant::now())),
+                        );
                     }
                 })?
         };
@@ -123,6 +125,7 @@ impl<S: Service> AsyncServiceClient<S> {
 impl<S: Service> Drop for AsyncServiceClient<S> {
     fn drop(&mut self) {
         self.stop.store(true, Ordering::SeqCst);
+        self.core.wake();
         if let Some(pump) = self.pump.take() {
             let _ = pump.join();
         }
@@ -207,11 +210,13 @@ impl<S: Service> PendingResponse<S> {
     pub fn wait(mut self) -> Result<S::Response, ServiceError> {
         loop {
             self.advance();
-            if let State::Done(result) = &mut self.state {
-                return result.take().unwrap_or(Err(ServiceError::Timeout));
+            match &mut self.state {
+                State::Done(result) => {
+                    return result.take().unwrap_or(Err(ServiceError::Timeout));
+                }
+                State::Unsent(_) => self.core.wait_for_readiness_change(self.deadline),
+                State::Sent(key) => self.core.wait_completion(*key, self.deadline),
             }
-            let left = self.deadline.saturating_duration_since(Instant::now());
-            self.core.wait_completion(left.min(TICK));
         }
     }
 }
@@ -239,7 +244,7 @@ impl<S: Service> Future for PendingResponse<S> {
                 }
             }
             State::Unsent(_) => {
-                this.core.park_unsent(cx.waker());
+                this.core.park_unsent(cx.waker(), this.deadline);
                 Poll::Pending
             }
         }

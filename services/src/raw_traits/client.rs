@@ -14,19 +14,12 @@ use horus_ros_rmw::{Gid, Node};
 
 use super::{encapsulate_into, le_body, ServiceClientTrait, TransportError};
 use crate::client::codec::{Raw, RawReply};
-use crate::client::core::{ClientCore, ClientOptions, RequestKey};
+use crate::client::core::{ClientCore, ClientOptions, Readiness, RequestKey};
 use crate::wire::WireFlavour;
 use crate::{ServiceError, SetupError};
 
 /// The default [`send_timeout`](DdsServiceClientBuilder::send_timeout).
 const DEFAULT_SEND_TIMEOUT: Duration = Duration::from_secs(10);
-
-/// Longest sleep of the reply thread (bounds drop time and send-timeout detection).
-const TICK: Duration = Duration::from_millis(10);
-
-/// Sleep of the reply thread while a request waits for a server (servers appear as graph
-/// changes, not reader events).
-const UNSENT_TICK: Duration = Duration::from_millis(2);
 
 /// Builds a [`DdsServiceClient`].
 #[must_use = "a builder does nothing until .build() is called"]
@@ -164,6 +157,7 @@ impl<S: Service> DdsServiceClient<S> {
 impl<S: Service> Drop for DdsServiceClient<S> {
     fn drop(&mut self) {
         self.shared.stop.store(true, Ordering::SeqCst);
+        self.shared.core.wake();
         if let Some(pump) = self.pump.take() {
             let _ = pump.join();
         }
@@ -188,7 +182,13 @@ impl<S: Service> ServiceClientTrait for DdsServiceClient<S> {
             body,
             queued: Instant::now(),
         });
-        self.shared.try_send(&mut state).map(|_sent| ())
+        let sent = self.shared.try_send(&mut state)?;
+        if !sent && state.unsent.is_some() {
+            // The reply thread sends it when a server is ready, or ends it at the send timeout.
+            drop(state);
+            self.shared.core.wake();
+        }
+        Ok(())
     }
 
     fn try_recv_reply_raw(
@@ -348,23 +348,37 @@ impl Shared {
     }
 
     /// The reply thread: receives replies, sends queued requests when a server becomes ready,
-    /// enforces the send timeout.
+    /// enforces the send timeout. Woken by replies, by drop, by a request queued with no server
+    /// ready and (while one is) by graph changes; otherwise only the send timeout or a server's
+    /// settling instant is due.
     fn pump(&self) {
         while !self.stop.load(Ordering::SeqCst) {
-            let tick = if self.state().unsent.is_some() {
-                UNSENT_TICK
-            } else {
-                TICK
-            };
-            self.core.wait_for_replies(tick);
             self.core.drain_replies();
             let mut state = self.state();
             self.collect(&mut state);
             if state.unsent.is_some() {
+                // Set before looking, so a server appearing after the look wakes us.
+                self.core.set_wake_on_graph_change(true);
                 if let Err(e) = self.try_send(&mut state) {
                     self.complete(&mut state, Err(e));
                 }
             }
+            let next = match &state.unsent {
+                Some(unsent) => {
+                    let timeout_at = unsent.queued + self.send_timeout;
+                    Some(match self.core.readiness() {
+                        Readiness::NotYet(Some(settles_at)) => settles_at.min(timeout_at),
+                        _ => timeout_at,
+                    })
+                }
+                None => {
+                    self.core.set_wake_on_graph_change(false);
+                    None
+                }
+            };
+            drop(state);
+            self.core
+                .wait_for_replies(next.map(|t| t.saturating_duration_since(Instant::now())));
         }
     }
 }

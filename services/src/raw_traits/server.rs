@@ -7,7 +7,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard};
 use std::task::Waker;
 use std::thread::JoinHandle;
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 use horus_ros_msgs::Service;
 use horus_ros_rmw::names::ServiceName;
@@ -20,10 +20,6 @@ use crate::runtime::Runtime;
 use crate::server_wire::{ReplyRoute, Request, ServerWire};
 use crate::wire::WireFlavour;
 use crate::SetupError;
-
-/// Longest sleep of the request thread (it is woken by requests, by drop and by graph changes
-/// while replies are parked: this only bounds a missed wake-up).
-const TICK: Duration = Duration::from_millis(10);
 
 /// Most requests received and not yet taken; beyond, the oldest is dropped.
 const MAX_QUEUED: usize = 4096;
@@ -298,15 +294,10 @@ impl Shared {
 
     /// The request thread: queues requests, wakes the waker, sends deferred replies.
     fn pump(&self, mut reader: RawReader) {
-        let mut next_expiry: Option<Instant> = None;
         while !self.stop.load(Ordering::SeqCst) {
-            let tick = next_expiry.map_or(TICK, |t| {
-                t.saturating_duration_since(Instant::now()).min(TICK)
-            });
-            reader.wait(tick);
             let mut arrived = false;
             let mut errors = 0;
-            loop {
+            let drained = loop {
                 match reader.take() {
                     Ok(Some(sample)) => {
                         if let Some(request) = self.wire.interpret(sample) {
@@ -319,16 +310,16 @@ impl Shared {
                             arrived = true;
                         }
                     }
-                    Ok(None) => break,
+                    Ok(None) => break true,
                     Err(e) => {
                         self.wire.warn_unreadable(&e);
                         errors += 1;
                         if errors >= MAX_ERRORS_PER_DRAIN {
-                            break;
+                            break false;
                         }
                     }
                 }
-            }
+            };
             if arrived {
                 let waker = self.waker().take();
                 if let Some(w) = waker {
@@ -336,7 +327,14 @@ impl Shared {
                 }
             }
             // Parked replies whose client can hear them now go out; old ones are dropped.
-            next_expiry = self.wire.flush(&lock(&self.writer));
+            let next_expiry = self.wire.flush(&lock(&self.writer));
+            if !drained {
+                // Wake-ups are edge-triggered: what is left would not wake us.
+                continue;
+            }
+            // Woken by requests, by drop, by `send_reply` parking a reply and by the graph
+            // changes a parked reply waits for; otherwise only a parked reply's expiry is due.
+            reader.wait(next_expiry.map(|t| t.saturating_duration_since(Instant::now())));
         }
     }
 }
