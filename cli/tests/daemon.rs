@@ -516,10 +516,8 @@ fn stopped_daemon_means_a_warning_and_direct_discovery() {
         );
     }
     daemon.signal(Signal::SIGCONT);
-    assert_eq!(
-        horus(D, &["daemon", "stop"]).stdout,
-        "The daemon has been stopped\n"
-    );
+    let run = horus(D, &["daemon", "stop"]);
+    assert_eq!(run.stdout, "The daemon has been stopped\n", "{run:?}");
 }
 
 #[test]
