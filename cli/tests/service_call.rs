@@ -280,3 +280,95 @@ fn no_server_gives_up_after_the_timeout() {
         "No server of /add_two_ints appeared within 1 s\n"
     );
 }
+
+/// `service bench` output: its four lines, with figures that are consistent.
+fn assert_bench_report(run: &common::Run, header: &str) {
+    assert_eq!(run.code, Some(0), "{run:?}");
+    let lines: Vec<&str> = run.stdout.lines().collect();
+    assert_eq!(lines.len(), 4, "{run:?}");
+    assert_eq!(lines[0], header, "{run:?}");
+    assert!(lines[1].starts_with("round trip: p50 "), "{run:?}");
+    assert!(lines[2].starts_with("throughput: "), "{run:?}");
+    assert_eq!(lines[3], "failed:     0", "{run:?}");
+}
+
+#[test]
+fn bench_measures_a_server_of_a_compiled_type_and_one_described_by_its_node() {
+    let _adder = Peer::start(
+        "cyclone_add_two_ints_server.py",
+        &["126", "/add_two_ints", LINGER],
+    );
+    // The type from the graph; two clients share the calls.
+    let run = horus(
+        126,
+        &[
+            "service",
+            "bench",
+            "/add_two_ints",
+            "{a: 2, b: 3}",
+            "-n",
+            "40",
+            "-c",
+            "2",
+        ],
+    );
+    assert_bench_report(
+        &run,
+        "service bench /add_two_ints (example_interfaces/srv/AddTwoInts): 40 calls, 2 clients, \
+         10 warm-up calls each",
+    );
+    // JSON: every call measured, the quantiles in order.
+    let run = horus(
+        126,
+        &[
+            "--json",
+            "service",
+            "bench",
+            "add_two_ints",
+            "--type",
+            "example_interfaces/AddTwoInts",
+            "-n",
+            "25",
+            "--warmup",
+            "0",
+        ],
+    );
+    assert_eq!(run.code, Some(0), "{run:?}");
+    let report: serde_json::Value = serde_json::from_str(&run.stdout).expect("JSON report");
+    assert_eq!(report["succeeded"], 25, "{report}");
+    assert_eq!(report["failed"], 0, "{report}");
+    assert_eq!(
+        report["type"], "example_interfaces/srv/AddTwoInts",
+        "{report}"
+    );
+    let us = |k: &str| report[k].as_f64().unwrap_or(f64::NAN);
+    assert!(
+        0.0 < us("p50_us") && us("p50_us") <= us("p99_us") && us("p99_us") <= us("max_us"),
+        "{report}"
+    );
+    // A type no build of ours knows, learnt from the serving node.
+    let _typed = Peer::start("cyclone_typed_server.py", &["127", LINGER, "1"]);
+    let run = horus(
+        127,
+        &["service", "bench", "/describe", "{label: x}", "-n", "10"],
+    );
+    assert_bench_report(
+        &run,
+        "service bench /describe (horus_test_msgs/srv/Describe): 10 calls, 1 client, 10 warm-up \
+         calls each",
+    );
+}
+
+#[test]
+fn bench_without_a_server_gives_up_after_the_timeout() {
+    let run = horus(
+        128,
+        &["service", "bench", "/add_two_ints", "--timeout", "1"],
+    );
+    assert_eq!(run.code, Some(1), "{run:?}");
+    assert_eq!(run.stdout, "");
+    assert_eq!(
+        run.stderr,
+        "No server of /add_two_ints appeared within 1 s\n"
+    );
+}

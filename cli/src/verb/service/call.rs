@@ -25,11 +25,11 @@ use horus_ros_msgs::dds_type_name;
 use horus_ros_msgs::description::{REQUEST_SUFFIX, RESPONSE_SUFFIX};
 use horus_ros_rmw::names::ServiceName;
 
-use crate::dynamic::{cdr, repr, yaml};
+use crate::dynamic::{cdr, repr, yaml, Value};
 use crate::session::Session;
 use crate::{CliError, Global};
 use describe::ServiceTypeInfo;
-use horus_ros_services::{DynamicPart, DynamicServiceClient, ServiceError};
+use horus_ros_services::{DynamicPart, DynamicServiceClient, RawReply, ServiceError};
 
 /// Arguments of `service call`.
 #[derive(Debug, clap::Args)]
@@ -86,104 +86,18 @@ pub fn run(global: &Global, args: &CallArgs) -> Result<(), CliError> {
         None => None,
     };
     let timeout = Duration::from_secs_f64(args.timeout);
-    let service_type = normalize_type(&args.service_type)?;
-    // ros2cli loads the YAML before anything else.
-    if let Err(e) = yaml_rust2::YamlLoader::load_from_str(&args.values) {
-        return Err(CliError::new(format!(
-            "Failed to parse values as YAML: {e}"
-        )));
-    }
-    let compiled = describe::compiled(&service_type)
-        .map(|d| ServiceTypeInfo::from_descriptions(&service_type, &[d]))
-        .transpose()
-        .map_err(CliError::new)?;
-    let request_type = format!("{service_type}{REQUEST_SUFFIX}");
-    let response_type = format!("{service_type}{RESPONSE_SUFFIX}");
-    let fill = |info: &ServiceTypeInfo| {
-        yaml::fill_from_yaml(&info.schema, &request_type, &args.values)
-            .map_err(|e| CliError::new(format!("Failed to populate field: {e}")))
-    };
-    // Known types are checked before joining the graph, as ros2cli does.
-    let early_request = compiled.as_ref().map(fill).transpose()?;
-
-    let session = Session::open(global)?;
-    let service = ServiceName::expand(
-        &args.service_name,
-        session.node.name(),
-        session.node.namespace(),
-    )
-    .map_err(|e| CliError::new(format!("Invalid service name '{}': {e}", args.service_name)))?;
-    // A type not compiled in can only be learnt from a server that offers it; ros2cli fails at
-    // once on a type it cannot import, and so do we when no server in the graph has it.
-    if compiled.is_none() && !type_offered(&session, &service_type) {
-        return Err(CliError::new(format!(
-            "Unknown service type '{service_type}': it is not built into horus-ros and no \
-             node in the graph uses it (a server's ~/get_type_description would describe it)"
-        )));
-    }
-    let deadline = Instant::now() + timeout;
-    if !server_listed(&session, service.as_str(), &service_type) {
-        println!("waiting for service to become available...");
-        while !server_listed(&session, service.as_str(), &service_type) {
-            let now = Instant::now();
-            if now >= deadline {
-                return Err(no_server(
-                    &session,
-                    service.as_str(),
-                    &service_type,
-                    timeout,
-                ));
-            }
-            session
-                .graph
-                .wait_for_graph_change((deadline - now).min(Duration::from_millis(50)));
-        }
-    }
-    let (info, request) = match (compiled, early_request) {
-        (Some(info), Some(request)) => (info, request),
-        _ => {
-            let info = describe::fetch(
-                &session.node,
-                &session.graph,
-                service.as_str(),
-                &service_type,
-                timeout,
-            )
-            .map_err(|e| CliError::new(format!("Cannot call {service}: {e}")))?;
-            let request = fill(&info)?;
-            (info, request)
-        }
-    };
-    let body = cdr::encode(&info.schema, &request_type, &request)
-        .map_err(|e| CliError::new(format!("Cannot encode the request: {e}")))?;
-    let mut client = DynamicServiceClient::builder(
-        service.as_str(),
-        service_type.as_str(),
-        DynamicPart {
-            dds_type_name: dds_type_name(&request_type),
-            type_hash: info.request.compute_type_hash(),
-        },
-        DynamicPart {
-            dds_type_name: dds_type_name(&response_type),
-            type_hash: info.response.compute_type_hash(),
-        },
-    )
-    .node(&session.node)
-    .build()?;
-    let request_repr = repr::repr(&info.schema, &request_type, &request);
+    let target = Target::prepare(&args.service_type, &args.values)?;
+    let opened = target.open(global, &args.service_name, timeout)?;
+    let mut client = opened.client()?;
+    let request_repr = opened.request_repr();
     let mut calls = 0u64;
     loop {
         println!("requester: making request: {request_repr}\n");
         let last_call = Instant::now();
         let reply = client
-            .call(body.clone(), timeout)
-            .map_err(|e| call_error(e, &service, timeout))?;
-        let response = cdr::decode(&info.schema, &response_type, &reply.body, reply.big_endian)
-            .map_err(|e| CliError::new(format!("Cannot decode the response of {service}: {e}")))?;
-        println!(
-            "response:\n{}\n",
-            repr::repr(&info.schema, &response_type, &response)
-        );
+            .call(opened.body.clone(), timeout)
+            .map_err(|e| call_error(e, &opened.service, timeout))?;
+        println!("response:\n{}\n", opened.response_repr(&reply)?);
         calls += 1;
         let Some(period) = period else { break };
         if args.count.is_some_and(|n| calls >= n) {
@@ -194,6 +108,197 @@ pub fn run(global: &Global, args: &CallArgs) -> Result<(), CliError> {
         }
     }
     Ok(())
+}
+
+/// A service type and the request's YAML, checked: what `service call` and `service bench`
+/// share before joining the graph.
+pub(crate) struct Target {
+    service_type: String,
+    values: String,
+    /// The type information and the request, when the type is compiled in.
+    compiled: Option<(ServiceTypeInfo, Value)>,
+}
+
+impl Target {
+    /// Checks the type and, when it is compiled in, the request — before joining the graph, as
+    /// ros2cli does.
+    pub(crate) fn prepare(service_type: &str, values: &str) -> Result<Self, CliError> {
+        let service_type = normalize_type(service_type)?;
+        // ros2cli loads the YAML before anything else.
+        if let Err(e) = yaml_rust2::YamlLoader::load_from_str(values) {
+            return Err(CliError::new(format!(
+                "Failed to parse values as YAML: {e}"
+            )));
+        }
+        let info = describe::compiled(&service_type)
+            .map(|d| ServiceTypeInfo::from_descriptions(&service_type, &[d]))
+            .transpose()
+            .map_err(CliError::new)?;
+        let compiled = match info {
+            Some(info) => {
+                let request = fill(&info, &service_type, values)?;
+                Some((info, request))
+            }
+            None => None,
+        };
+        Ok(Self {
+            service_type,
+            values: values.to_owned(),
+            compiled,
+        })
+    }
+
+    /// Joins the graph, resolves `service_name`, waits (within `timeout`) for a server, learns
+    /// the type from its node if it is not compiled in, and encodes the request.
+    pub(crate) fn open(
+        self,
+        global: &Global,
+        service_name: &str,
+        timeout: Duration,
+    ) -> Result<Opened, CliError> {
+        self.open_in(Session::open(global)?, service_name, timeout)
+    }
+
+    /// [`open`](Self::open) in a session already open.
+    pub(crate) fn open_in(
+        self,
+        session: Session,
+        service_name: &str,
+        timeout: Duration,
+    ) -> Result<Opened, CliError> {
+        let service =
+            ServiceName::expand(service_name, session.node.name(), session.node.namespace())
+                .map_err(|e| {
+                    CliError::new(format!("Invalid service name '{service_name}': {e}"))
+                })?;
+        let service_type = self.service_type;
+        // A type not compiled in can only be learnt from a server that offers it; ros2cli
+        // fails at once on a type it cannot import, and so do we when no server in the graph
+        // has it.
+        if self.compiled.is_none() && !type_offered(&session, &service_type) {
+            return Err(CliError::new(format!(
+                "Unknown service type '{service_type}': it is not built into horus-ros and no \
+                 node in the graph uses it (a server's ~/get_type_description would describe it)"
+            )));
+        }
+        let deadline = Instant::now() + timeout;
+        if !server_listed(&session, service.as_str(), &service_type) {
+            println!("waiting for service to become available...");
+            while !server_listed(&session, service.as_str(), &service_type) {
+                let now = Instant::now();
+                if now >= deadline {
+                    return Err(no_server(
+                        &session,
+                        service.as_str(),
+                        &service_type,
+                        timeout,
+                    ));
+                }
+                // Servers appearing are graph changes.
+                session.graph.wait_for_graph_change(deadline - now);
+            }
+        }
+        let (info, request) = match self.compiled {
+            Some(compiled) => compiled,
+            None => {
+                let info = describe::fetch(
+                    &session.node,
+                    &session.graph,
+                    service.as_str(),
+                    &service_type,
+                    timeout,
+                )
+                .map_err(|e| CliError::new(format!("Cannot call {service}: {e}")))?;
+                let request = fill(&info, &service_type, &self.values)?;
+                (info, request)
+            }
+        };
+        let body = cdr::encode(
+            &info.schema,
+            &format!("{service_type}{REQUEST_SUFFIX}"),
+            &request,
+        )
+        .map_err(|e| CliError::new(format!("Cannot encode the request: {e}")))?;
+        Ok(Opened {
+            session,
+            service,
+            service_type,
+            info,
+            request,
+            body,
+        })
+    }
+}
+
+/// The request of `service_type` filled from `values`.
+fn fill(info: &ServiceTypeInfo, service_type: &str, values: &str) -> Result<Value, CliError> {
+    yaml::fill_from_yaml(
+        &info.schema,
+        &format!("{service_type}{REQUEST_SUFFIX}"),
+        values,
+    )
+    .map_err(|e| CliError::new(format!("Failed to populate field: {e}")))
+}
+
+/// A [`Target`] on the graph: the session, the service's full name and type, the encoded
+/// request.
+pub(crate) struct Opened {
+    /// The CLI's session (its node and graph).
+    pub(crate) session: Session,
+    /// The fully-qualified service name.
+    pub(crate) service: ServiceName,
+    /// The service type (`pkg/srv/Name`).
+    pub(crate) service_type: String,
+    info: ServiceTypeInfo,
+    request: Value,
+    /// The encoded request.
+    pub(crate) body: Vec<u8>,
+}
+
+impl Opened {
+    /// A new client of the service on the session's node.
+    pub(crate) fn client(&self) -> Result<DynamicServiceClient, CliError> {
+        let request_type = format!("{}{REQUEST_SUFFIX}", self.service_type);
+        let response_type = format!("{}{RESPONSE_SUFFIX}", self.service_type);
+        Ok(DynamicServiceClient::builder(
+            self.service.as_str(),
+            self.service_type.as_str(),
+            DynamicPart {
+                dds_type_name: dds_type_name(&request_type),
+                type_hash: self.info.request.compute_type_hash(),
+            },
+            DynamicPart {
+                dds_type_name: dds_type_name(&response_type),
+                type_hash: self.info.response.compute_type_hash(),
+            },
+        )
+        .node(&self.session.node)
+        .build()?)
+    }
+
+    /// The request as Python's `repr` shows it.
+    pub(crate) fn request_repr(&self) -> String {
+        let request_type = format!("{}{REQUEST_SUFFIX}", self.service_type);
+        repr::repr(&self.info.schema, &request_type, &self.request)
+    }
+
+    /// A reply decoded as the response type, as Python's `repr` shows it.
+    pub(crate) fn response_repr(&self, reply: &RawReply) -> Result<String, CliError> {
+        let response_type = format!("{}{RESPONSE_SUFFIX}", self.service_type);
+        let response = cdr::decode(
+            &self.info.schema,
+            &response_type,
+            &reply.body,
+            reply.big_endian,
+        )
+        .map_err(|e| {
+            CliError::new(format!(
+                "Cannot decode the response of {}: {e}",
+                self.service
+            ))
+        })?;
+        Ok(repr::repr(&self.info.schema, &response_type, &response))
+    }
 }
 
 /// Whether any server or client in the graph has type `service_type`.
@@ -233,7 +338,7 @@ fn no_server(session: &Session, service: &str, service_type: &str, timeout: Dura
     }
 }
 
-fn call_error(e: ServiceError, service: &ServiceName, timeout: Duration) -> CliError {
+pub(crate) fn call_error(e: ServiceError, service: &ServiceName, timeout: Duration) -> CliError {
     CliError::new(match e {
         ServiceError::NoServer => format!(
             "The server of {service} did not become reachable within {} s",

@@ -1,5 +1,6 @@
 //! `horus-ros service …`: ros2cli's `ros2 service` verbs.
 
+pub mod bench;
 pub mod call;
 pub mod echo;
 pub mod find;
@@ -26,6 +27,8 @@ pub enum ServiceCommand {
     Call(call::CallArgs),
     /// Echo a service: print the events of servers and clients with introspection on.
     Echo(echo::EchoArgs),
+    /// Measure a live server: round trip p50/p99/max and calls/s, with one or more clients.
+    Bench(bench::BenchArgs),
 }
 
 /// Runs a `service` verb.
@@ -37,5 +40,6 @@ pub fn run(global: &Global, command: ServiceCommand) -> Result<(), CliError> {
         ServiceCommand::Info(a) => info::run(global, &a),
         ServiceCommand::Call(a) => call::run(global, &a),
         ServiceCommand::Echo(a) => echo::run(global, &a),
+        ServiceCommand::Bench(a) => bench::run(global, &a),
     }
 }
