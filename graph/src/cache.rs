@@ -479,21 +479,19 @@ impl GraphCache {
 }
 
 /// The items of `a` not matched one-for-one by items of `b` (multiset difference, `a`'s order).
-fn multiset_minus<T: Clone + PartialEq>(a: &[T], b: &[T]) -> Vec<T> {
-    let mut used = vec![false; b.len()];
+fn multiset_minus<T: Clone + Eq + std::hash::Hash>(a: &[T], b: &[T]) -> Vec<T> {
+    // Counted once (O(n + m)): a node announced twice and withdrawn once is still there once.
+    let mut left: HashMap<&T, usize> = HashMap::with_capacity(b.len());
+    for item in b {
+        *left.entry(item).or_default() += 1;
+    }
     a.iter()
-        .filter(|item| {
-            match b
-                .iter()
-                .enumerate()
-                .position(|(i, other)| !used[i] && other == *item)
-            {
-                Some(i) => {
-                    used[i] = true;
-                    false
-                }
-                None => true,
+        .filter(|item| match left.get_mut(item) {
+            Some(n) if *n > 0 => {
+                *n -= 1;
+                false
             }
+            _ => true,
         })
         .cloned()
         .collect()

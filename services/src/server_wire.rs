@@ -18,6 +18,9 @@ use crate::wire::{
     HORUS_CLIENT_MARKER,
 };
 
+/// Most clients remembered as refused (whose convention this backend cannot answer).
+const MAX_REFUSED: usize = 1024;
+
 /// What a reply to one request needs, in the convention of the client that sent it.
 #[derive(Clone, Copy, Debug)]
 pub(crate) enum ReplyRoute {
@@ -234,11 +237,14 @@ impl ServerWire {
         let flavour = match WireFlavour::choose(self.backend, vendor, self.flavour) {
             Ok(flavour) => flavour,
             Err(why) => {
-                let first = self
-                    .refused
-                    .lock()
-                    .unwrap_or_else(|p| p.into_inner())
-                    .insert(sample.id.writer);
+                let first = {
+                    let mut refused = self.refused.lock().unwrap_or_else(|p| p.into_inner());
+                    // Bounded: beyond, forgotten (each such client is warned of once more).
+                    if refused.len() >= MAX_REFUSED {
+                        refused.clear();
+                    }
+                    refused.insert(sample.id.writer)
+                };
                 if first {
                     tracing::warn!(
                         service = %self.service,
