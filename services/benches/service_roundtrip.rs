@@ -8,7 +8,8 @@
 //! 1. a raw UDP ping-pong on 127.0.0.1 (two threads, blocking receive, 20-byte payload = the
 //!    CDR size of an AddTwoInts request), the floor any transport over loopback UDP sits on;
 //! 2. horus-ros `ServiceClient::call` to a `ServiceServer` (AddTwoInts), server and client in
-//!    two `Context`s (two DDS participants, as two processes would have), and in one `Context`,
+//!    two processes (the server in a child process of this bench), in two `Context`s of one
+//!    process (two DDS participants), and in one `Context`,
 //!    on each backend: rustdds, and Cyclone DDS when built with the feature `cyclone`
 //!    (`cargo bench -p horus-ros-services --features cyclone`; scripts/bench does);
 //! 3. ros2-client 0.12's own service API (`ServiceMapping::Enhanced`, two ros2-client contexts,
@@ -16,8 +17,12 @@
 //!    `async_send_response`, each side driven by a minimal thread-parking executor).
 //!
 //! Then prints p50 / p99 / calls per second of each, each as a ratio to the raw UDP baseline of
-//! the same run, and the goals of issue 4: p50 horus / UDP ≤ 1.5 and throughput horus /
-//! ros2-client ≥ 2.
+//! the same run, and the goals: on Cyclone DDS p50 ≤ 1.3× and p99 ≤ 2× raw UDP, on rustdds p50
+//! ≤ 0.5× ros2-client's, and throughput horus / ros2-client ≥ 2.
+//!
+//! Last, the **first call**: a client (context of its own) calls a service whose server does not
+//! exist yet; then a server (another context) starts; the time from the server's `build()` to
+//! the call's reply, 5 times per backend (goals: ≤ 50 ms on Cyclone DDS, ≤ 150 ms on rustdds).
 //!
 //! The Cyclone DDS variants run with the environment's `CYCLONEDDS_URI`; when it is unset, the
 //! bench sets a loopback-only configuration (interface `lo`, multicast allowed), since the
@@ -25,7 +30,7 @@
 //!
 //! Environment: `HORUS_BENCH_CALLS` (measured calls per variant, default 30000),
 //! `HORUS_BENCH_ROUNDS` (default 10), `HORUS_BENCH_ONLY` (comma-separated subset of
-//! `udp,horus2,horus1,cyclone2,cyclone1,ros2`, for profiling one variant; the ratio and goal
+//! `udp,horusp,horus2,horus1,cyclonep,cyclone2,cyclone1,ros2,first`, for profiling one variant; the ratio and goal
 //! lines need the baselines).
 
 use std::future::Future;
@@ -54,6 +59,11 @@ const DOMAIN_HORUS_ONE: u32 = 62;
 const DOMAIN_ROS2_CLIENT: u16 = 63;
 const DOMAIN_CYCLONE_TWO: u32 = 64;
 const DOMAIN_CYCLONE_ONE: u32 = 65;
+const DOMAIN_HORUS_PROCESSES: u32 = 66;
+const DOMAIN_CYCLONE_PROCESSES: u32 = 67;
+/// Set in the server child of a two-process variant: `<backend> <domain>`.
+const SERVER_CHILD_ENV: &str = "HORUS_BENCH_SERVER_CHILD";
+const SERVICE: &str = "/bench_add_two_ints";
 /// The Cyclone DDS configuration used when `CYCLONEDDS_URI` is unset: loopback, with multicast.
 const CYCLONE_LOOPBACK: &str = "<CycloneDDS><Domain Id=\"any\"><General><Interfaces>\
     <NetworkInterface name=\"lo\" multicast=\"true\"/></Interfaces>\
@@ -230,44 +240,125 @@ impl Drop for UdpPingPong {
 struct Horus {
     client: ServiceClient<AddTwoInts>,
     // Kept alive for the client; dropped after it.
-    _server: ServiceServer<AddTwoInts>,
+    _server: Server,
     _nodes: Vec<Node>,
 }
 
+/// Where the server of a variant runs.
+enum Server {
+    /// Kept alive while the variant runs.
+    InProcess { _server: ServiceServer<AddTwoInts> },
+    /// A child process serving until its stdin closes.
+    Child(std::process::Child),
+}
+
+impl Drop for Server {
+    fn drop(&mut self) {
+        if let Self::Child(child) = self {
+            // Closing its stdin ends it.
+            drop(child.stdin.take());
+            let _ = child.wait();
+        }
+    }
+}
+
+/// Where server and client run.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Layout {
+    OneContext,
+    TwoContexts,
+    TwoProcesses,
+}
+
+fn context(backend: Backend, domain: u32) -> Result<Context, String> {
+    Context::builder()
+        .domain_id(domain)
+        .backend(backend)
+        .build()
+        .map_err(|e| format!("context: {e}"))
+}
+
+fn add_two_ints_server(node: &Node) -> Result<ServiceServer<AddTwoInts>, String> {
+    ServiceServerBuilder::<AddTwoInts>::new()
+        .node(node)
+        .name(SERVICE)
+        .on_request(|req| {
+            Ok(AddTwoIntsResponse {
+                sum: req.a.wrapping_add(req.b),
+            })
+        })
+        .build()
+        .map_err(|e| format!("server: {e}"))
+}
+
+/// The server child of a two-process variant: serves until its stdin closes.
+fn server_child(spec: &str) {
+    let mut parts = spec.split_whitespace();
+    let backend: Backend = parts
+        .next()
+        .and_then(|b| b.parse().ok())
+        .expect("backend in HORUS_BENCH_SERVER_CHILD");
+    let domain: u32 = parts
+        .next()
+        .and_then(|d| d.parse().ok())
+        .expect("domain in HORUS_BENCH_SERVER_CHILD");
+    let node = context(backend, domain)
+        .and_then(|c| {
+            c.create_node("bench_server", "/")
+                .map_err(|e| e.to_string())
+        })
+        .expect("server node");
+    let _server = add_two_ints_server(&node).expect("server");
+    println!("serving");
+    let mut rest = String::new();
+    let _ = std::io::Read::read_to_string(&mut std::io::stdin(), &mut rest);
+}
+
 impl Horus {
-    fn start(backend: Backend, domain: u32, two_contexts: bool) -> Result<Self, String> {
-        let context = || {
-            Context::builder()
-                .domain_id(domain)
-                .backend(backend)
-                .build()
-                .map_err(|e| format!("context: {e}"))
-        };
-        let server_context = context()?;
-        let client_context = if two_contexts {
-            context()?
-        } else {
-            server_context.clone()
-        };
-        let server_node = server_context
-            .create_node("bench_server", "/")
-            .map_err(|e| format!("node: {e}"))?;
+    fn start(backend: Backend, domain: u32, layout: Layout) -> Result<Self, String> {
+        let client_context = context(backend, domain)?;
         let client_node = client_context
             .create_node("bench_client", "/")
             .map_err(|e| format!("node: {e}"))?;
-        let server = ServiceServerBuilder::<AddTwoInts>::new()
-            .node(&server_node)
-            .name("/bench_add_two_ints")
-            .on_request(|req| {
-                Ok(AddTwoIntsResponse {
-                    sum: req.a.wrapping_add(req.b),
-                })
-            })
-            .build()
-            .map_err(|e| format!("server: {e}"))?;
+        let mut nodes = vec![client_node.clone()];
+        let server = match layout {
+            Layout::TwoProcesses => {
+                let exe = std::env::current_exe().map_err(|e| e.to_string())?;
+                let mut child = std::process::Command::new(exe)
+                    .env(SERVER_CHILD_ENV, format!("{backend} {domain}"))
+                    .stdin(std::process::Stdio::piped())
+                    .stdout(std::process::Stdio::piped())
+                    .spawn()
+                    .map_err(|e| format!("server process: {e}"))?;
+                let mut line = String::new();
+                if let Some(out) = child.stdout.take() {
+                    let _ =
+                        std::io::BufRead::read_line(&mut std::io::BufReader::new(out), &mut line);
+                }
+                if line.trim() != "serving" {
+                    let _ = child.kill();
+                    let _ = child.wait();
+                    return Err("the server process did not start".to_owned());
+                }
+                Server::Child(child)
+            }
+            Layout::TwoContexts | Layout::OneContext => {
+                let server_context = if layout == Layout::TwoContexts {
+                    context(backend, domain)?
+                } else {
+                    client_context.clone()
+                };
+                let server_node = server_context
+                    .create_node("bench_server", "/")
+                    .map_err(|e| format!("node: {e}"))?;
+                let server = add_two_ints_server(&server_node)?;
+                nodes.push(server_node);
+                Server::InProcess { _server: server }
+            }
+        };
         let client = ServiceClient::<AddTwoInts>::builder()
             .node(&client_node)
-            .name("/bench_add_two_ints")
+            .name(SERVICE)
             .build()
             .map_err(|e| format!("client: {e}"))?;
         if !client.wait_for_service(DISCOVERY_TIMEOUT) {
@@ -278,7 +369,7 @@ impl Horus {
         let mut bench = Self {
             client,
             _server: server,
-            _nodes: vec![server_node, client_node],
+            _nodes: nodes,
         };
         for i in 0..WARMUP {
             bench.call(i as i64);
@@ -519,39 +610,51 @@ fn verdict(met: bool) -> &'static str {
     }
 }
 
-/// One horus-ros variant: its name in `HORUS_BENCH_ONLY`, backend, domain and whether server and
-/// client have a context each.
+/// One horus-ros variant: its name in `HORUS_BENCH_ONLY`, backend, domain and where server and
+/// client run.
 struct HorusVariant {
     key: &'static str,
     backend: Backend,
     domain: u32,
-    two_contexts: bool,
+    layout: Layout,
 }
 
-const HORUS_VARIANTS: [HorusVariant; 4] = [
+const HORUS_VARIANTS: [HorusVariant; 6] = [
+    HorusVariant {
+        key: "horusp",
+        backend: Backend::RustDds,
+        domain: DOMAIN_HORUS_PROCESSES,
+        layout: Layout::TwoProcesses,
+    },
     HorusVariant {
         key: "horus2",
         backend: Backend::RustDds,
         domain: DOMAIN_HORUS_TWO,
-        two_contexts: true,
+        layout: Layout::TwoContexts,
     },
     HorusVariant {
         key: "horus1",
         backend: Backend::RustDds,
         domain: DOMAIN_HORUS_ONE,
-        two_contexts: false,
+        layout: Layout::OneContext,
+    },
+    HorusVariant {
+        key: "cyclonep",
+        backend: Backend::Cyclone,
+        domain: DOMAIN_CYCLONE_PROCESSES,
+        layout: Layout::TwoProcesses,
     },
     HorusVariant {
         key: "cyclone2",
         backend: Backend::Cyclone,
         domain: DOMAIN_CYCLONE_TWO,
-        two_contexts: true,
+        layout: Layout::TwoContexts,
     },
     HorusVariant {
         key: "cyclone1",
         backend: Backend::Cyclone,
         domain: DOMAIN_CYCLONE_ONE,
-        two_contexts: false,
+        layout: Layout::OneContext,
     },
 ];
 
@@ -560,10 +663,10 @@ impl HorusVariant {
         format!(
             "horus-ros {}, {}",
             self.backend,
-            if self.two_contexts {
-                "2 contexts"
-            } else {
-                "1 context"
+            match self.layout {
+                Layout::TwoProcesses => "2 processes",
+                Layout::TwoContexts => "2 contexts",
+                Layout::OneContext => "1 context",
             }
         )
     }
@@ -583,12 +686,96 @@ fn times(value: f64, baseline: f64) -> String {
     }
 }
 
+// ---------------------------------------------------------------------------------------------
+// 4. The first call after the server appears.
+
+const DOMAIN_FIRST_CALL: u32 = 68;
+const FIRST_CALL_REPEATS: usize = 5;
+
+/// The time from a server's `build()` to the reply of a call that was waiting for it.
+fn first_call(backend: Backend, repeat: usize) -> Result<Duration, String> {
+    let name = format!("/first_call_{repeat}");
+    let client_node = context(backend, DOMAIN_FIRST_CALL)?
+        .create_node("first_client", "/")
+        .map_err(|e| e.to_string())?;
+    let server_node = context(backend, DOMAIN_FIRST_CALL)?
+        .create_node("first_server", "/")
+        .map_err(|e| e.to_string())?;
+    let mut client = ServiceClient::<AddTwoInts>::builder()
+        .node(&client_node)
+        .name(name.clone())
+        .build()
+        .map_err(|e| format!("client: {e}"))?;
+    let (started_tx, started_rx) = std::sync::mpsc::channel::<Instant>();
+    let caller = thread::spawn(move || {
+        let reply = client.call(AddTwoIntsRequest { a: 1, b: 2 }, DISCOVERY_TIMEOUT);
+        (reply, Instant::now())
+    });
+    let server_thread = thread::spawn(move || {
+        let started = Instant::now();
+        let server = ServiceServerBuilder::<AddTwoInts>::new()
+            .node(&server_node)
+            .name(name)
+            .on_request(|req| Ok(AddTwoIntsResponse { sum: req.a + req.b }))
+            .build();
+        let _ = started_tx.send(started);
+        server
+    });
+    let (reply, replied) = caller.join().map_err(|_| "caller panicked".to_owned())?;
+    let _server = server_thread
+        .join()
+        .map_err(|_| "server thread panicked".to_owned())?
+        .map_err(|e| format!("server: {e}"))?;
+    let started = started_rx.recv().map_err(|e| e.to_string())?;
+    let reply = reply.map_err(|e| format!("first call: {e}"))?;
+    if reply.sum != 3 {
+        return Err(format!("first call: wrong sum {}", reply.sum));
+    }
+    Ok(replied.saturating_duration_since(started))
+}
+
+fn first_calls() {
+    println!();
+    println!(
+        "first call: a waiting client's reply after its server's build(), {FIRST_CALL_REPEATS} times"
+    );
+    for backend in Backend::ALL.iter().copied().filter(|b| b.is_available()) {
+        let goal = match backend {
+            Backend::Cyclone => Duration::from_millis(50),
+            Backend::RustDds => Duration::from_millis(150),
+        };
+        let mut times = Vec::new();
+        for repeat in 0..FIRST_CALL_REPEATS {
+            match first_call(backend, repeat) {
+                Ok(t) => times.push(t),
+                Err(e) => println!("  {backend:>8}: {e}"),
+            }
+        }
+        times.sort();
+        let Some(max) = times.last().copied() else {
+            continue;
+        };
+        let median = times[times.len() / 2];
+        println!(
+            "  {backend:>8}: median {:.1} ms, max {:.1} ms (goal ≤ {} ms) {}",
+            median.as_secs_f64() * 1e3,
+            max.as_secs_f64() * 1e3,
+            goal.as_millis(),
+            verdict(median <= goal)
+        );
+    }
+}
+
 fn main() {
     refuse_outside_namespace();
     // Before any thread starts (Cyclone DDS reads it when a context creates its domain).
     let cyclone_uri_set = std::env::var_os("CYCLONEDDS_URI").is_some();
     if !cyclone_uri_set {
         std::env::set_var("CYCLONEDDS_URI", CYCLONE_LOOPBACK);
+    }
+    if let Ok(spec) = std::env::var(SERVER_CHILD_ENV) {
+        server_child(&spec);
+        return;
     }
     thread::spawn(|| {
         thread::sleep(WATCHDOG);
@@ -655,7 +842,7 @@ fn main() {
                     Some("not built in (build with --features cyclone)".into()),
                 );
             }
-            match Horus::start(v.backend, v.domain, v.two_contexts) {
+            match Horus::start(v.backend, v.domain, v.layout) {
                 Ok(h) => (stats, Some(h), None),
                 Err(e) => {
                     println!("  {} could not be benchmarked: {e}", v.name());
@@ -802,27 +989,46 @@ fn main() {
     }
     println!();
 
-    for (s, _, _) in &horus {
+    // Goals: Cyclone DDS p50 ≤ 1.3× and p99 ≤ 2× raw UDP; rustdds p50 ≤ 0.5× ros2-client's.
+    for ((s, _, _), v) in horus.iter().zip(&HORUS_VARIANTS) {
         if s.samples.is_empty() || udp_stats.samples.is_empty() {
-            println!(
-                "  p50 ratio horus/udp = n/a (goal ≤ 1.5) NOT MEASURED   [{}]",
-                s.name
-            );
+            println!("  p50 goal: n/a NOT MEASURED   [{}]", s.name);
             continue;
         }
-        let ratio = micros(s.p50()) / udp_p50;
-        let caveat = unstable_floor.map_or(String::new(), |floor| {
-            format!(
-                " (baseline unstable; against its fastest round {:.2}: {})",
-                micros(s.p50()) / floor,
-                verdict(micros(s.p50()) / floor <= 1.5)
-            )
-        });
-        println!(
-            "  p50 ratio horus/udp = {ratio:.2} (goal ≤ 1.5) {}{caveat}   [{}]",
-            verdict(ratio <= 1.5),
-            s.name
-        );
+        match v.backend {
+            Backend::Cyclone => {
+                let p50 = micros(s.p50()) / udp_p50;
+                let p99 = micros(s.p99()) / udp_p99;
+                let caveat = unstable_floor.map_or(String::new(), |floor| {
+                    format!(
+                        " (baseline unstable; p50 against its fastest round {:.2}: {})",
+                        micros(s.p50()) / floor,
+                        verdict(micros(s.p50()) / floor <= 1.3)
+                    )
+                });
+                println!(
+                    "  p50/udp = {p50:.2} (goal ≤ 1.3) {}, p99/udp = {p99:.2} (goal ≤ 2) {}{caveat}   [{}]",
+                    verdict(p50 <= 1.3),
+                    verdict(p99 <= 2.0),
+                    s.name
+                );
+            }
+            Backend::RustDds => {
+                if ros2_stats.samples.is_empty() {
+                    println!(
+                        "  p50/ros2-client = n/a (goal ≤ 0.5) NOT MEASURED   [{}]",
+                        s.name
+                    );
+                    continue;
+                }
+                let ratio = micros(s.p50()) / micros(ros2_stats.p50());
+                println!(
+                    "  p50/ros2-client = {ratio:.2} (goal ≤ 0.5) {}   [{}]",
+                    verdict(ratio <= 0.5),
+                    s.name
+                );
+            }
+        }
     }
     for (s, _, _) in &horus {
         if s.samples.is_empty() || ros2_stats.samples.is_empty() {
@@ -838,6 +1044,9 @@ fn main() {
             verdict(ratio >= 2.0),
             s.name
         );
+    }
+    if wanted("first") {
+        first_calls();
     }
     if failed_setup {
         std::process::exit(1);
