@@ -204,10 +204,13 @@ fn call_resilient_retries_a_timeout() {
 #[test]
 fn a_server_dropped_mid_call_gives_the_client_an_error_within_its_timeout() {
     let n = node(86, "vanishing");
+    let (handling_tx, handling_rx) = std::sync::mpsc::channel();
     let server = ServiceServerBuilder::<AddTwoInts>::new()
         .node(&n)
         .name("/vanishing")
-        .on_request(|req| {
+        .on_request(move |req| {
+            let _ = handling_tx.send(());
+            // A slow handler: the server is stopped while it runs.
             std::thread::sleep(Duration::from_millis(300));
             Ok(AddTwoIntsResponse { sum: req.a + req.b })
         })
@@ -216,7 +219,8 @@ fn a_server_dropped_mid_call_gives_the_client_an_error_within_its_timeout() {
     let mut c = client(&n, "/vanishing");
     assert!(c.wait_for_service(10 * SECOND));
     let stopper = std::thread::spawn(move || {
-        std::thread::sleep(Duration::from_millis(50));
+        // Stopped mid-call: once the handler has the request.
+        let _ = handling_rx.recv_timeout(10 * SECOND);
         server.stop();
         drop(server);
     });
