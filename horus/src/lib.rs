@@ -34,6 +34,12 @@
 
 mod api;
 
+/// The README's Rust examples, compiled and run as doctests (the services example calls its
+/// own server; the scheduler example, which runs until Ctrl+C, is compiled only).
+#[cfg(doctest)]
+#[doc = include_str!("../../README.md")]
+pub struct ReadmeDoctests;
+
 pub use api::clock::{Clock, ManualClock, StopHandle, SystemClock};
 pub use api::current;
 pub use api::error::{BuildError, ConfigError, Error, MessageError, Result, SchedulerError};
