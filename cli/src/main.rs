@@ -209,14 +209,31 @@ fn quiet_on_closed_stdout() {
     }));
 }
 
+/// The log filter: `RUST_LOG` (default `warn`), with rustdds' own lines off unless `RUST_LOG`
+/// names it. rustdds 0.15 logs internal queue overflows as errors whenever a peer with more than
+/// four endpoints leaves (`Cannot remove Reader GUID … TrySendError::Full`), which says nothing
+/// to a CLI user and would mix into every answer's stderr.
+fn log_filter() -> tracing_subscriber::EnvFilter {
+    let spec = std::env::var("RUST_LOG").unwrap_or_default();
+    let spec = if spec.trim().is_empty() {
+        "warn".to_owned()
+    } else {
+        spec
+    };
+    let spec = if spec.contains("rustdds") {
+        spec
+    } else {
+        format!("{spec},rustdds=off")
+    };
+    tracing_subscriber::EnvFilter::try_new(spec)
+        .unwrap_or_else(|_| tracing_subscriber::EnvFilter::new("warn,rustdds=off"))
+}
+
 fn main() -> ExitCode {
     // Colours only for a terminal: logs piped or redirected are plain text.
     tracing_subscriber::fmt()
         .with_ansi(std::io::stderr().is_terminal())
-        .with_env_filter(
-            tracing_subscriber::EnvFilter::try_from_default_env()
-                .unwrap_or_else(|_| tracing_subscriber::EnvFilter::new("warn")),
-        )
+        .with_env_filter(log_filter())
         .with_writer(std::io::stderr)
         .init();
     let cli = Cli::parse();

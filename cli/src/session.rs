@@ -11,6 +11,10 @@ use crate::{CliError, Global};
 /// The shortest discovery wait: peers answer a new participant's announcement within a few
 /// milliseconds, but not at once.
 const MIN_DISCOVERY: Duration = Duration::from_millis(120);
+/// The part of `--spin-time` always waited (when more than [`MIN_DISCOVERY`]): a peer that
+/// answers our announcement late (a loaded machine, a slow network) is not taken for absent
+/// when the user gave discovery more time.
+const MIN_DISCOVERY_SHARE: u32 = 10;
 /// Once what is known is consistent, the wait ends when nothing has changed for this long
 /// (participants not seen yet get this long to show up).
 const GRACE: Duration = Duration::from_millis(30);
@@ -100,7 +104,7 @@ pub fn deadline_after(start: Instant, limit: Duration) -> Instant {
 
 /// Waits until `graph` (following discovery since `joined`) has settled, never past
 /// `deadline`, and returns what is still unsettled (nothing when it settled): at least
-/// [`MIN_DISCOVERY`] after `joined`, then until what is known is consistent (every
+/// [`MIN_DISCOVERY`] after `joined` (or a tenth of the time to `deadline`, if more), then until what is known is consistent (every
 /// participant, including one known only from its endpoints, has sent its
 /// `ros_discovery_info`, and every endpoint it lists is discovered) and has not changed for
 /// [`GRACE`]. Every wait is on the graph's change notification. A graph that has been
@@ -112,7 +116,8 @@ pub fn wait_settled(graph: &Graph, joined: Instant, deadline: Instant) -> Unsett
             break;
         }
         let left = deadline - now;
-        let discovering_until = joined + MIN_DISCOVERY;
+        let discovering_until = joined
+            + MIN_DISCOVERY.max(deadline.saturating_duration_since(joined) / MIN_DISCOVERY_SHARE);
         if now < discovering_until {
             graph.wait_for_graph_change((discovering_until - now).min(left));
             continue;
