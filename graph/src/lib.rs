@@ -22,6 +22,8 @@ mod info;
 mod live;
 mod query;
 mod snapshot;
+#[cfg(feature = "tokio")]
+pub mod stream;
 
 #[cfg(test)]
 mod tests;
@@ -35,6 +37,8 @@ pub use info::{ServiceEndpointInfo, ServiceEndpointType, TopicEndpointInfo, Topi
 pub use live::{apply_discovery_event, Graph, GraphStartError, GraphView, GraphWatcher};
 pub use query::{NamesAndTypes, NodeInfo};
 pub use snapshot::{GraphSnapshot, ParticipantSnapshot};
+#[cfg(feature = "tokio")]
+pub use stream::{GraphEvents, Lagged};
 
 /// Node name reported for an endpoint whose participant is unknown (rmw_dds_common
 /// `graph_cache.cpp`, `EndpointCreator::BARE_DDS_PARTICIPANT`); also used as its namespace.
