@@ -7,8 +7,8 @@ use std::time::Duration;
 use futures_util::StreamExt;
 use horus_ros_graph::{Graph, GraphEvent, Lagged};
 use horus_ros_msgs::std_msgs::msg::Int32;
-use horus_ros_rmw::qos::Qos;
 use horus_ros_rmw::qos::EndpointKind;
+use horus_ros_rmw::qos::Qos;
 use horus_ros_rmw::Context;
 
 const SECOND: Duration = Duration::from_secs(1);
@@ -62,7 +62,10 @@ async fn a_slow_graph_event_consumer_holds_at_most_the_capacity_and_learns_what_
     assert_eq!(events.peak(), 4);
     assert_eq!(events.capacity(), 4);
     let lagged = events.lagged();
-    assert!(lagged >= 16, "20 endpoints at least, 4 kept: {lagged} dropped");
+    assert!(
+        lagged >= 16,
+        "20 endpoints at least, 4 kept: {lagged} dropped"
+    );
     assert_eq!(events.received(), lagged + 4);
     // The gap first, then the 4 newest.
     assert_eq!(events.next().await, Some(Err(Lagged(lagged))));
@@ -135,7 +138,11 @@ async fn a_slow_subscription_consumer_holds_at_most_the_capacity_and_counts_what
     assert!(stream.peak() <= CAPACITY, "peak {}", stream.peak());
     assert!(missed > 0, "a consumer this slow must have lagged");
     assert_eq!(missed, stream.lagged());
-    assert_eq!(delivered + missed, SENT as u64, "each sample delivered or counted");
+    assert_eq!(
+        delivered + missed,
+        SENT as u64,
+        "each sample delivered or counted"
+    );
     assert_eq!(stream.received(), SENT as u64);
     assert!(stream.is_empty());
 }

@@ -75,6 +75,11 @@ impl<S: Service> AsyncServiceClient<S> {
         self.core.name()
     }
 
+    /// The GIDs of the request writer and the reply reader.
+    pub fn gids(&self) -> (Gid, Gid) {
+        self.core.gids()
+    }
+
     /// Requests sent whose replies are still awaited (0 once every call ended or was dropped:
     /// nothing leaks).
     pub fn pending_requests(&self) -> usize {
