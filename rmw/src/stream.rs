@@ -36,6 +36,18 @@ pub const DEFAULT_STREAM_CAPACITY: usize = 256;
 /// A bounded buffer between one producer (a thread, a callback) and one consumer task: `push`
 /// never blocks and drops the oldest item when full; `poll_next` gives `Err(Lagged(n))` first
 /// when items were dropped, then the buffered items in order, and `None` once closed and empty.
+///
+/// ```
+/// use horus_ros_rmw::stream::{DropOldestQueue, Lagged};
+///
+/// let queue = DropOldestQueue::new(2);
+/// queue.push_all([1, 2, 3, 4]); // a producer faster than its consumer
+/// assert_eq!(queue.len(), 2);
+/// assert_eq!(queue.try_next(), Some(Err(Lagged(2)))); // 1 and 2 were dropped
+/// assert_eq!(queue.try_next(), Some(Ok(3)));
+/// assert_eq!(queue.try_next(), Some(Ok(4)));
+/// assert_eq!(queue.try_next(), None);
+/// ```
 #[derive(Debug)]
 pub struct DropOldestQueue<T> {
     inner: Mutex<Inner<T>>,

@@ -17,7 +17,8 @@
 //!
 //! Environment: `HORUS_BENCH_ASYNC_CALLS` (measured sequential calls per variant, default
 //! 20000), `HORUS_BENCH_ASYNC_ROUNDS` (default 10), `HORUS_BENCH_ASYNC_CONCURRENT_CALLS` (calls
-//! per client in each concurrent round, default 300); `CYCLONEDDS_URI` (a loopback one is set if
+//! per client in each concurrent round, default 300), `HORUS_BENCH_ASYNC_WORKERS` (the runtime's
+//! worker threads, default one per CPU as `#[tokio::main]`); `CYCLONEDDS_URI` (a loopback one is set if
 //! unset).
 
 use std::sync::{Arc, Barrier};
@@ -327,8 +328,13 @@ fn main() {
     let calls = env_usize("HORUS_BENCH_ASYNC_CALLS", 20_000);
     let rounds = env_usize("HORUS_BENCH_ASYNC_ROUNDS", 10).min(calls);
     let per_client = env_usize("HORUS_BENCH_ASYNC_CONCURRENT_CALLS", 300);
+    // As `#[tokio::main]` makes it: one worker per CPU, unless told otherwise.
+    let workers = env_usize(
+        "HORUS_BENCH_ASYNC_WORKERS",
+        thread::available_parallelism().map_or(2, usize::from),
+    );
     let runtime = tokio::runtime::Builder::new_multi_thread()
-        .worker_threads(4)
+        .worker_threads(workers)
         .enable_all()
         .build()
         .expect("tokio runtime");
@@ -340,7 +346,8 @@ fn main() {
     }
     println!(
         "async_roundtrip: {calls} sequential calls per variant in {rounds} rounds, {CLIENTS} \
-         concurrent clients × {per_client} calls per round; load {}",
+         concurrent clients × {per_client} calls per round; tokio multi-thread runtime with \
+         {workers} workers; load {}",
         std::fs::read_to_string("/proc/loadavg")
             .unwrap_or_default()
             .trim()

@@ -20,7 +20,7 @@
 //! - [`ServiceClient`]: `call`, `call_resilient`, `call_optional`; [`AsyncServiceClient`] returns
 //!   [`PendingResponse`]s that can be checked, waited on or awaited.
 //! - The wire convention (rmw_fastrtps or rmw_cyclonedds) is chosen per peer from its DDS vendor.
-//! - Feature `tokio`: [`AsyncServiceClient::call`] and `wait_for_service_async` as futures,
+//! - Feature `tokio`: `AsyncServiceClient::call` and `wait_for_service_async` as futures,
 //!   async handlers (`ServiceServerBuilder::on_request_async`, `AsyncServiceServer`) run on the
 //!   caller's tokio runtime, and the graph's changes as a stream (`horus_ros_graph::Graph::events`).
 

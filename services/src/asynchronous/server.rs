@@ -215,6 +215,24 @@ struct Shared {
 
 /// A running server whose handler is async; it serves until [`stop`](Self::stop)ped or dropped.
 /// Dropping it aborts the handlers still running (their clients get no reply).
+///
+/// ```no_run
+/// use horus_ros_services::prelude::*;
+///
+/// fn main() -> Result<()> {
+///     // A runtime of its own, passed explicitly (no need to be inside it).
+///     let runtime =
+///         tokio::runtime::Runtime::new().map_err(horus_ros_services::SetupError::from)?;
+///     let server = ServiceServerBuilder::<AddTwoInts>::new()
+///         .name("/add_two_ints")
+///         .on_request_async(|req| async move { Ok(AddTwoIntsResponse { sum: req.a + req.b }) })
+///         .runtime(runtime.handle().clone())
+///         .max_in_flight(32)
+///         .build()?;
+///     println!("{} handlers running, at most {}", server.in_flight(), server.max_in_flight());
+///     Ok(())
+/// }
+/// ```
 pub struct AsyncServiceServer<S: Service> {
     shared: Arc<Shared>,
     thread: Option<JoinHandle<()>>,
