@@ -22,6 +22,8 @@ mod info;
 mod live;
 mod query;
 mod snapshot;
+#[cfg(feature = "tokio")]
+pub mod stream;
 mod subscription;
 
 #[cfg(test)]
@@ -36,6 +38,8 @@ pub use info::{ServiceEndpointInfo, ServiceEndpointType, TopicEndpointInfo, Topi
 pub use live::{apply_discovery_event, Graph, GraphStartError, GraphView, GraphWatcher};
 pub use query::{NamesAndTypes, NodeInfo};
 pub use snapshot::{GraphSnapshot, ParticipantSnapshot};
+#[cfg(feature = "tokio")]
+pub use stream::{GraphEvents, Lagged};
 pub use subscription::{
     GraphSubscription, RecvError, SubscriptionInterrupter, SUBSCRIPTION_CAPACITY,
 };

@@ -69,6 +69,8 @@ struct Shared {
     subscribers: Mutex<Vec<Weak<EventQueue>>>,
     watchers: Mutex<Vec<Weak<dyn GraphWatcher>>>,
     stop: AtomicBool,
+    #[cfg(feature = "tokio")]
+    streams: crate::stream::EventStreams,
 }
 
 impl Shared {
@@ -191,6 +193,8 @@ impl Graph {
             subscribers: Mutex::new(Vec::new()),
             watchers: Mutex::new(Vec::new()),
             stop: AtomicBool::new(false),
+            #[cfg(feature = "tokio")]
+            streams: crate::stream::EventStreams::default(),
         });
         let feed_waker = feed.waker();
         let worker_shared = Arc::clone(&shared);
@@ -231,6 +235,12 @@ impl Graph {
             .unwrap_or_else(|p| p.into_inner())
             .push(Arc::downgrade(&queue));
         subscription
+    }
+
+    /// The event streams of this graph (see [`Graph::events`]).
+    #[cfg(feature = "tokio")]
+    pub(crate) fn event_streams(&self) -> &crate::stream::EventStreams {
+        &self.shared.streams
     }
 
     /// Tells `watcher` of every change from now on, until it is dropped (the graph keeps only a
@@ -370,6 +380,8 @@ impl Drop for Graph {
         if let Some(worker) = self.worker.take() {
             let _ = worker.join();
         }
+        #[cfg(feature = "tokio")]
+        self.shared.streams.close_all();
     }
 }
 
@@ -426,7 +438,11 @@ fn run(shared: &Shared, mut feed: DiscoveryFeed) {
                 state.generation += 1;
                 state.changed_at = Instant::now();
             }
-            (state.cache.drain_events(), changed)
+            let events = state.cache.drain_events();
+            // Into the event streams before the change can be seen (the state is still locked).
+            #[cfg(feature = "tokio")]
+            shared.streams.deliver(&events);
+            (events, changed)
         };
         shared.changed.notify_all();
         if changed {

@@ -49,8 +49,12 @@ pub use api::names;
 pub use api::node::{Node, NodeHealthState, NodeState, TopicMetadata};
 pub use api::policy::{FailurePolicy, Miss};
 pub use api::scheduler::{NodeBuilder, Scheduler, DEFAULT_TICK_RATE_HZ, SHUTDOWN_TIMEOUT};
+#[cfg(feature = "tokio")]
+pub use api::topic::TopicStream;
 pub use api::topic::{Topic, TopicError, DROP_FLUSH_TIMEOUT};
 pub use api::units::{Frequency, Units};
+#[cfg(feature = "tokio")]
+pub use horus_ros_rmw::stream::Lagged;
 
 pub use horus_ros_msgs::{Message, Service};
 pub use horus_ros_services::{message, service};

@@ -26,6 +26,8 @@ pub mod node;
 pub mod pubsub;
 pub mod qos;
 pub mod raw;
+#[cfg(feature = "tokio")]
+pub mod stream;
 
 pub use backend::{
     Backend, BackendError, BACKEND_ENV, DEFAULT_RMW_IMPLEMENTATION, RMW_IMPLEMENTATIONS,
@@ -43,3 +45,5 @@ pub use raw::{
     RawEndpointSpec, RawReader, RawReaderWaker, RawSample, RawWriter, SampleId, ServiceEndpointId,
     ServiceEndpointRole,
 };
+#[cfg(feature = "tokio")]
+pub use stream::{DropOldestQueue, Lagged, SubscriptionStream};

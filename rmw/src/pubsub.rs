@@ -177,6 +177,7 @@ pub struct Subscription<M: Message> {
     topic: TopicName,
     qos: Qos,
     reader: TypedReader<M>,
+    waker: crate::RawReaderWaker,
 }
 
 // One per entity, used in place: boxing the larger variant would buy nothing.
@@ -256,7 +257,7 @@ impl Node {
             topic: topic_name.to_string(),
             reason,
         };
-        let (reader, gid) = match &self.context().inner().dds {
+        let (reader, gid, waker) = match &self.context().inner().dds {
             Dds::RustDds(p) => {
                 let dds_topic = rustdds_topic::<M>(p, &dds_name, &dds_qos)?;
                 let mut reader = p
@@ -277,7 +278,10 @@ impl Node {
                         rustdds::mio1::Interest::READABLE,
                     )
                     .map_err(|e| fail(e.to_string()))?;
-                (TypedReader::RustDds { poll, reader }, gid)
+                let waker = rustdds::mio1::Waker::new(poll.registry(), rustdds::mio1::Token(1))
+                    .map_err(|e| fail(e.to_string()))?;
+                let waker = crate::RawReaderWaker::rustdds(waker);
+                (TypedReader::RustDds { poll, reader }, gid, waker)
             }
             #[cfg(feature = "cyclone")]
             Dds::Cyclone(p) => {
@@ -289,7 +293,8 @@ impl Node {
                     M::type_hash().to_user_data().as_bytes(),
                 )
                 .map_err(fail)?;
-                (TypedReader::Cyclone(reader), gid)
+                let waker = crate::RawReaderWaker::cyclone(reader.guard());
+                (TypedReader::Cyclone(reader), gid, waker)
             }
         };
         Ok(Subscription {
@@ -301,6 +306,7 @@ impl Node {
             topic: topic_name,
             qos: *qos,
             reader,
+            waker,
         })
     }
 }
@@ -382,9 +388,15 @@ impl<M: Message> Subscription<M> {
         }
     }
 
-    /// Waits until a message may have arrived, at most `timeout` (a `Duration`, or `None` for
-    /// no limit); returns whether something was signalled. Take until `None` after it: wake-ups
-    /// are edge-triggered.
+    /// A handle that makes this subscription's current or next [`wait`](Self::wait) return,
+    /// from any thread (e.g. to stop the thread waiting on it).
+    pub fn waker(&self) -> crate::RawReaderWaker {
+        self.waker.clone()
+    }
+
+    /// Waits until a message may have arrived or the [`waker`](Self::waker) was woken, at most
+    /// `timeout` (a `Duration`, or `None` for no limit); returns whether something was
+    /// signalled. Take until `None` after it: wake-ups are edge-triggered.
     pub fn wait(&mut self, timeout: impl Into<Option<std::time::Duration>>) -> bool {
         let timeout = timeout.into();
         match &mut self.reader {

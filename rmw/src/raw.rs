@@ -244,6 +244,17 @@ impl std::fmt::Debug for RawReaderWaker {
 }
 
 impl RawReaderWaker {
+    /// A waker registered on a rustdds reader's poll (see [`Subscription`](crate::Subscription)).
+    pub(crate) fn rustdds(waker: mio::Waker) -> Self {
+        Self(WakerImpl::RustDds(std::sync::Arc::new(waker)))
+    }
+
+    /// A waker triggering a Cyclone reader's guard condition.
+    #[cfg(feature = "cyclone")]
+    pub(crate) fn cyclone(guard: horus_ros_rmw_cyclone::GuardCondition) -> Self {
+        Self(WakerImpl::Cyclone(guard))
+    }
+
     /// Wakes the reader's waiting thread (or makes its next wait return at once).
     pub fn wake(&self) {
         let result = match &self.0 {

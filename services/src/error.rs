@@ -75,6 +75,10 @@ pub enum SetupError {
     /// `_Event` message cannot be built).
     #[error("service introspection needs a compiled service type")]
     IntrospectionUnsupported,
+    /// A server with an async handler was built outside a tokio runtime and given no runtime
+    /// handle (`AsyncServiceServerBuilder::runtime`).
+    #[error("an async service server needs a tokio runtime (build it inside one, or pass a handle): {0}")]
+    NoAsyncRuntime(String),
     /// The builder was given no request handler.
     #[error("a service server needs a request handler: call .on_request(..) before .build()")]
     NoHandler,

@@ -20,10 +20,15 @@
 //! - [`ServiceClient`]: `call`, `call_resilient`, `call_optional`; [`AsyncServiceClient`] returns
 //!   [`PendingResponse`]s that can be checked, waited on or awaited.
 //! - The wire convention (rmw_fastrtps or rmw_cyclonedds) is chosen per peer from its DDS vendor.
+//! - Feature `tokio`: `AsyncServiceClient::call` and `wait_for_service_async` as futures,
+//!   async handlers (`ServiceServerBuilder::on_request_async`, `AsyncServiceServer`) run on the
+//!   caller's tokio runtime, and the graph's changes as a stream (`horus_ros_graph::Graph::events`).
 
 #[macro_use]
 mod macros;
 
+#[cfg(feature = "tokio")]
+mod asynchronous;
 mod client;
 mod error;
 #[doc(hidden)]
@@ -39,6 +44,11 @@ mod server;
 mod server_wire;
 mod wire;
 
+#[cfg(feature = "tokio")]
+pub use asynchronous::{
+    AsyncServiceServer, AsyncServiceServerBuilder, ServiceCall, WaitForService,
+    DEFAULT_MAX_IN_FLIGHT,
+};
 pub use client::{
     AsyncServiceClient, DynamicPart, DynamicServiceClient, DynamicServiceClientBuilder,
     PendingResponse, RawReply, ServiceClient, ServiceClientBuilder,
@@ -69,6 +79,8 @@ pub mod prelude {
         AsyncServiceClient, Error, IntrospectionState, PendingResponse, Result, RetryConfig,
         ServiceClient, ServiceError, ServiceServer, ServiceServerBuilder, WireFlavour,
     };
+    #[cfg(feature = "tokio")]
+    pub use crate::{AsyncServiceServer, AsyncServiceServerBuilder, ServiceCall};
     pub use horus_ros_msgs::example_interfaces::srv::{
         AddTwoInts, AddTwoIntsRequest, AddTwoIntsResponse,
     };

@@ -31,12 +31,12 @@ type Handler<S> = Box<
 /// Builds a [`ServiceServer`]. Setting errors are kept until [`build`](Self::build).
 #[must_use = "a builder does nothing until .build() is called"]
 pub struct ServiceServerBuilder<S: Service> {
-    node: Option<Node>,
-    name: Option<String>,
-    qos: Qos,
-    flavour: Option<WireFlavour>,
+    pub(crate) node: Option<Node>,
+    pub(crate) name: Option<String>,
+    pub(crate) qos: Qos,
+    pub(crate) flavour: Option<WireFlavour>,
     handler: Option<Handler<S>>,
-    introspection: Option<(IntrospectionState, Qos)>,
+    pub(crate) introspection: Option<(IntrospectionState, Qos)>,
 }
 
 impl<S: Service> Default for ServiceServerBuilder<S> {
@@ -391,7 +391,7 @@ impl<S: Service> ServerLoop<S> {
 }
 
 /// The text of a panic payload.
-fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
+pub(crate) fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
     payload
         .downcast_ref::<&str>()
         .map(|s| (*s).to_owned())

@@ -165,7 +165,7 @@ pub fn yaml(data: &[u8]) {
 /// GetTypeDescription_Response payload (CDR with header) of that length, flags, body`.
 ///
 /// The description is hashed (as `service call` checks it against the hash it asked for); then
-/// for each of its types (at most [`MAX_DESCRIPTION_ROOTS`]), as `service call` and `service
+/// for each of its types (at most `MAX_DESCRIPTION_ROOTS`, 16), as `service call` and `service
 /// echo` do: its sub-description, a schema from it, checked; then its default value (what an
 /// empty YAML argument gives) and the body decoded as that type are checked as [`cdr`] checks
 /// values.

@@ -258,6 +258,41 @@ impl<T: Message> Topic<T> {
         }
     }
 
+    /// The topic's messages from now on as a bounded [`futures_core::Stream`] of
+    /// `Result<T, Lagged>` (feature `tokio`), for async code. It has a subscription of its own
+    /// (under the ROS node [`try_recv`](Self::try_recv) would use), independent of
+    /// `try_recv`/`recv`: both get every message. At most `capacity` messages are buffered; when
+    /// the consumer falls behind the oldest are dropped and it gets `Err(Lagged(n))` before the
+    /// newest (see [`horus_ros_rmw::stream`]). Woken by arriving messages, never polled.
+    ///
+    /// ```no_run
+    /// use futures_util::StreamExt;
+    /// use horus::prelude::*;
+    ///
+    /// #[tokio::main]
+    /// async fn main() -> Result<()> {
+    ///     let chatter = Topic::<StringMsg>::new("chatter")?;
+    ///     let mut messages = chatter.stream(64)?;
+    ///     while let Some(message) = messages.next().await {
+    ///         match message {
+    ///             Ok(m) => println!("I heard: [{}]", m.data),
+    ///             Err(lagged) => println!("{lagged}"),
+    ///         }
+    ///     }
+    ///     Ok(())
+    /// }
+    /// ```
+    #[cfg(feature = "tokio")]
+    pub fn stream(&self, capacity: usize) -> Result<TopicStream<T>, TopicError> {
+        let node = self.ros_node()?;
+        let subscription = node
+            .create_subscription::<T>(&self.ros_name, &self.qos)
+            .map_err(|e| self.endpoint_error(e))?;
+        subscription
+            .into_stream(capacity)
+            .map_err(|e| self.endpoint_error(e))
+    }
+
     fn endpoint_error(&self, e: impl std::fmt::Display) -> TopicError {
         TopicError::Endpoint {
             name: self.name.clone(),
@@ -279,6 +314,10 @@ impl<T: Message> Topic<T> {
         }
     }
 }
+
+/// A [`Topic`]'s messages as a bounded stream ([`Topic::stream`]; feature `tokio`).
+#[cfg(feature = "tokio")]
+pub type TopicStream<T> = horus_ros_rmw::stream::SubscriptionStream<T>;
 
 /// How long a dropped topic waits for its readers to acknowledge what it sent.
 pub const DROP_FLUSH_TIMEOUT: Duration = Duration::from_secs(1);

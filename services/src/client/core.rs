@@ -373,6 +373,35 @@ impl<C: Codec> ClientCore<C> {
         Readiness::Ready(ReadyServer { flavour, reached })
     }
 
+    /// The graph this client finds its servers in.
+    #[cfg(feature = "tokio")]
+    pub(crate) fn graph(&self) -> &Arc<horus_ros_graph::Graph> {
+        &self.runtime.graph
+    }
+
+    /// When a server whose endpoints are matched with ours but that [`ready_server`]
+    /// (Self::ready_server) does not give yet becomes ready with no further graph change: an
+    /// rmw_cyclonedds server's reply writer is given [`CYCLONE_MATCH_SETTLE`] to match our
+    /// reader. `None` if no server waits for that.
+    #[cfg(feature = "tokio")]
+    pub(crate) fn settles_at(&self) -> Option<Instant> {
+        let graph = &self.runtime.graph;
+        let backend = self.runtime.node.context().backend();
+        if backend.announces_user_data() {
+            return None;
+        }
+        self.servers()
+            .into_iter()
+            .filter_map(|(reader, writer)| {
+                graph.matched_since(self.request_writer, reader)?;
+                let reply_match = graph.matched_since(self.reply_reader, writer)?;
+                let flavour =
+                    WireFlavour::choose(backend, peer_vendor(graph, reader), self.flavour).ok()?;
+                (flavour == WireFlavour::CycloneDds).then_some(reply_match + CYCLONE_MATCH_SETTLE)
+            })
+            .min()
+    }
+
     /// Waits until a server is ready, at most until `deadline`: `NoServer` if none ever showed
     /// up, `Timeout` if one was there but never became usable.
     pub(crate) fn wait_ready(&self, deadline: Instant) -> Result<ReadyServer, ServiceError> {
@@ -411,7 +440,7 @@ impl<C: Codec> ClientCore<C> {
 
     /// Why no server can be called from this backend, when every server on the graph follows a
     /// convention the backend cannot speak (`None` if there is none, or one that can be called).
-    fn unusable_servers(&self) -> Option<String> {
+    pub(crate) fn unusable_servers(&self) -> Option<String> {
         let graph = &self.runtime.graph;
         let backend = self.runtime.node.context().backend();
         let mut why = None;

@@ -77,6 +77,23 @@ impl<S: Service> AsyncServiceClient<S> {
         self.core.name()
     }
 
+    /// The GIDs of the request writer and the reply reader.
+    pub fn gids(&self) -> (Gid, Gid) {
+        self.core.gids()
+    }
+
+    /// Requests sent whose replies are still awaited (0 once every call ended or was dropped:
+    /// nothing leaks).
+    pub fn pending_requests(&self) -> usize {
+        self.core.pending_count()
+    }
+
+    /// The state shared with the reply thread (for the async layer).
+    #[cfg(feature = "tokio")]
+    pub(crate) fn core(&self) -> &Arc<ClientCore<Typed<S>>> {
+        &self.core
+    }
+
     /// Turns service introspection on or off (rclcpp / rclpy `Client::configure_introspection`,
     /// rcl `rcl_client_configure_service_introspection`): OFF removes the
     /// `<service>/_service_event` publisher; METADATA publishes `REQUEST_SENT` and

@@ -1,0 +1,152 @@
+//! The graph's changes as a [`futures_core::Stream`] (feature `tokio`): [`Graph::events`].
+
+use std::pin::Pin;
+use std::sync::{Arc, Mutex, Weak};
+use std::task::{Context as TaskContext, Poll};
+
+use horus_ros_rmw::stream::DropOldestQueue;
+pub use horus_ros_rmw::stream::Lagged;
+
+use crate::{Graph, GraphEvent};
+
+/// How many events a [`GraphEvents`] stream buffers unless told otherwise.
+pub const DEFAULT_EVENTS_CAPACITY: usize = 1024;
+
+/// The queues of the live event streams of one graph (each held weakly: a dropped stream is
+/// forgotten at the next change).
+#[derive(Default)]
+pub(crate) struct EventStreams {
+    queues: Mutex<Vec<Weak<DropOldestQueue<GraphEvent>>>>,
+}
+
+impl EventStreams {
+    fn add(&self, capacity: usize) -> Arc<DropOldestQueue<GraphEvent>> {
+        let queue = Arc::new(DropOldestQueue::new(capacity));
+        self.lock().push(Arc::downgrade(&queue));
+        queue
+    }
+
+    fn lock(&self) -> std::sync::MutexGuard<'_, Vec<Weak<DropOldestQueue<GraphEvent>>>> {
+        self.queues.lock().unwrap_or_else(|p| p.into_inner())
+    }
+
+    /// Gives `events` to every live stream (called by the graph's thread while the change is
+    /// applied, so that whoever sees the change in the graph finds its events in the streams).
+    pub(crate) fn deliver(&self, events: &[GraphEvent]) {
+        if events.is_empty() {
+            return;
+        }
+        let mut queues = self.lock();
+        queues.retain(|q| q.strong_count() > 0);
+        for queue in queues.iter().filter_map(Weak::upgrade) {
+            queue.push_all(events.iter().cloned());
+        }
+    }
+
+    /// Ends every stream (the graph is going away).
+    pub(crate) fn close_all(&self) {
+        for queue in self.lock().drain(..).filter_map(|q| q.upgrade()) {
+            queue.close();
+        }
+    }
+}
+
+/// Every change of a [`Graph`] from the stream's creation on, as a [`futures_core::Stream`] of
+/// `Result<GraphEvent, Lagged>`.
+///
+/// Bounded: at most its capacity of events are buffered; when the consumer falls behind, the
+/// oldest are dropped and the consumer's next item is `Err(Lagged(n))` with their number, then
+/// the newest events (see [`horus_ros_rmw::stream`]). Woken by the graph's thread as it applies
+/// each change, never by polling. The stream ends when the graph is dropped.
+///
+/// ```no_run
+/// # async fn demo() -> Result<(), Box<dyn std::error::Error>> {
+/// use horus_ros_graph::{Graph, GraphEvent};
+/// use horus_ros_rmw::Context;
+///
+/// let context = Context::from_env()?;
+/// let graph = Graph::shared(&context)?;
+/// let mut events = graph.events();
+/// // With `futures::StreamExt`: `while let Some(event) = events.next().await`.
+/// while let Some(event) = std::future::poll_fn(|cx| events.poll_next_event(cx)).await {
+///     match event {
+///         Ok(GraphEvent::NodeAdded { name, namespace }) => println!("node {namespace} {name}"),
+///         Ok(other) => println!("{other:?}"),
+///         Err(lagged) => println!("missed some: {lagged}"),
+///     }
+/// }
+/// # Ok(()) }
+/// ```
+#[derive(Debug)]
+pub struct GraphEvents {
+    queue: Arc<DropOldestQueue<GraphEvent>>,
+}
+
+impl GraphEvents {
+    /// The next event or gap report, registering the task's waker (what `Stream::poll_next`
+    /// does, usable without importing the trait).
+    pub fn poll_next_event(
+        &mut self,
+        cx: &mut TaskContext<'_>,
+    ) -> Poll<Option<Result<GraphEvent, Lagged>>> {
+        self.queue.poll_next(cx)
+    }
+
+    /// The next event or gap report if one is buffered (never waits).
+    pub fn try_next(&mut self) -> Option<Result<GraphEvent, Lagged>> {
+        self.queue.try_next()
+    }
+
+    /// Events buffered now (at most [`capacity`](Self::capacity)).
+    pub fn len(&self) -> usize {
+        self.queue.len()
+    }
+
+    /// Whether no event is buffered now.
+    pub fn is_empty(&self) -> bool {
+        self.queue.is_empty()
+    }
+
+    /// The most events buffered.
+    pub fn capacity(&self) -> usize {
+        self.queue.capacity()
+    }
+
+    /// Events dropped so far because the consumer was behind (oldest first).
+    pub fn lagged(&self) -> u64 {
+        self.queue.lagged()
+    }
+
+    /// Events received so far (delivered, buffered or dropped).
+    pub fn received(&self) -> u64 {
+        self.queue.pushed()
+    }
+
+    /// The most events ever buffered at once (at most [`capacity`](Self::capacity)).
+    pub fn peak(&self) -> usize {
+        self.queue.peak()
+    }
+}
+
+impl futures_core::Stream for GraphEvents {
+    type Item = Result<GraphEvent, Lagged>;
+
+    fn poll_next(self: Pin<&mut Self>, cx: &mut TaskContext<'_>) -> Poll<Option<Self::Item>> {
+        self.get_mut().queue.poll_next(cx)
+    }
+}
+
+impl Graph {
+    /// Every change from now on as a bounded stream of [`DEFAULT_EVENTS_CAPACITY`] events (see
+    /// [`GraphEvents`]).
+    pub fn events(&self) -> GraphEvents {
+        self.events_with_capacity(DEFAULT_EVENTS_CAPACITY)
+    }
+
+    /// Every change from now on as a stream buffering at most `capacity` events (at least 1).
+    pub fn events_with_capacity(&self, capacity: usize) -> GraphEvents {
+        GraphEvents {
+            queue: self.event_streams().add(capacity),
+        }
+    }
+}

@@ -1,0 +1,514 @@
+//! Servers with async handlers: [`ServiceServerBuilder::on_request_async`] →
+//! [`AsyncServiceServerBuilder`] → [`AsyncServiceServer`].
+
+use std::future::Future;
+use std::marker::PhantomData;
+use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::pin::Pin;
+use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
+use std::sync::Arc;
+use std::thread::JoinHandle;
+use std::time::{Duration, Instant};
+
+use futures_util::future::Either;
+use futures_util::FutureExt;
+use horus_ros_msgs::description::EVENT_SUFFIX;
+use horus_ros_msgs::service_msgs::msg::ServiceEventInfo;
+use horus_ros_msgs::{dds_type_name, Service};
+use horus_ros_rmw::names::ServiceName;
+use horus_ros_rmw::qos::Qos;
+use horus_ros_rmw::{Gid, Node, RawReader, RawReaderWaker, RawSample, RawWriter};
+use tokio::runtime::Handle;
+
+use crate::introspection::{encode_event, EventType, Introspection, IntrospectionState};
+use crate::naming::{default_service_name, ServiceTopics};
+use crate::runtime::Runtime;
+use crate::server::panic_message;
+use crate::server_wire::{ReplyRoute, ServerWire};
+use crate::wire::{decode, encode};
+use crate::{ServiceServerBuilder, SetupError};
+
+/// How many requests one [`AsyncServiceServer`] handles at once unless told otherwise
+/// ([`AsyncServiceServerBuilder::max_in_flight`]).
+pub const DEFAULT_MAX_IN_FLIGHT: usize = 256;
+
+/// Most undecodable samples skipped in one drain before the thread checks whether to stop.
+const MAX_ERRORS_PER_DRAIN: usize = 1000;
+
+/// Longest single wait of the server's reader thread when nothing is parked: requests, a
+/// handler finishing, `stop()` and graph changes while replies are parked all wake it at once.
+const IDLE_WAIT: Duration = Duration::from_secs(3600);
+
+type BoxedResponse<S> =
+    Pin<Box<dyn Future<Output = Result<<S as Service>::Response, String>> + Send + 'static>>;
+type AsyncHandler<S> =
+    Arc<dyn Fn(<S as Service>::Request) -> BoxedResponse<S> + Send + Sync + 'static>;
+
+impl<S: Service> ServiceServerBuilder<S> {
+    /// Serves with an async handler instead: each request's future runs as a task of a tokio
+    /// runtime (the one current at [`build`](AsyncServiceServerBuilder::build), or
+    /// [`AsyncServiceServerBuilder::runtime`]), many at once (at most
+    /// [`max_in_flight`](AsyncServiceServerBuilder::max_in_flight)). `Ok(response)` is sent
+    /// back in the client's wire convention; `Err(message)` and panics reach a horus-ros client
+    /// as [`ServiceError::ServiceFailed`](crate::ServiceError::ServiceFailed), as with
+    /// [`on_request`](Self::on_request). The settings given so far (node, name, QoS, wire
+    /// flavour, introspection) are kept.
+    ///
+    /// ```no_run
+    /// use horus_ros_services::prelude::*;
+    ///
+    /// #[tokio::main]
+    /// async fn main() -> Result<()> {
+    ///     let server = ServiceServerBuilder::<AddTwoInts>::new()
+    ///         .name("/add_two_ints")
+    ///         .on_request_async(|req| async move {
+    ///             tokio::task::yield_now().await; // anything async: I/O, other calls, timers
+    ///             Ok(AddTwoIntsResponse { sum: req.a + req.b })
+    ///         })
+    ///         .build()?;
+    ///     tokio::signal::ctrl_c().await.ok();
+    ///     drop(server);
+    ///     Ok(())
+    /// }
+    /// ```
+    pub fn on_request_async<F, Fut>(self, handler: F) -> AsyncServiceServerBuilder<S>
+    where
+        F: Fn(S::Request) -> Fut + Send + Sync + 'static,
+        Fut: Future<Output = Result<S::Response, String>> + Send + 'static,
+    {
+        let handler: AsyncHandler<S> = Arc::new(move |request| Box::pin(handler(request)));
+        AsyncServiceServerBuilder {
+            base: self,
+            handler,
+            runtime: None,
+            max_in_flight: DEFAULT_MAX_IN_FLIGHT,
+        }
+    }
+}
+
+/// Builds an [`AsyncServiceServer`] (from [`ServiceServerBuilder::on_request_async`]).
+#[must_use = "a builder does nothing until .build() is called"]
+pub struct AsyncServiceServerBuilder<S: Service> {
+    base: ServiceServerBuilder<S>,
+    handler: AsyncHandler<S>,
+    runtime: Option<Handle>,
+    max_in_flight: usize,
+}
+
+impl<S: Service> std::fmt::Debug for AsyncServiceServerBuilder<S> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("AsyncServiceServerBuilder")
+            .field("type", &S::TYPE_NAME)
+            .field("max_in_flight", &self.max_in_flight)
+            .finish()
+    }
+}
+
+impl<S: Service> AsyncServiceServerBuilder<S> {
+    /// Runs the handlers on this runtime instead of the one current at `build`.
+    pub fn runtime(mut self, handle: Handle) -> Self {
+        self.runtime = Some(handle);
+        self
+    }
+
+    /// The most requests handled at once (default [`DEFAULT_MAX_IN_FLIGHT`], at least 1). Beyond
+    /// it, requests wait in the DDS reader (whose history keeps at least 4,096 of them) and are
+    /// taken as handlers finish; what that history cannot hold is dropped by the DDS layer, as for
+    /// any busy server.
+    pub fn max_in_flight(mut self, max: usize) -> Self {
+        self.max_in_flight = max.max(1);
+        self
+    }
+
+    /// Creates the request reader and reply writer and starts serving. Fails with
+    /// [`SetupError::NoAsyncRuntime`] outside a tokio runtime when no
+    /// [`runtime`](Self::runtime) was given.
+    pub fn build(self) -> Result<AsyncServiceServer<S>, SetupError> {
+        let handle = match self.runtime {
+            Some(handle) => handle,
+            None => Handle::try_current().map_err(|e| SetupError::NoAsyncRuntime(e.to_string()))?,
+        };
+        let base = self.base;
+        let runtime = Runtime::for_service::<S>(base.node.as_ref())?;
+        let name = base.name.unwrap_or_else(default_service_name::<S>);
+        let topics = ServiceTopics::resolve::<S>(
+            &runtime.node,
+            &name,
+            &base.qos,
+            horus_ros_rmw::ServiceEndpointRole::Server,
+        )?;
+        let requests = runtime.node.create_raw_reader(&topics.request)?;
+        let replies = Arc::new(runtime.node.create_raw_writer(&topics.reply)?);
+        let waker = requests.waker();
+        let (request_reader, reply_writer) = (requests.gid(), replies.gid());
+        let introspection = Introspection::new(
+            runtime.node.clone(),
+            topics.name.clone(),
+            Some(EventType {
+                dds_type_name: dds_type_name(&format!("{}{EVENT_SUFFIX}", S::TYPE_NAME)),
+                type_hash: S::event_type_hash(),
+            }),
+        );
+        if let Some((state, qos)) = &base.introspection {
+            introspection.configure(*state, qos)?;
+        }
+        let wire = Arc::new(ServerWire::new(
+            Arc::clone(&runtime.graph),
+            topics.name.clone(),
+            reply_writer,
+            base.flavour,
+            runtime.node.context().backend(),
+        ));
+        // Parked replies go out when their client's reader is matched: the graph wakes us.
+        wire.wake_on_graph_change(waker.clone());
+        let shared = Arc::new(Shared {
+            stop: AtomicBool::new(false),
+            served: AtomicU64::new(0),
+            failed: AtomicU64::new(0),
+            in_flight: AtomicUsize::new(0),
+            peak_in_flight: AtomicUsize::new(0),
+            cancel: tokio::sync::watch::Sender::new(false),
+            waker: waker.clone(),
+        });
+        let worker = Dispatcher::<S> {
+            requests,
+            work: Work {
+                replies,
+                wire,
+                introspection: Arc::clone(&introspection),
+                shared: Arc::clone(&shared),
+            },
+            handler: self.handler,
+            handle,
+            max_in_flight: self.max_in_flight,
+        };
+        let thread = std::thread::Builder::new()
+            .name(format!("horus-asrv{}", topics.name))
+            .spawn(move || worker.run())?;
+        tracing::debug!(service = %topics.name, "async service server started");
+        Ok(AsyncServiceServer {
+            shared,
+            thread: Some(thread),
+            name: topics.name,
+            request_reader,
+            reply_writer,
+            max_in_flight: self.max_in_flight,
+            introspection,
+            _node: runtime.node,
+            _service: PhantomData,
+        })
+    }
+}
+
+/// What the server, its reader thread and its handler tasks share.
+struct Shared {
+    stop: AtomicBool,
+    served: AtomicU64,
+    failed: AtomicU64,
+    in_flight: AtomicUsize,
+    peak_in_flight: AtomicUsize,
+    /// Set when the server goes: the handlers still running are dropped.
+    cancel: tokio::sync::watch::Sender<bool>,
+    /// Wakes the reader thread.
+    waker: RawReaderWaker,
+}
+
+/// A running server whose handler is async; it serves until [`stop`](Self::stop)ped or dropped.
+/// Dropping it aborts the handlers still running (their clients get no reply).
+///
+/// ```no_run
+/// use horus_ros_services::prelude::*;
+///
+/// fn main() -> Result<()> {
+///     // A runtime of its own, passed explicitly (no need to be inside it).
+///     let runtime =
+///         tokio::runtime::Runtime::new().map_err(horus_ros_services::SetupError::from)?;
+///     let server = ServiceServerBuilder::<AddTwoInts>::new()
+///         .name("/add_two_ints")
+///         .on_request_async(|req| async move { Ok(AddTwoIntsResponse { sum: req.a + req.b }) })
+///         .runtime(runtime.handle().clone())
+///         .max_in_flight(32)
+///         .build()?;
+///     println!("{} handlers running, at most {}", server.in_flight(), server.max_in_flight());
+///     Ok(())
+/// }
+/// ```
+pub struct AsyncServiceServer<S: Service> {
+    shared: Arc<Shared>,
+    thread: Option<JoinHandle<()>>,
+    name: ServiceName,
+    request_reader: Gid,
+    reply_writer: Gid,
+    max_in_flight: usize,
+    introspection: Arc<Introspection>,
+    _node: Node,
+    _service: PhantomData<fn() -> S>,
+}
+
+impl<S: Service> std::fmt::Debug for AsyncServiceServer<S> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("AsyncServiceServer")
+            .field("name", &self.name)
+            .field("type", &S::TYPE_NAME)
+            .finish()
+    }
+}
+
+impl<S: Service> AsyncServiceServer<S> {
+    /// The fully-qualified service name.
+    pub fn name(&self) -> &ServiceName {
+        &self.name
+    }
+
+    /// The GIDs of the request reader and the reply writer.
+    pub fn gids(&self) -> (Gid, Gid) {
+        (self.request_reader, self.reply_writer)
+    }
+
+    /// Requests answered with a response so far.
+    pub fn served_count(&self) -> u64 {
+        self.shared.served.load(Ordering::Relaxed)
+    }
+
+    /// Requests whose handler failed (returned `Err` or panicked) so far.
+    pub fn failed_count(&self) -> u64 {
+        self.shared.failed.load(Ordering::Relaxed)
+    }
+
+    /// Handlers running now.
+    pub fn in_flight(&self) -> usize {
+        self.shared.in_flight.load(Ordering::SeqCst)
+    }
+
+    /// The most handlers that ever ran at once (never above [`max_in_flight`](Self::max_in_flight)).
+    pub fn peak_in_flight(&self) -> usize {
+        self.shared.peak_in_flight.load(Ordering::SeqCst)
+    }
+
+    /// The most handlers run at once.
+    pub fn max_in_flight(&self) -> usize {
+        self.max_in_flight
+    }
+
+    /// Turns service introspection on or off while serving (see
+    /// [`ServiceServer::configure_introspection`](crate::ServiceServer::configure_introspection)).
+    pub fn configure_introspection(
+        &self,
+        state: IntrospectionState,
+        qos: &Qos,
+    ) -> Result<(), SetupError> {
+        self.introspection.configure(state, qos)
+    }
+
+    /// The introspection state in force.
+    pub fn introspection_state(&self) -> IntrospectionState {
+        self.introspection.state()
+    }
+
+    /// Stops taking requests (handlers running finish); the endpoints leave the graph when the
+    /// server is dropped.
+    pub fn stop(&self) {
+        self.shared.stop.store(true, Ordering::SeqCst);
+        self.shared.waker.wake();
+    }
+}
+
+impl<S: Service> Drop for AsyncServiceServer<S> {
+    fn drop(&mut self) {
+        self.stop();
+        if let Some(thread) = self.thread.take() {
+            let _ = thread.join();
+        }
+        self.shared.cancel.send_replace(true);
+    }
+}
+
+/// What a handler's task needs to answer: shared with the reader thread.
+struct Work {
+    replies: Arc<RawWriter>,
+    wire: Arc<ServerWire>,
+    introspection: Arc<Introspection>,
+    shared: Arc<Shared>,
+}
+
+impl Clone for Work {
+    fn clone(&self) -> Self {
+        Self {
+            replies: Arc::clone(&self.replies),
+            wire: Arc::clone(&self.wire),
+            introspection: Arc::clone(&self.introspection),
+            shared: Arc::clone(&self.shared),
+        }
+    }
+}
+
+/// The server's reader thread: takes requests while fewer than the bound are in flight and
+/// hands each to the runtime; flushes parked replies.
+struct Dispatcher<S: Service> {
+    requests: RawReader,
+    work: Work,
+    handler: AsyncHandler<S>,
+    handle: Handle,
+    max_in_flight: usize,
+}
+
+/// Counts one handler in flight; dropped when its task ends (finished, aborted, or dropped by a
+/// runtime shutting down), it frees the place and wakes the reader thread.
+struct InFlight {
+    shared: Arc<Shared>,
+}
+
+impl Drop for InFlight {
+    fn drop(&mut self) {
+        self.shared.in_flight.fetch_sub(1, Ordering::SeqCst);
+        self.shared.waker.wake();
+    }
+}
+
+impl<S: Service> Dispatcher<S> {
+    fn run(mut self) {
+        let shared = Arc::clone(&self.work.shared);
+        while !shared.stop.load(Ordering::SeqCst) {
+            let mut errors = 0;
+            // At the bound, requests stay in the reader: a finishing handler wakes us.
+            while shared.in_flight.load(Ordering::SeqCst) < self.max_in_flight {
+                match self.requests.take() {
+                    Ok(Some(sample)) => self.dispatch(sample),
+                    Ok(None) => break,
+                    Err(e) => {
+                        self.work.wire.warn_unreadable(&e);
+                        errors += 1;
+                        if errors >= MAX_ERRORS_PER_DRAIN {
+                            break;
+                        }
+                    }
+                }
+            }
+            // Parked replies whose client can hear them now go out; old ones are dropped.
+            let next_expiry = self.work.wire.flush(&self.work.replies);
+            let wait =
+                next_expiry.map_or(IDLE_WAIT, |t| t.saturating_duration_since(Instant::now()));
+            self.requests.wait(wait);
+        }
+    }
+
+    /// Decodes one request and starts its handler as a task (a malformed one is answered, or
+    /// dropped, here).
+    fn dispatch(&mut self, sample: RawSample) {
+        let Some(request) = self.work.wire.interpret(sample) else {
+            return;
+        };
+        let (route, client_gid, sequence) =
+            (request.route, request.writer_guid, request.sequence_number);
+        let decoded = match decode::<S::Request>(request.message(), request.big_endian) {
+            Ok(decoded) => decoded,
+            Err(e) => {
+                self.work.finish::<S>(
+                    route,
+                    client_gid,
+                    sequence,
+                    Err(format!("malformed request: {e}")),
+                );
+                return;
+            }
+        };
+        // rcl `rcl_take_request_with_info`: REQUEST_RECEIVED once the request is taken.
+        self.work.introspection.emit(
+            ServiceEventInfo::REQUEST_RECEIVED,
+            client_gid,
+            sequence,
+            |info, contents| {
+                encode_event::<S::Request, S::Response>(info, contents, Some(&decoded), None)
+            },
+        );
+        let shared = &self.work.shared;
+        let now = shared.in_flight.fetch_add(1, Ordering::SeqCst) + 1;
+        shared.peak_in_flight.fetch_max(now, Ordering::SeqCst);
+        let guard = InFlight {
+            shared: Arc::clone(shared),
+        };
+        let mut cancelled = shared.cancel.subscribe();
+        // Making the future runs user code too: a panic there fails this request only.
+        let future = catch_unwind(AssertUnwindSafe(|| (self.handler)(decoded)));
+        let work = self.work.clone();
+        // A runtime shutting down drops the task, and with it the guard.
+        self.handle.spawn(async move {
+            let _guard = guard;
+            let handled = async move {
+                match future {
+                    Ok(future) => AssertUnwindSafe(future).catch_unwind().await,
+                    Err(panic) => Err(panic),
+                }
+            };
+            let gone = async move {
+                let _ = cancelled.wait_for(|gone| *gone).await;
+            };
+            // The server's drop ends the handlers still running (their clients get no reply).
+            let Either::Left((outcome, _)) =
+                futures_util::future::select(std::pin::pin!(handled), std::pin::pin!(gone)).await
+            else {
+                return;
+            };
+            let outcome = outcome.unwrap_or_else(|panic| {
+                Err(format!(
+                    "the service handler panicked: {}",
+                    panic_message(panic.as_ref())
+                ))
+            });
+            work.finish::<S>(route, client_gid, sequence, outcome);
+        });
+    }
+}
+
+impl Work {
+    /// Answers one request with the handler's `outcome`, in its client's convention, through the
+    /// servers' common reply path (sent at once, or parked until the client can hear it).
+    fn finish<S: Service>(
+        &self,
+        route: ReplyRoute,
+        client_gid: [u8; 16],
+        sequence: i64,
+        outcome: Result<S::Response, String>,
+    ) {
+        let (result, response) = match outcome {
+            Ok(response) => match encode(&response) {
+                Ok(body) => (Ok(body), Some(response)),
+                Err(e) => (Err(e.to_string()), None),
+            },
+            Err(message) => (Err(message), None),
+        };
+        let counter = if result.is_ok() {
+            &self.shared.served
+        } else {
+            &self.shared.failed
+        };
+        counter.fetch_add(1, Ordering::Relaxed);
+        let Some(mut reply) = self.wire.reply(&route, result) else {
+            return;
+        };
+        // rcl `rcl_send_response`: RESPONSE_SENT once the response is sent.
+        if let Some(response) = response {
+            if self.introspection.state() != IntrospectionState::Off {
+                let introspection = Arc::clone(&self.introspection);
+                reply = reply.on_sent(Box::new(move || {
+                    introspection.emit(
+                        ServiceEventInfo::RESPONSE_SENT,
+                        client_gid,
+                        sequence,
+                        |info, contents| {
+                            encode_event::<S::Request, S::Response>(
+                                info,
+                                contents,
+                                None,
+                                Some(&response),
+                            )
+                        },
+                    );
+                }));
+            }
+        }
+        if let Err(e) = self.wire.send_or_park(&self.replies, reply) {
+            tracing::warn!(service = %self.wire.service(), "could not send a reply: {e}");
+        }
+    }
+}
