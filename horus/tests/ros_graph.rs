@@ -60,7 +60,11 @@ fn scheduled_nodes_are_ros_nodes_with_their_topics_services_parameters_and_rosou
         .context(ctx)
         .tick_rate(50_u64.hz())
         .print_report(false);
-    sched.add(Talker::on_chatter()).order(1).build().expect("talker");
+    sched
+        .add(Talker::on_chatter())
+        .order(1)
+        .build()
+        .expect("talker");
     sched
         .add(Listener::new(heard_tx))
         .order(0)
