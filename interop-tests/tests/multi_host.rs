@@ -3,10 +3,13 @@
 //! addresses of their own. A horus-ros AddTwoInts server runs as a process in host A, a client
 //! process (`horus_add_two_ints_caller`) in host B: discovery and calls cross the link, calls
 //! resume after the link is cut and restored with nothing handled twice, and
-//! `ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST` keeps a host's nodes to that host. On the backend of
+//! `ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST` keeps a host's nodes to that host, and every call
+//! gets its one answer while each host drops 15 % of the packets it sends on the link at random
+//! (an nftables `numgen random` rule: this kernel has no netem). On the backend of
 //! `HORUS_ROS_BACKEND`; every wait is on a child's output line, bounded.
 //!
-//! Needs root and iproute2 (as `scripts/isolated`, which the suite runs in).
+//! Needs root, iproute2 and nftables (`scripts/setup`), as `scripts/isolated`, which the suite
+//! runs in.
 
 use std::collections::BTreeMap;
 use std::io::{BufRead, BufReader, Write};
@@ -69,6 +72,46 @@ impl Hosts {
             ip(&["-n", ns, "route", "add", "224.0.0.0/4", "dev", link]);
         }
         hosts
+    }
+
+    /// Drops `percent` % of the packets each host sends on the link, at random.
+    fn lose(&self, percent: u32) {
+        for (ns, link) in self.namespaces.iter().zip(&self.links) {
+            let rules = format!(
+                "table inet loss {{\n  chain out {{\n    type filter hook output priority 0;\n    \
+                 oifname \"{link}\" numgen random mod 100 < {percent} counter drop\n  }}\n}}\n"
+            );
+            let mut nft = Command::new("ip")
+                .args(["netns", "exec", ns, "nft", "-f", "-"])
+                .stdin(Stdio::piped())
+                .spawn()
+                .expect("run nft (scripts/setup installs nftables)");
+            nft.stdin
+                .take()
+                .expect("stdin")
+                .write_all(rules.as_bytes())
+                .expect("write the rules");
+            assert!(nft.wait().expect("nft").success(), "nft -f: {rules}");
+        }
+    }
+
+    /// How many packets the loss rules dropped, both hosts together.
+    fn dropped(&self) -> u64 {
+        self.namespaces
+            .iter()
+            .map(|ns| {
+                let out = Command::new("ip")
+                    .args(["netns", "exec", ns, "nft", "list", "table", "inet", "loss"])
+                    .output()
+                    .expect("nft list");
+                let text = String::from_utf8_lossy(&out.stdout);
+                text.split_whitespace()
+                    .skip_while(|w| *w != "packets")
+                    .nth(1)
+                    .and_then(|n| n.parse::<u64>().ok())
+                    .unwrap_or_else(|| panic!("no counter in {text}"))
+            })
+            .sum()
     }
 
     /// Takes host A's end of the link down (`false`) or up again (`true`).
@@ -264,4 +307,43 @@ fn localhost_discovery_range_keeps_a_hosts_nodes_to_that_host() {
         caller.finish();
     }
     server.finish();
+}
+
+#[test]
+fn every_call_is_answered_once_at_15_percent_packet_loss() {
+    const CALLS: i64 = 100;
+    let domain = "146";
+    let hosts = Hosts::new(3);
+    hosts.lose(15);
+    let mut server = Running::start(&hosts, 0, SERVER, &[domain, "/add_two_ints", "0"], &[]);
+    assert_eq!(server.next_line(), "ready");
+    let mut caller = Running::start(&hosts, 1, CALLER, &[domain, "/add_two_ints"], &[]);
+    assert_eq!(caller.next_line(), "ready");
+    assert_eq!(caller.ask("wait 25000"), "found");
+    // Each call once, with a generous timeout, as a user would: the reliable transport resends
+    // what is lost.
+    for a in 1..=CALLS {
+        assert_eq!(
+            caller.ask(&format!("call {a} 1000 20000")),
+            format!("sum {a} {}", a + 1000)
+        );
+    }
+    let dropped = hosts.dropped();
+    caller.finish();
+    let handled = server.finish();
+    let mut times: BTreeMap<&str, usize> = BTreeMap::new();
+    for line in &handled {
+        if let Some(a) = line.strip_prefix("handling ") {
+            *times.entry(a).or_default() += 1;
+        }
+    }
+    assert_eq!(
+        times.len(),
+        usize::try_from(CALLS).expect("count"),
+        "{handled:#?}"
+    );
+    assert!(times.values().all(|&n| n == 1), "{handled:#?}");
+    // The loss was real.
+    assert!(dropped > 0, "no packet was dropped");
+    eprintln!("{CALLS} calls answered once each; {dropped} packets dropped on the link");
 }
