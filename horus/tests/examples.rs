@@ -3,7 +3,6 @@
 //! ros2cli would. `cargo test` builds the examples with the tests; the CLI is built by the
 //! workspace build (`scripts/test`) or `cargo build -p horus-ros-cli`.
 
-use std::io::{BufRead, BufReader};
 use std::path::PathBuf;
 use std::process::{Child, Command, Stdio};
 use std::sync::mpsc;
@@ -64,18 +63,7 @@ impl Running {
             .stderr(Stdio::inherit())
             .spawn()
             .expect("spawn example");
-        let stdout = child.stdout.take().expect("stdout");
-        let (tx, lines) = mpsc::channel();
-        std::thread::spawn(move || {
-            for line in BufReader::new(stdout)
-                .lines()
-                .map_while(std::io::Result::ok)
-            {
-                if tx.send(line).is_err() {
-                    break;
-                }
-            }
-        });
+        let lines = interop_tests::line_reader(child.stdout.take().expect("stdout"));
         Self {
             child,
             lines,

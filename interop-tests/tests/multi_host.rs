@@ -12,10 +12,10 @@
 //! runs in.
 
 use std::collections::BTreeMap;
-use std::io::{BufRead, BufReader, Write};
+use std::io::Write;
 use std::process::{Child, ChildStdin, Command, Stdio};
 use std::sync::atomic::{AtomicU32, Ordering};
-use std::sync::mpsc::{self, Receiver};
+use std::sync::mpsc::Receiver;
 use std::time::{Duration, Instant};
 
 /// The longest wait for one line of a child.
@@ -158,18 +158,7 @@ impl Running {
             .stderr(Stdio::inherit())
             .spawn()
             .expect("start a child in a host");
-        let stdout = child.stdout.take().expect("stdout");
-        let (tx, lines) = mpsc::channel();
-        std::thread::spawn(move || {
-            for line in BufReader::new(stdout)
-                .lines()
-                .map_while(std::io::Result::ok)
-            {
-                if tx.send(line).is_err() {
-                    break;
-                }
-            }
-        });
+        let lines = interop_tests::line_reader(child.stdout.take().expect("stdout"));
         Self {
             stdin: child.stdin.take(),
             child,
