@@ -1,7 +1,8 @@
 //! Runs the crate's examples as the programs they are (separate processes, `--ros-args`,
-//! Ctrl+C), inside the test network namespace. `cargo test` builds them with the tests.
+//! Ctrl+C), inside the test network namespace, and looks at them with the `horus-ros` CLI as
+//! ros2cli would. `cargo test` builds the examples with the tests; the CLI is built by the
+//! workspace build (`scripts/test`) or `cargo build -p horus-ros-cli`.
 
-use std::io::{BufRead, BufReader};
 use std::path::PathBuf;
 use std::process::{Child, Command, Stdio};
 use std::sync::mpsc;
@@ -18,14 +19,30 @@ message! {
     MotorCommand { left_rpm: f32, right_rpm: f32 }
 }
 
-fn example(name: &str) -> PathBuf {
+/// `target/<profile>`, where this test binary's `deps/` is.
+fn profile_dir() -> PathBuf {
     let exe = std::env::current_exe().expect("current exe");
-    let dir = exe
-        .parent()
+    exe.parent()
         .and_then(|deps| deps.parent())
-        .expect("target/<profile>");
-    let path = dir.join("examples").join(name);
+        .expect("target/<profile>")
+        .to_path_buf()
+}
+
+fn example(name: &str) -> PathBuf {
+    let path = profile_dir().join("examples").join(name);
     assert!(path.exists(), "{} not built", path.display());
+    path
+}
+
+/// The `horus-ros` CLI of the same build (the CLI does not depend on this crate, so this one
+/// cannot ask cargo for it: the workspace build builds it).
+fn cli() -> PathBuf {
+    let path = profile_dir().join("horus-ros");
+    assert!(
+        path.exists(),
+        "{} not built: `cargo build -p horus-ros-cli` (scripts/test builds the workspace)",
+        path.display()
+    );
     path
 }
 
@@ -46,18 +63,7 @@ impl Running {
             .stderr(Stdio::inherit())
             .spawn()
             .expect("spawn example");
-        let stdout = child.stdout.take().expect("stdout");
-        let (tx, lines) = mpsc::channel();
-        std::thread::spawn(move || {
-            for line in BufReader::new(stdout)
-                .lines()
-                .map_while(std::io::Result::ok)
-            {
-                if tx.send(line).is_err() {
-                    break;
-                }
-            }
-        });
+        let lines = interop_tests::line_reader(child.stdout.take().expect("stdout"));
         Self {
             child,
             lines,
@@ -261,4 +267,136 @@ fn malformed_ros_args_stop_the_program_with_rcls_message() {
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
+}
+
+/// What ros2cli's `ros2 node info <full_name>` prints (ros2node `verb/info.py`): the name, then
+/// six titled sections in this order, each entry `    <name>: <types>` and an empty section one
+/// empty line (`print(*[], sep='\n')`). `sections` are Subscribers, Publishers, Service
+/// Servers, Service Clients, Action Servers, Action Clients; each is sorted here by name, as
+/// rcl's `*_names_and_types_by_node` return them.
+fn ros2_node_info(full_name: &str, sections: [Vec<(String, &str)>; 6]) -> String {
+    let titles = [
+        "Subscribers",
+        "Publishers",
+        "Service Servers",
+        "Service Clients",
+        "Action Servers",
+        "Action Clients",
+    ];
+    let mut out = format!("{full_name}\n");
+    for (title, mut entries) in titles.into_iter().zip(sections) {
+        entries.sort();
+        out.push_str(&format!("  {title}:\n"));
+        let lines: Vec<String> = entries
+            .iter()
+            .map(|(name, types)| format!("    {name}: {types}"))
+            .collect();
+        out.push_str(&lines.join("\n"));
+        out.push('\n');
+    }
+    out
+}
+
+/// The services every rclcpp node offers under its name (here: NodeServices).
+fn node_services(full_name: &str) -> Vec<(String, &'static str)> {
+    [
+        (
+            "describe_parameters",
+            "rcl_interfaces/srv/DescribeParameters",
+        ),
+        (
+            "get_parameter_types",
+            "rcl_interfaces/srv/GetParameterTypes",
+        ),
+        ("get_parameters", "rcl_interfaces/srv/GetParameters"),
+        (
+            "get_type_description",
+            "type_description_interfaces/srv/GetTypeDescription",
+        ),
+        ("list_parameters", "rcl_interfaces/srv/ListParameters"),
+        ("set_parameters", "rcl_interfaces/srv/SetParameters"),
+        (
+            "set_parameters_atomically",
+            "rcl_interfaces/srv/SetParametersAtomically",
+        ),
+    ]
+    .into_iter()
+    .map(|(service, types)| (format!("{full_name}/{service}"), types))
+    .collect()
+}
+
+/// The topics every rclcpp node publishes.
+fn node_topics() -> Vec<(String, &'static str)> {
+    vec![
+        (
+            "/parameter_events".to_owned(),
+            "rcl_interfaces/msg/ParameterEvent",
+        ),
+        ("/rosout".to_owned(), "rcl_interfaces/msg/Log"),
+    ]
+}
+
+/// `horus-ros node info <name>` on `domain`, discovering by itself (no daemon).
+fn horus_ros_node_info(domain: u32, name: &str) -> String {
+    let out = Command::new(cli())
+        .args(["--no-daemon", "--spin-time", "20", "node", "info", name])
+        .env("ROS_DOMAIN_ID", domain.to_string())
+        .output()
+        .expect("run horus-ros");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{}: {stderr}", out.status);
+    assert!(!stderr.contains("WARNING"), "{stderr}");
+    String::from_utf8(out.stdout).expect("UTF-8")
+}
+
+#[test]
+fn horus_ros_node_info_lists_a_horus_node_as_ros2_node_info() {
+    let domain = 186;
+    let mut talker = Running::start("talker", domain, &[], &[("TALKER_RATE_HZ", "20")]);
+    let mut adder = Running::start("add_two_ints_node", domain, &[], &[]);
+    // Served and called: its server, its client and their node are all up.
+    adder.expect_line("Result of add_two_ints");
+    // The second message was sent after the first: /chatter is published.
+    talker.expect_line("Publishing: 'Hello World: 2'");
+
+    let mut publishers = node_topics();
+    publishers.push(("/chatter".to_owned(), "std_msgs/msg/String"));
+    let want = ros2_node_info(
+        "/talker",
+        [
+            vec![],
+            publishers,
+            node_services("/talker"),
+            vec![],
+            vec![],
+            vec![],
+        ],
+    );
+    assert_eq!(horus_ros_node_info(domain, "/talker"), want);
+
+    let add_two_ints = || {
+        vec![(
+            "/add_two_ints".to_owned(),
+            "example_interfaces/srv/AddTwoInts",
+        )]
+    };
+    let mut servers = node_services("/add_two_ints_node");
+    servers.extend(add_two_ints());
+    let want = ros2_node_info(
+        "/add_two_ints_node",
+        [
+            vec![],
+            node_topics(),
+            servers,
+            add_two_ints(),
+            vec![],
+            vec![],
+        ],
+    );
+    assert_eq!(horus_ros_node_info(domain, "/add_two_ints_node"), want);
+
+    for node in [talker, adder] {
+        node.interrupt();
+        node.wait_success();
+    }
 }

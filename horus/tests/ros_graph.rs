@@ -3,9 +3,13 @@
 //! from a second context (another DDS participant), inside the test network namespace. Each
 //! test has its own domain.
 
+#[path = "common/chatter_nodes.rs"]
+mod chatter_nodes;
+
 use std::sync::mpsc;
 use std::time::Duration;
 
+use chatter_nodes::{Listener, Talker};
 use horus::prelude::*;
 use horus::ros::{Arguments, Context};
 use horus_ros_graph::Graph;
@@ -15,48 +19,6 @@ use horus_ros_rmw::qos::Qos;
 use horus_ros_services::ServiceClient;
 
 const WAIT: Duration = Duration::from_secs(20);
-
-struct Talker {
-    chatter: Topic<StringMsg>,
-    count: u64,
-}
-
-impl Node for Talker {
-    fn name(&self) -> &str {
-        "talker"
-    }
-    fn init(&mut self) -> Result<()> {
-        let rate: i64 = horus::current::parameter_or("rate", 0);
-        hlog!(info, "talker starting, rate parameter {rate}");
-        Ok(())
-    }
-    fn tick(&mut self) {
-        self.count += 1;
-        self.chatter.send(StringMsg {
-            data: format!("Hello World: {}", self.count),
-        });
-    }
-}
-
-struct Listener {
-    chatter: Topic<StringMsg>,
-    heard: mpsc::Sender<String>,
-}
-
-impl Node for Listener {
-    fn name(&self) -> &str {
-        "listener"
-    }
-    fn init(&mut self) -> Result<()> {
-        self.chatter.connect_subscriber()?;
-        Ok(())
-    }
-    fn tick(&mut self) {
-        while let Some(m) = self.chatter.try_recv() {
-            let _ = self.heard.send(m.data);
-        }
-    }
-}
 
 fn context(domain: u32, args: &[&str]) -> Context {
     let argv: Vec<&str> = std::iter::once("prog")
@@ -99,18 +61,12 @@ fn scheduled_nodes_are_ros_nodes_with_their_topics_services_parameters_and_rosou
         .tick_rate(50_u64.hz())
         .print_report(false);
     sched
-        .add(Talker {
-            chatter: Topic::new("chatter").expect("topic"),
-            count: 0,
-        })
+        .add(Talker::on_chatter())
         .order(1)
         .build()
         .expect("talker");
     sched
-        .add(Listener {
-            chatter: Topic::new("chatter").expect("topic"),
-            heard: heard_tx,
-        })
+        .add(Listener::new(heard_tx))
         .order(0)
         .build()
         .expect("listener");

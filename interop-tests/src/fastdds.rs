@@ -5,10 +5,9 @@
 //! needs it, into `<target dir>/interop-peers/`, and rebuilt only when a source is newer than the
 //! binary. Building needs no network, so it also works inside `scripts/isolated`.
 
-use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
-use std::process::{Child, ChildStdout, Command, Stdio};
-use std::sync::mpsc::{self, Receiver, RecvTimeoutError};
+use std::process::{Child, Command, Stdio};
+use std::sync::mpsc::{Receiver, RecvTimeoutError};
 use std::sync::OnceLock;
 use std::time::{Duration, Instant, SystemTime};
 
@@ -444,7 +443,7 @@ impl FastDdsPeer {
         let stdout = child.stdout.take().ok_or("no piped stdout")?;
         Ok(Self {
             child,
-            lines: spawn_line_reader(stdout),
+            lines: crate::line_reader(stdout),
             seen: Vec::new(),
         })
     }
@@ -555,19 +554,6 @@ impl FastDdsPeer {
     pub fn wait(mut self, limit: Duration) -> std::io::Result<Option<i32>> {
         self.wait_exit(limit)
     }
-}
-
-fn spawn_line_reader(stdout: ChildStdout) -> Receiver<String> {
-    let (tx, rx) = mpsc::channel();
-    std::thread::spawn(move || {
-        for line in BufReader::new(stdout).lines() {
-            let Ok(line) = line else { break };
-            if tx.send(line).is_err() {
-                break;
-            }
-        }
-    });
-    rx
 }
 
 impl Drop for FastDdsPeer {

@@ -17,6 +17,23 @@ pub fn python() -> PathBuf {
         .map_or_else(|| PathBuf::from("python3"), PathBuf::from)
 }
 
+/// A child's output, line by line as it is printed, read by a thread of its own (which ends at
+/// the end of the output or when the receiver is dropped).
+pub fn line_reader(
+    output: impl std::io::Read + Send + 'static,
+) -> std::sync::mpsc::Receiver<String> {
+    let (tx, rx) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        for line in std::io::BufRead::lines(std::io::BufReader::new(output)) {
+            let Ok(line) = line else { break };
+            if tx.send(line).is_err() {
+                break;
+            }
+        }
+    });
+    rx
+}
+
 /// The path of a peer script in `interop-tests/peers/`.
 pub fn peer_script(name: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
@@ -57,17 +74,7 @@ impl Peer {
     /// The peer's standard output, line by line as it is printed (read by a thread of its own);
     /// `None` if already taken. [`wait`](Self::wait) then reports no standard output.
     pub fn stdout_lines(&mut self) -> Option<std::sync::mpsc::Receiver<String>> {
-        let stdout = self.child.stdout.take()?;
-        let (tx, rx) = std::sync::mpsc::channel();
-        std::thread::spawn(move || {
-            for line in std::io::BufRead::lines(std::io::BufReader::new(stdout)) {
-                let Ok(line) = line else { break };
-                if tx.send(line).is_err() {
-                    break;
-                }
-            }
-        });
-        Some(rx)
+        Some(line_reader(self.child.stdout.take()?))
     }
 
     /// Waits for the peer to exit, at most `limit`; kills it past that.

@@ -92,7 +92,8 @@ impl Tree {
     /// A machine with everything scripts/setup looks for, laid out as Debian 12's packages do.
     fn complete() -> Self {
         let t = Self::empty();
-        // iproute2, gcc (cc through the alternatives system), make, cmake, g++, valgrind, procps.
+        // iproute2, gcc (cc through the alternatives system), make, cmake, g++, valgrind, procps,
+        // nftables.
         t.exe("/usr/bin/ip")
             .exe("/usr/bin/gcc-12")
             .link("/usr/bin/gcc", "gcc-12")
@@ -106,7 +107,8 @@ impl Tree {
             .exe("/usr/bin/make")
             .exe("/usr/bin/cmake")
             .exe("/usr/bin/valgrind")
-            .exe("/usr/bin/kill");
+            .exe("/usr/bin/kill")
+            .exe("/usr/sbin/nft");
         t.libclang_cpp_14().libclang1_14().clang_headers_14();
         // libfastrtps-dev / libfastrtps2.9, libfastcdr-dev / libfastcdr1.
         t.text("/usr/include/fastdds/dds/domain/DomainParticipant.hpp")
@@ -243,6 +245,7 @@ fn an_empty_machine_needs_everything() {
         "libfastcdr-dev",
         "valgrind",
         "procps",
+        "nftables",
         "python3",
         "python3-venv",
     ]);
@@ -396,13 +399,14 @@ fn fast_dds_needs_headers_and_linkable_libraries() {
 
 #[test]
 fn commands_are_executable_files_in_the_bin_directories() {
-    let cases: [(&str, &[&str]); 7] = [
+    let cases: [(&str, &[&str]); 8] = [
         ("/usr/bin/ip", &["iproute2"]),
         ("/usr/bin/cmake", &["cmake"]),
         ("/usr/bin/make", &["make"]),
         ("/usr/bin/valgrind", &["valgrind"]),
         // `kill` is a shell builtin too, but tests run /usr/bin/kill.
         ("/usr/bin/kill", &["procps"]),
+        ("/usr/sbin/nft", &["nftables"]),
         // cc and c++ are links through the alternatives system.
         ("/usr/bin/gcc-12", &["gcc"]),
         ("/usr/bin/g++-12", &["g++"]),

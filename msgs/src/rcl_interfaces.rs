@@ -163,6 +163,23 @@ pub mod msg {
         }
     }
 
+    ros_message! {
+        /// `rcl_interfaces/msg/ParameterEvent`: what one change did to a node's parameters, as
+        /// every rclcpp node publishes it on `/parameter_events`. A name is in one list only.
+        ParameterEvent = "rcl_interfaces/msg/ParameterEvent" {
+            /// When the change happened.
+            stamp: crate::builtin_interfaces::msg::Time,
+            /// The node's fully-qualified name.
+            node: String,
+            /// Parameters declared by the change.
+            new_parameters: Vec<Parameter>,
+            /// Parameters whose value changed.
+            changed_parameters: Vec<Parameter>,
+            /// Parameters undeclared by the change.
+            deleted_parameters: Vec<Parameter>,
+        }
+    }
+
     impl Log {
         /// `DEBUG = 10`.
         pub const DEBUG: u8 = 10;

@@ -12,6 +12,8 @@
 //!   found in the public code index (Gid / NodeEntitiesInfo / ParticipantEntitiesInfo).
 //! - [L] a generated `rcl_interfaces/srv/detail/list_parameters__description.c` (same index),
 //!   agreeing with [M].
+//! - [E] a generated `rcl_interfaces/msg/detail/parameter_event__description.c` (same index),
+//!   whose expected hashes of Time, Parameter and ParameterValue agree with [J] and [M].
 
 use horus_ros_msgs::builtin_interfaces::msg::{Duration, Time};
 use horus_ros_msgs::example_interfaces::srv::AddTwoInts;
@@ -117,6 +119,10 @@ fn rcl_interfaces_messages() {
     );
     check_msg::<rcl_msg::SetParametersResult>(
         "cfcc0fb0371ee5159b403960ef4300f8f9d2f1fd6117c8666b7f9654d528a9b1",
+    );
+    // [E]
+    check_msg::<rcl_msg::ParameterEvent>(
+        "043e627780fcad87a22d225bc2a037361dba713fca6a6b9f4b869a5aa0393204",
     );
 }
 

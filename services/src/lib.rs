@@ -57,8 +57,8 @@ pub use error::{Error, Result, ServiceError, SetupError};
 pub use introspection::{IntrospectionState, SERVICE_EVENT_TOPIC_POSTFIX};
 pub use naming::default_service_name;
 pub use node_services::{
-    parameter_type_name, NodeServices, NodeServicesOptions, ParameterError, ParameterValueExt,
-    Parameters, TypeRegistry, FAILURE_NOT_IN_USE, FAILURE_PARSE_HASH,
+    parameter_type_name, NodeServices, NodeServicesOptions, ParameterChange, ParameterError,
+    ParameterValueExt, Parameters, TypeRegistry, FAILURE_NOT_IN_USE, FAILURE_PARSE_HASH,
     REASON_ATOMICALLY_NOT_DECLARED,
 };
 pub use raw_traits::{

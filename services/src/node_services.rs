@@ -24,13 +24,17 @@ mod parameters;
 mod types;
 
 pub use parameters::{
-    type_name as parameter_type_name, ParameterError, ParameterValueExt, Parameters,
+    type_name as parameter_type_name, ParameterChange, ParameterError, ParameterValueExt,
+    Parameters,
 };
 pub use types::{TypeRegistry, FAILURE_NOT_IN_USE, FAILURE_PARSE_HASH};
 
+use std::sync::{Arc, Weak};
+
+use horus_ros_msgs::builtin_interfaces::msg::Time;
 use horus_ros_msgs::rcl_interfaces::msg::SetParametersResult;
 use horus_ros_msgs::rcl_interfaces::msg::{
-    ListParametersResult, Parameter, ParameterDescriptor, ParameterValue,
+    ListParametersResult, Parameter, ParameterDescriptor, ParameterEvent, ParameterValue,
 };
 use horus_ros_msgs::rcl_interfaces::srv::{
     DescribeParameters, DescribeParametersResponse, GetParameterTypes, GetParameterTypesResponse,
@@ -41,7 +45,7 @@ use horus_ros_msgs::type_description_interfaces::srv::GetTypeDescription;
 use horus_ros_msgs::{Message, Service, TypeHash};
 use horus_ros_rmw::names::ServiceName;
 use horus_ros_rmw::qos::Qos;
-use horus_ros_rmw::Node;
+use horus_ros_rmw::{Node, Publisher};
 
 use crate::{ServiceServer, ServiceServerBuilder, SetupError};
 
@@ -61,6 +65,10 @@ pub struct NodeServicesOptions {
     /// Declare `start_type_description_service` (bool, true, read-only), as every rclcpp node
     /// does (default true).
     pub declare_start_type_description_service: bool,
+    /// rclcpp's `start_parameter_event_publisher` (default true): publish a
+    /// `rcl_interfaces/msg/ParameterEvent` on `/parameter_events` (QoS `parameter_events`) for
+    /// every change of the store ([`ParameterChange`]), from before the first declaration on.
+    pub start_parameter_event_publisher: bool,
 }
 
 impl Default for NodeServicesOptions {
@@ -69,6 +77,7 @@ impl Default for NodeServicesOptions {
             allow_undeclared_parameters: false,
             declare_use_sim_time: true,
             declare_start_type_description_service: true,
+            start_parameter_event_publisher: true,
         }
     }
 }
@@ -95,9 +104,15 @@ impl Default for NodeServicesOptions {
 /// The parameter services answer from a [`Parameters`] store with rclcpp's semantics, the type
 /// description service from a [`TypeRegistry`] with rcl's.
 ///
-/// Dropping it stops the services (each server thread is joined).
+/// With [`NodeServicesOptions::start_parameter_event_publisher`] (the default), it also
+/// publishes the store's changes on `/parameter_events`, as rclcpp's `NodeParameters`.
+///
+/// Dropping it stops the services (each server thread is joined) and the event publisher.
 pub struct NodeServices {
     parameters: Parameters,
+    /// `/parameter_events`; the store's change listener holds it weakly, so that it goes with
+    /// the services even while the application keeps a handle of the store.
+    _events: Option<Arc<Publisher<ParameterEvent>>>,
     types: TypeRegistry,
     node_name: String,
     describe: ServiceServer<DescribeParameters>,
@@ -127,6 +142,23 @@ impl NodeServices {
     /// Starts the seven services on `node`.
     pub fn start_with(node: &Node, options: NodeServicesOptions) -> Result<Self, SetupError> {
         let parameters = Parameters::new(options.allow_undeclared_parameters);
+        let types = TypeRegistry::new();
+        // rclcpp creates the publisher before any declaration, so the node's own declarations
+        // (use_sim_time, the overrides) are published too.
+        let events = if options.start_parameter_event_publisher {
+            let publisher = Arc::new(node.create_publisher::<ParameterEvent>(
+                "/parameter_events",
+                &Qos::parameter_events(),
+            )?);
+            // rcl registers the type of every publisher it creates for ~/get_type_description.
+            types.register_type::<ParameterEvent>();
+            let weak = Arc::downgrade(&publisher);
+            let node_name = node.fully_qualified_name();
+            parameters.on_change(move |change| publish_event(&weak, &node_name, change));
+            Some(publisher)
+        } else {
+            None
+        };
         if options.declare_use_sim_time {
             // Cannot fail on an empty store.
             let _ = parameters.declare(
@@ -169,7 +201,6 @@ impl NodeServices {
                 );
             }
         }
-        let types = TypeRegistry::new();
         let qos = Qos::parameters();
 
         let p = parameters.clone();
@@ -247,6 +278,7 @@ impl NodeServices {
 
         let node_services = Self {
             parameters,
+            _events: events,
             types,
             node_name: node.fully_qualified_name(),
             describe,
@@ -336,6 +368,28 @@ impl NodeServices {
     /// [`TypeRegistry::register_service`].
     pub fn register_service<S: Service>(&self) -> TypeHash {
         self.types.register_service::<S>()
+    }
+}
+
+/// rclcpp's `events_publisher_->publish(parameter_event)`, stamped with the system time (the
+/// node clock without `use_sim_time`).
+fn publish_event(
+    publisher: &Weak<Publisher<ParameterEvent>>,
+    node_name: &str,
+    change: &ParameterChange,
+) {
+    let Some(publisher) = publisher.upgrade() else {
+        return;
+    };
+    let event = ParameterEvent {
+        stamp: Time::now(),
+        node: node_name.to_owned(),
+        new_parameters: change.new_parameters.clone(),
+        changed_parameters: change.changed_parameters.clone(),
+        deleted_parameters: change.deleted_parameters.clone(),
+    };
+    if let Err(err) = publisher.publish(event) {
+        tracing::debug!(node = %node_name, "/parameter_events: {err}");
     }
 }
 

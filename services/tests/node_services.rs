@@ -1,11 +1,12 @@
 //! `NodeServices` called over DDS by clients on another node in another context (run inside the
-//! test network namespace). Each test has its own domain (151-155).
+//! test network namespace). Each test has its own domain (151-156).
 
 use std::time::{Duration, Instant};
 
+use horus_ros_graph::Graph;
 use horus_ros_msgs::example_interfaces::srv::AddTwoInts;
 use horus_ros_msgs::rcl_interfaces::msg::{
-    IntegerRange, Parameter, ParameterDescriptor, ParameterType, ParameterValue,
+    IntegerRange, Parameter, ParameterDescriptor, ParameterEvent, ParameterType, ParameterValue,
     SetParametersResult,
 };
 use horus_ros_msgs::rcl_interfaces::srv::{
@@ -16,6 +17,8 @@ use horus_ros_msgs::rcl_interfaces::srv::{
 use horus_ros_msgs::type_description_interfaces::srv::{
     GetTypeDescription, GetTypeDescriptionRequest,
 };
+use horus_ros_rmw::qos::Qos;
+use horus_ros_rmw::Subscription;
 use horus_ros_services::prelude::*;
 use horus_ros_services::{
     NodeServices, NodeServicesOptions, ParameterValueExt, FAILURE_NOT_IN_USE, FAILURE_PARSE_HASH,
@@ -425,13 +428,18 @@ fn get_type_description_answers_by_hash_as_rcl() {
     assert!(!c.server_available(), "the server is still seen after drop");
 }
 
-#[test]
-fn allow_undeclared_parameters_answers_not_set_and_declares_on_set() {
+/// [`served`] with rclcpp's `allow_undeclared_parameters`.
+fn served_allowing_undeclared(domain: u32) -> (Node, NodeServices) {
     let options = NodeServicesOptions {
         allow_undeclared_parameters: true,
         ..Default::default()
     };
-    let (_n, services) = served(155, options);
+    served(domain, options)
+}
+
+#[test]
+fn allow_undeclared_parameters_answers_not_set_and_declares_on_set() {
+    let (_n, services) = served_allowing_undeclared(155);
     let peer = node(155, "caller", "/");
     let mut get = client::<GetParameters>(&peer, "get_parameters");
     let values = get
@@ -474,4 +482,129 @@ fn allow_undeclared_parameters_answers_not_set_and_declares_on_set() {
         services.get_parameter("fresh"),
         Ok(ParameterValue::from_integer(3))
     );
+}
+
+/// The next event on `events` (at most 10 s).
+fn next_event(events: &mut Subscription<ParameterEvent>) -> ParameterEvent {
+    let deadline = Instant::now() + 10 * SECOND;
+    loop {
+        if let Some(event) = events.try_take().expect("take") {
+            return event;
+        }
+        let left = deadline.saturating_duration_since(Instant::now());
+        assert!(
+            !left.is_zero() && events.wait(left),
+            "no parameter event within 10 s"
+        );
+    }
+}
+
+#[test]
+fn parameter_events_tell_each_change_as_rclcpp() {
+    let (_n, services) = served_allowing_undeclared(156);
+    // The watcher follows the graph of its context, so the clients are on another one.
+    let watcher = node(156, "watcher", "/");
+    let peer = node(156, "caller", "/");
+    let mut events = watcher
+        .create_subscription::<ParameterEvent>("/parameter_events", &Qos::parameter_events())
+        .expect("subscription");
+    // The events published from now on reach the watcher once its reader is matched with the
+    // node's writer.
+    let graph = Graph::new(watcher.context()).expect("graph");
+    let mut writer = None;
+    assert!(
+        graph.wait_until(15 * SECOND, |g| {
+            writer = g
+                .publishers_info_by_topic("/parameter_events", false)
+                .into_iter()
+                .find(|i| i.node_name == "params_node" && i.node_namespace == "/ns")
+                .map(|i| i.endpoint_gid);
+            writer.is_some()
+        }),
+        "/ns/params_node's /parameter_events writer not discovered"
+    );
+    let writer = writer.expect("writer");
+    assert!(graph.wait_for_match(events.gid(), writer, 15 * SECOND));
+
+    // Set over the service: one declared implicitly (new), one changed.
+    let mut set_atomically = client::<SetParametersAtomically>(&peer, "set_parameters_atomically");
+    let result = set_atomically
+        .call(
+            SetParametersAtomicallyRequest {
+                parameters: vec![
+                    param("speed", ParameterValue::from_integer(6)),
+                    param("extra", ParameterValue::from_bool(true)),
+                ],
+            },
+            5 * SECOND,
+        )
+        .expect("set atomically")
+        .result;
+    assert!(result.successful, "{result:?}");
+    let event = next_event(&mut events);
+    assert_eq!(event.node, "/ns/params_node");
+    assert!(event.stamp.sec > 0, "{event:?}");
+    assert_eq!(
+        event.new_parameters,
+        [param("extra", ParameterValue::from_bool(true))]
+    );
+    assert_eq!(
+        event.changed_parameters,
+        [param("speed", ParameterValue::from_integer(6))]
+    );
+    assert!(event.deleted_parameters.is_empty(), "{event:?}");
+
+    // A refused set publishes nothing; setting a dynamically typed parameter to NOT_SET deletes
+    // it (listed with that value).
+    let mut set = client::<SetParameters>(&peer, "set_parameters");
+    let results = set
+        .call(
+            SetParametersRequest {
+                parameters: vec![
+                    param("speed", ParameterValue::from_integer(7)),
+                    param("extra", ParameterValue::default()),
+                ],
+            },
+            5 * SECOND,
+        )
+        .expect("set")
+        .results;
+    assert_eq!(
+        results.iter().map(|r| r.successful).collect::<Vec<_>>(),
+        [false, true]
+    );
+    let event = next_event(&mut events);
+    assert!(event.new_parameters.is_empty(), "{event:?}");
+    assert!(event.changed_parameters.is_empty(), "{event:?}");
+    assert_eq!(
+        event.deleted_parameters,
+        [param("extra", ParameterValue::default())]
+    );
+
+    // A declaration by the application is new; undeclaring publishes nothing (as rclcpp).
+    services
+        .declare_parameter(
+            "late",
+            ParameterValue::from_integer(1),
+            ParameterDescriptor {
+                dynamic_typing: true,
+                ..Default::default()
+            },
+        )
+        .expect("declare");
+    services.undeclare_parameter("late").expect("undeclare");
+    services
+        .set_parameter("mode", ParameterValue::from_string("manual"))
+        .expect("set mode");
+    let event = next_event(&mut events);
+    assert_eq!(
+        event.new_parameters,
+        [param("late", ParameterValue::from_integer(1))]
+    );
+    let event = next_event(&mut events);
+    assert_eq!(
+        event.changed_parameters,
+        [param("mode", ParameterValue::from_string("manual"))]
+    );
+    assert!(event.new_parameters.is_empty() && event.deleted_parameters.is_empty());
 }

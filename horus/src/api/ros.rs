@@ -3,7 +3,6 @@
 //! and a `/rosout` publisher, as rclcpp gives every node.
 
 use std::sync::Arc;
-use std::time::{SystemTime, UNIX_EPOCH};
 
 use horus_ros_msgs::builtin_interfaces::msg::Time;
 use horus_ros_msgs::rcl_interfaces::msg::{Log, ParameterValue};
@@ -58,6 +57,10 @@ impl ProcessRos {
                     .map_err(|e| format!("/rosout of '{name}': {e}"))?,
             )
         };
+        if rosout.is_some() {
+            // rcl registers the type of every publisher it creates for ~/get_type_description.
+            services.register_type::<Log>();
+        }
         let min_level = match arguments.log_level_for(&logger_name) {
             Some(LogSeverity::Unset) | None => LogLevel::Info,
             Some(LogSeverity::Debug) => LogLevel::Debug,
@@ -114,14 +117,8 @@ impl RosNode {
         let Some(rosout) = &self.rosout else {
             return;
         };
-        let now = SystemTime::now()
-            .duration_since(UNIX_EPOCH)
-            .unwrap_or_default();
         let message = Log {
-            stamp: Time {
-                sec: i32::try_from(now.as_secs()).unwrap_or(i32::MAX),
-                nanosec: now.subsec_nanos(),
-            },
+            stamp: Time::now(),
             level: level as u8,
             name: self.logger_name.clone(),
             msg: args.to_string(),

@@ -63,20 +63,11 @@ pub(crate) fn with_current<R>(runtime: &Arc<NodeRuntime>, f: impl FnOnce() -> R)
     f()
 }
 
-/// Makes `runtime` the current node of this thread until the next call or [`clear_current`]
-/// (the tick path: one handle swap per node, no restore).
-pub(crate) fn set_current(runtime: &Arc<NodeRuntime>) {
-    CURRENT.with(|c| {
-        let mut c = c.borrow_mut();
-        if !c.as_ref().is_some_and(|r| Arc::ptr_eq(r, runtime)) {
-            *c = Some(Arc::clone(runtime));
-        }
-    });
-}
-
-/// No node is current on this thread any more.
-pub(crate) fn clear_current() {
-    CURRENT.with(|c| c.borrow_mut().take());
+/// Swaps `slot` with this thread's current node: the tick path lends a spare strong handle of
+/// the node's runtime (held by the scheduler for this only) before the tick and takes it back
+/// after, so a tick costs no reference-count traffic. Two calls restore the thread's state.
+pub(crate) fn swap_current(slot: &mut Option<Arc<NodeRuntime>>) {
+    CURRENT.with(|c| std::mem::swap(&mut *c.borrow_mut(), slot));
 }
 
 /// The node running on this thread, if any.

@@ -12,7 +12,7 @@ use crate::api::metrics::{ms, NodeMetrics, NodeTiming, TickStats, TimingReport};
 use crate::api::node::{Node, NodeHealthState, NodeState, TopicMetadata};
 use crate::api::policy::{FailurePolicy, Miss};
 use crate::api::ros::ProcessRos;
-use crate::api::runtime::{clear_current, set_current, with_current, NodeRuntime};
+use crate::api::runtime::{swap_current, with_current, NodeRuntime};
 use crate::api::units::Frequency;
 use crate::hlog;
 
@@ -54,6 +54,9 @@ struct Entry {
     config: NodeConfig,
     state: NodeState,
     runtime: Arc<NodeRuntime>,
+    /// A second strong handle of `runtime`, lent to the thread as its current node for each
+    /// tick ([`swap_current`]): no reference counting per tick.
+    lent: Option<Arc<NodeRuntime>>,
     stats: TickStats,
     /// The last `init` succeeded (shutdown is due at exit).
     live: bool,
@@ -471,7 +474,6 @@ impl Scheduler {
                 cycle_due || force,
             )?;
         }
-        clear_current();
         Ok(())
     }
 
@@ -659,11 +661,11 @@ fn step(
         e.skip_next = false;
         return Ok(now);
     }
-    // The tick.
-    let runtime = &e.runtime;
-    set_current(runtime);
+    // The tick, with the node current on this thread.
+    swap_current(&mut e.lent);
     let result = catch_unwind(AssertUnwindSafe(|| node.tick()));
     let end = clock.now();
+    swap_current(&mut e.lent);
     let start = now;
     let took = end.saturating_sub(start);
     e.stats.record(took);
@@ -891,9 +893,11 @@ impl NodeBuilder<'_> {
             return Err(BuildError::InvalidName { name, reason });
         }
         let index = s.entries.len();
+        let runtime = NodeRuntime::new(name.clone());
         s.entries.push(Entry {
             node: Some(self.node),
-            runtime: NodeRuntime::new(name.clone()),
+            lent: Some(Arc::clone(&runtime)),
+            runtime,
             name,
             config: self.config,
             state: NodeState::Uninitialized,
@@ -920,7 +924,7 @@ impl NodeBuilder<'_> {
 
 /// Ctrl+C / SIGTERM stop every scheduler that is running `run` (one handler per process).
 fn register_signals(stop: &StopHandle) {
-    type Registry = Mutex<Vec<Weak<(Mutex<bool>, std::sync::Condvar)>>>;
+    type Registry = Mutex<Vec<Weak<crate::api::clock::StopState>>>;
     static REGISTRY: OnceLock<Registry> = OnceLock::new();
     static INSTALLED: OnceLock<()> = OnceLock::new();
     let registry = REGISTRY.get_or_init(|| Mutex::new(Vec::new()));

@@ -70,11 +70,41 @@ pub struct Parameters {
     inner: Arc<Mutex<Store>>,
 }
 
-#[derive(Debug, Default)]
+#[derive(Default)]
 struct Store {
     /// Sorted by name, as rclcpp's `std::map` (list order).
     params: BTreeMap<String, ParameterInfo>,
     allow_undeclared: bool,
+    /// Told of every change ([`Parameters::on_change`]), under the store's lock.
+    listeners: Vec<ChangeListener>,
+}
+
+impl std::fmt::Debug for Store {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Store")
+            .field("params", &self.params)
+            .field("allow_undeclared", &self.allow_undeclared)
+            .field("listeners", &self.listeners.len())
+            .finish()
+    }
+}
+
+type ChangeListener = Box<dyn Fn(&ParameterChange) + Send + Sync>;
+
+/// What one change did to the store, as rclcpp fills a `rcl_interfaces/msg/ParameterEvent`
+/// (`node_parameters.cpp`): `declare` lists the parameter as new (no entry when declared
+/// without a value); a successful `set_atomically` lists the implicitly declared parameters as
+/// new, those set to `PARAMETER_NOT_SET` as deleted (with that value) and the others as
+/// changed, each list in request order. `undeclare` tells nothing, as rclcpp publishes no event
+/// for it.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct ParameterChange {
+    /// Parameters declared.
+    pub new_parameters: Vec<Parameter>,
+    /// Parameters whose value was set.
+    pub changed_parameters: Vec<Parameter>,
+    /// Parameters undeclared.
+    pub deleted_parameters: Vec<Parameter>,
 }
 
 /// Why `set_atomically` failed before producing a result: rclcpp's
@@ -101,12 +131,19 @@ impl Parameters {
             inner: Arc::new(Mutex::new(Store {
                 params: BTreeMap::new(),
                 allow_undeclared,
+                listeners: Vec::new(),
             })),
         }
     }
 
     fn lock(&self) -> MutexGuard<'_, Store> {
         self.inner.lock().unwrap_or_else(|p| p.into_inner())
+    }
+
+    /// Calls `listener` after every change (see [`ParameterChange`]), in the order of the
+    /// changes: it runs under the store's lock, so it must not use this store.
+    pub fn on_change(&self, listener: impl Fn(&ParameterChange) + Send + Sync + 'static) {
+        self.lock().listeners.push(Box::new(listener));
     }
 
     /// Whether undeclared parameters are allowed (see [`new`](Self::new)).
@@ -162,6 +199,16 @@ impl Parameters {
         })?;
         let stored = info.value.clone();
         store.params.insert(name.to_owned(), info);
+        // rclcpp publishes an event for every declaration, listing the parameter only when it
+        // got a value.
+        let mut change = ParameterChange::default();
+        if stored.r#type != ParameterType::PARAMETER_NOT_SET {
+            change.new_parameters.push(Parameter {
+                name: name.to_owned(),
+                value: stored.clone(),
+            });
+        }
+        store.notify(&change);
         Ok(stored)
     }
 
@@ -302,6 +349,12 @@ impl Parameters {
 }
 
 impl Store {
+    fn notify(&self, change: &ParameterChange) {
+        for listener in &self.listeners {
+            listener(change);
+        }
+    }
+
     fn get(&self, name: &str) -> Result<ParameterValue, ParameterError> {
         match self.params.get(name) {
             Some(info)
@@ -462,6 +515,16 @@ impl Store {
                 return Ok(failure(reason));
             }
         }
+        let mut change = ParameterChange::default();
+        for p in &to_set {
+            if staged.contains_key(&p.name) {
+                change.new_parameters.push(p.clone());
+            } else if to_undeclare.contains(&p.name) {
+                change.deleted_parameters.push(p.clone());
+            } else {
+                change.changed_parameters.push(p.clone());
+            }
+        }
         for p in to_set {
             let info = self.params.entry(p.name.clone()).or_default();
             info.descriptor.name = p.name;
@@ -474,6 +537,7 @@ impl Store {
         for name in to_undeclare {
             self.params.remove(&name);
         }
+        self.notify(&change);
         Ok(SetParametersResult {
             successful: true,
             reason: String::new(),
