@@ -445,6 +445,8 @@ fn run(shared: &Shared, mut feed: DiscoveryFeed) {
             (events, changed)
         };
         shared.changed.notify_all();
+        #[cfg(feature = "tokio")]
+        shared.streams.wake();
         if changed {
             shared.tell_watchers();
         }

@@ -2,7 +2,7 @@
 
 use std::pin::Pin;
 use std::sync::{Arc, Mutex, Weak};
-use std::task::{Context as TaskContext, Poll};
+use std::task::{Context as TaskContext, Poll, Waker};
 
 use horus_ros_rmw::stream::DropOldestQueue;
 pub use horus_ros_rmw::stream::Lagged;
@@ -17,6 +17,8 @@ pub const DEFAULT_EVENTS_CAPACITY: usize = 1024;
 #[derive(Default)]
 pub(crate) struct EventStreams {
     queues: Mutex<Vec<Weak<DropOldestQueue<GraphEvent>>>>,
+    /// The consumers to wake for what was delivered, once the graph's lock is released.
+    to_wake: Mutex<Vec<Waker>>,
 }
 
 impl EventStreams {
@@ -31,15 +33,32 @@ impl EventStreams {
     }
 
     /// Gives `events` to every live stream (called by the graph's thread while the change is
-    /// applied, so that whoever sees the change in the graph finds its events in the streams).
+    /// applied, so that whoever sees the change in the graph finds its events in the streams);
+    /// their consumers are woken by [`wake`](Self::wake).
     pub(crate) fn deliver(&self, events: &[GraphEvent]) {
         if events.is_empty() {
             return;
         }
         let mut queues = self.lock();
         queues.retain(|q| q.strong_count() > 0);
-        for queue in queues.iter().filter_map(Weak::upgrade) {
-            queue.push_all(events.iter().cloned());
+        let wakers: Vec<Waker> = queues
+            .iter()
+            .filter_map(Weak::upgrade)
+            .filter_map(|queue| queue.push_all_deferred(events.iter().cloned()))
+            .collect();
+        drop(queues);
+        self.to_wake
+            .lock()
+            .unwrap_or_else(|p| p.into_inner())
+            .extend(wakers);
+    }
+
+    /// Wakes the consumers of what [`deliver`](Self::deliver) gave (called by the graph's
+    /// thread with no lock of the graph held: a waker may run anything).
+    pub(crate) fn wake(&self) {
+        let wakers = std::mem::take(&mut *self.to_wake.lock().unwrap_or_else(|p| p.into_inner()));
+        for waker in wakers {
+            waker.wake();
         }
     }
 

@@ -99,9 +99,18 @@ impl<T> DropOldestQueue<T> {
 
     /// Adds every item in order (one lock, one wake-up), as [`push`](Self::push) does.
     pub fn push_all(&self, items: impl IntoIterator<Item = T>) {
+        if let Some(waker) = self.push_all_deferred(items) {
+            waker.wake();
+        }
+    }
+
+    /// Adds every item as [`push_all`](Self::push_all) does, but gives the consumer's waker
+    /// (if it waits) to the caller to wake, e.g. once the caller's own locks are released.
+    #[must_use = "the consumer waits until the returned waker is woken"]
+    pub fn push_all_deferred(&self, items: impl IntoIterator<Item = T>) -> Option<Waker> {
         let mut inner = self.lock();
         if inner.closed {
-            return;
+            return None;
         }
         let mut any = false;
         for item in items {
@@ -115,10 +124,10 @@ impl<T> DropOldestQueue<T> {
             inner.peak = inner.peak.max(inner.items.len());
             any = true;
         }
-        let waker = if any { inner.waker.take() } else { None };
-        drop(inner);
-        if let Some(waker) = waker {
-            waker.wake();
+        if any {
+            inner.waker.take()
+        } else {
+            None
         }
     }
 

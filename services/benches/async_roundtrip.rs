@@ -4,9 +4,10 @@
 //! run when it can see a network interface other than `lo` up.
 //!
 //! Per backend (rustdds; Cyclone DDS when built with the feature `cyclone`, as scripts/bench does),
-//! server and clients in two `Context`s (two DDS participants, as two processes would have), one
-//! blocking `ServiceServer` (AddTwoInts) answering everything, in one run and interleaved in
-//! rounds so that every variant sees the same machine state:
+//! server and clients in two `Context`s (two DDS participants, as two processes would have),
+//! blocking `ServiceServer`s (AddTwoInts; one for the sequential calls, one for the 16 clients:
+//! on the Cyclone backend a server sends each reply to every reply reader of its service), in one
+//! run and interleaved in rounds so that every variant sees the same machine state:
 //! 1. sequential round trips: blocking `ServiceClient::call` versus `AsyncServiceClient::call(..)
 //!    .await` from a task of a tokio multi-thread runtime: p50, p99, calls per second, and the
 //!    ratio awaited / blocking of the p50s (goal: within 10 %, i.e. ≤ 1.10);
@@ -112,7 +113,7 @@ impl Latencies {
 /// One backend's endpoints: the servers, a blocking client, an awaited client, and the 16 of
 /// each for the concurrent rounds.
 struct Setup {
-    _server: ServiceServer<AddTwoInts>,
+    _servers: Vec<ServiceServer<AddTwoInts>>,
     _async_server: AsyncServiceServer<AddTwoInts>,
     blocking: ServiceClient<AddTwoInts>,
     awaited: Arc<AsyncServiceClient<AddTwoInts>>,
@@ -149,16 +150,24 @@ impl Setup {
         let client_node = client_context
             .create_node("bench_client", "/")
             .map_err(|e| format!("node: {e}"))?;
-        let server = ServiceServerBuilder::<AddTwoInts>::new()
-            .node(&server_node)
-            .name("/bench_async")
-            .on_request(|req| {
-                Ok(AddTwoIntsResponse {
-                    sum: req.a.wrapping_add(req.b),
+        // One service for the sequential calls, another for the 16 clients: on the Cyclone
+        // backend a server sends each reply to every reply reader of the service.
+        let blocking_server = |name: &str| {
+            ServiceServerBuilder::<AddTwoInts>::new()
+                .node(&server_node)
+                .name(name)
+                .on_request(|req| {
+                    Ok(AddTwoIntsResponse {
+                        sum: req.a.wrapping_add(req.b),
+                    })
                 })
-            })
-            .build()
-            .map_err(|e| format!("server: {e}"))?;
+                .build()
+                .map_err(|e| format!("server: {e}"))
+        };
+        let servers = vec![
+            blocking_server("/bench_async")?,
+            blocking_server("/bench_async_many")?,
+        ];
         let async_server = ServiceServerBuilder::<AddTwoInts>::new()
             .node(&server_node)
             .name("/bench_async_handlers")
@@ -189,15 +198,15 @@ impl Setup {
             blocking: blocking_client("/bench_async")?,
             awaited: awaited_client("/bench_async")?,
             blocking_many: (0..CLIENTS)
-                .map(|_| blocking_client("/bench_async"))
+                .map(|_| blocking_client("/bench_async_many"))
                 .collect::<Result<_, _>>()?,
             awaited_many: (0..CLIENTS)
-                .map(|_| awaited_client("/bench_async"))
+                .map(|_| awaited_client("/bench_async_many"))
                 .collect::<Result<_, _>>()?,
             awaited_many_async_server: (0..CLIENTS)
                 .map(|_| awaited_client("/bench_async_handlers"))
                 .collect::<Result<_, _>>()?,
-            _server: server,
+            _servers: servers,
             _async_server: async_server,
             _nodes: vec![server_node, client_node],
         };
