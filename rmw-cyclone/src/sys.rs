@@ -362,6 +362,20 @@ impl QosBox {
             );
             c::dds_qset_durability(self.0, durability);
             c::dds_qset_history(self.0, history, depth);
+            if q.durability == Durability::TransientLocal {
+                // As rmw_cyclonedds `create_readwrite_qos` (jazzy): Cyclone keeps what it
+                // resends to late joiners by the durability service QoS (default: the last
+                // sample), so it gets the history's kind and depth.
+                c::dds_qset_durability_service(
+                    self.0,
+                    0,
+                    history,
+                    depth,
+                    c::DDS_LENGTH_UNLIMITED,
+                    c::DDS_LENGTH_UNLIMITED,
+                    c::DDS_LENGTH_UNLIMITED,
+                );
+            }
             c::dds_qset_deadline(self.0, duration_to_dds(q.deadline));
             c::dds_qset_lifespan(self.0, duration_to_dds(q.lifespan));
             c::dds_qset_liveliness(self.0, liveliness, duration_to_dds(q.liveliness_lease));

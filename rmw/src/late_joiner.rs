@@ -22,7 +22,7 @@
 
 use std::collections::BTreeSet;
 
-use crate::Gid;
+use crate::{Gid, VendorId};
 
 /// Most participants awaited at once: past this, more are not tracked (their samples still
 /// come, at the writer's next heartbeat), so a flood of discovered writers cannot grow us.
@@ -51,6 +51,19 @@ pub(crate) enum Action {
 }
 
 impl LateJoinerReader {
+    /// `participant` was discovered, made by `vendor`. Only Fast DDS writers need the reader
+    /// (see the module): Cyclone DDS and rustdds writers answer a reader's pre-emptive ACKNACK
+    /// with what it lacks, so their participants are never awaited. Announcing readers no more
+    /// often than needed matters on rustdds 0.15, where creating a reader while a burst of
+    /// discoveries fills its notification channel can deadlock it (`add_local_reader` sends on
+    /// the full channel holding the discovery database's read lock; the reader's creation
+    /// waits for the write lock; the event loop that would drain the channel waits behind it).
+    pub(crate) fn participant_discovered(&mut self, participant: Gid, vendor: VendorId) {
+        if vendor != VendorId::FAST_DDS {
+            self.heard(participant);
+        }
+    }
+
     /// A remote `ros_discovery_info` writer of `participant` was discovered.
     pub(crate) fn writer_discovered(&mut self, participant: Gid) {
         let prefix = participant.prefix();
@@ -109,6 +122,7 @@ impl LateJoinerReader {
 mod tests {
     use super::{Action, LateJoinerReader, MAX_AWAITED};
     use crate::Gid;
+    use crate::VendorId;
 
     fn participant(n: u8) -> Gid {
         let mut b = [0u8; 16];
@@ -188,5 +202,20 @@ mod tests {
             l.writer_discovered(Gid::from_bytes(b));
         }
         assert_eq!(l.awaited(), MAX_AWAITED);
+    }
+
+    #[test]
+    fn only_fast_dds_participants_are_awaited() {
+        let mut state = LateJoinerReader::default();
+        let cyclone = Gid::from_bytes([1; 16]);
+        let fast = Gid::from_bytes([2; 16]);
+        state.participant_discovered(cyclone, VendorId::CYCLONE_DDS);
+        state.participant_discovered(fast, VendorId::FAST_DDS);
+        state.writer_discovered(cyclone);
+        assert_eq!(state.awaited(), 0);
+        assert_eq!(state.action(false), Action::Keep);
+        state.writer_discovered(fast);
+        assert_eq!(state.awaited(), 1);
+        assert_eq!(state.action(false), Action::Renew);
     }
 }

@@ -355,6 +355,9 @@ impl CycloneDiscoveryFeed {
                     DiscoveryEvent::ParticipantLost { gid } => {
                         self.late_joiner_state.participant_lost(*gid)
                     }
+                    DiscoveryEvent::ParticipantDiscovered(p) => self
+                        .late_joiner_state
+                        .participant_discovered(p.gid, p.vendor_id),
                     _ => {}
                 }
                 self.pending.push_back(event);

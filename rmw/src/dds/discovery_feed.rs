@@ -118,10 +118,14 @@ impl DdsDiscoveryFeed {
         let (sink, local) = LocalSink::new(Arc::clone(&status.waker) as Arc<dyn Wake>);
         let mut late_joiner_state = LateJoinerReader::default();
         for event in &initial {
-            if let DiscoveryEvent::EndpointDiscovered(e) = event {
-                if is_remote_info_writer(e, own_gid) {
-                    late_joiner_state.writer_discovered(e.participant_gid);
+            match event {
+                DiscoveryEvent::ParticipantDiscovered(p) => {
+                    late_joiner_state.participant_discovered(p.gid, p.vendor_id)
                 }
+                DiscoveryEvent::EndpointDiscovered(e) if is_remote_info_writer(e, own_gid) => {
+                    late_joiner_state.writer_discovered(e.participant_gid)
+                }
+                _ => {}
             }
         }
         let feed = Self {
@@ -207,6 +211,9 @@ impl DdsDiscoveryFeed {
                     DiscoveryEvent::ParticipantLost { gid } => {
                         self.late_joiner_state.participant_lost(*gid)
                     }
+                    DiscoveryEvent::ParticipantDiscovered(p) => self
+                        .late_joiner_state
+                        .participant_discovered(p.gid, p.vendor_id),
                     _ => {}
                 }
                 self.pending.push_back(event);
