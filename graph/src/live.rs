@@ -255,12 +255,29 @@ impl Graph {
     }
 
     /// Waits until the graph changes, at most `timeout`; returns whether it changed
-    /// (`rcl_wait` on the graph guard condition).
+    /// (`rcl_wait` on the graph guard condition). A caller that looked at the graph before
+    /// waiting must use [`wait_for_graph_change_since`](Self::wait_for_graph_change_since)
+    /// with the generation it looked at, or miss a change made in between.
     pub fn wait_for_graph_change(&self, timeout: Duration) -> bool {
-        let deadline = Instant::now() + timeout;
+        let start = self.generation();
+        self.wait_for_graph_change_since(start, timeout)
+    }
+
+    /// Waits until the graph's [`generation`](Self::generation) is no longer `seen`, at most
+    /// `timeout`; returns whether it changed (at once if it already has). Read the generation
+    /// before looking at the graph, look, then wait with it: no change can fall in between.
+    pub fn wait_for_graph_change_since(&self, seen: u64, timeout: Duration) -> bool {
+        let deadline = Instant::now().checked_add(timeout);
         let mut state = self.shared.state();
-        let start = state.generation;
-        while state.generation == start {
+        while state.generation == seen {
+            let Some(deadline) = deadline else {
+                state = self
+                    .shared
+                    .changed
+                    .wait(state)
+                    .unwrap_or_else(|p| p.into_inner());
+                continue;
+            };
             let now = Instant::now();
             if now >= deadline {
                 return false;

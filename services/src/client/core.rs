@@ -406,6 +406,7 @@ impl<C: Codec> ClientCore<C> {
     /// up, `Timeout` if one was there but never became usable.
     pub(crate) fn wait_ready(&self, deadline: Instant) -> Result<ReadyServer, ServiceError> {
         loop {
+            let seen = self.runtime.graph.generation();
             let settles_at = match self.readiness() {
                 Readiness::Ready(ready) => return Ok(ready),
                 Readiness::NotYet(settles_at) => settles_at,
@@ -421,13 +422,14 @@ impl<C: Codec> ClientCore<C> {
             let until = settles_at.map_or(deadline, |s| s.min(deadline));
             self.runtime
                 .graph
-                .wait_for_graph_change(until.saturating_duration_since(now));
+                .wait_for_graph_change_since(seen, until.saturating_duration_since(now));
         }
     }
 
     /// Waits once for what can make a server ready (a graph change, or a settling instant),
     /// at most until `deadline`.
     pub(crate) fn wait_for_readiness_change(&self, deadline: Instant) {
+        let seen = self.runtime.graph.generation();
         let settles_at = match self.readiness() {
             Readiness::Ready(_) => return,
             Readiness::NotYet(settles_at) => settles_at,
@@ -435,7 +437,7 @@ impl<C: Codec> ClientCore<C> {
         let until = settles_at.map_or(deadline, |s| s.min(deadline));
         self.runtime
             .graph
-            .wait_for_graph_change(until.saturating_duration_since(Instant::now()));
+            .wait_for_graph_change_since(seen, until.saturating_duration_since(Instant::now()));
     }
 
     /// Why no server can be called from this backend, when every server on the graph follows a

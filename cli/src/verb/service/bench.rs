@@ -152,6 +152,7 @@ fn graph_type(
     };
     let deadline = Instant::now() + timeout;
     loop {
+        let seen = session.graph.generation();
         match types(session).as_slice() {
             [one] => return Ok(one.clone()),
             [] => {}
@@ -169,7 +170,9 @@ fn graph_type(
                 timeout.as_secs_f64()
             )));
         }
-        session.graph.wait_for_graph_change(deadline - now);
+        session
+            .graph
+            .wait_for_graph_change_since(seen, deadline - now);
     }
 }
 

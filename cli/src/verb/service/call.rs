@@ -21,6 +21,7 @@ pub(crate) mod describe;
 
 use std::time::{Duration, Instant};
 
+use horus_ros_graph::GraphCache;
 use horus_ros_msgs::dds_type_name;
 use horus_ros_msgs::description::{REQUEST_SUFFIX, RESPONSE_SUFFIX};
 use horus_ros_rmw::names::ServiceName;
@@ -181,21 +182,22 @@ impl Target {
                  node in the graph uses it (a server's ~/get_type_description would describe it)"
             )));
         }
-        let deadline = Instant::now() + timeout;
-        if !server_listed(&session, service.as_str(), &service_type) {
+        if !session
+            .graph
+            .read(|c| server_listed(c, service.as_str(), &service_type))
+        {
             println!("waiting for service to become available...");
-            while !server_listed(&session, service.as_str(), &service_type) {
-                let now = Instant::now();
-                if now >= deadline {
-                    return Err(no_server(
-                        &session,
-                        service.as_str(),
-                        &service_type,
-                        timeout,
-                    ));
-                }
-                // Servers appearing are graph changes.
-                session.graph.wait_for_graph_change(deadline - now);
+            // Checked at once and after every graph change.
+            let listed = session.graph.wait_until(timeout, |c| {
+                server_listed(c, service.as_str(), &service_type)
+            });
+            if !listed {
+                return Err(no_server(
+                    &session,
+                    service.as_str(),
+                    &service_type,
+                    timeout,
+                ));
             }
         }
         let (info, request) = match self.compiled {
@@ -311,11 +313,10 @@ fn type_offered(session: &Session, service_type: &str) -> bool {
 }
 
 /// Whether the graph lists a server of `service` with this type, both endpoints known.
-fn server_listed(session: &Session, service: &str, service_type: &str) -> bool {
-    session.graph.read(|c| {
-        c.servers_info_by_service(service, false)
-            .is_ok_and(|s| s.iter().any(|s| s.service_type == service_type))
-    })
+fn server_listed(cache: &GraphCache, service: &str, service_type: &str) -> bool {
+    cache
+        .servers_info_by_service(service, false)
+        .is_ok_and(|s| s.iter().any(|s| s.service_type == service_type))
 }
 
 fn no_server(session: &Session, service: &str, service_type: &str, timeout: Duration) -> CliError {
