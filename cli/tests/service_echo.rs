@@ -97,6 +97,8 @@ fn no_publishers(service: &str) -> String {
 fn wait_for_a_reader(graph: &Arc<Graph>, writer: Gid, dds_topic: &str) {
     let deadline = Instant::now() + WAIT;
     loop {
+        // Looked at after reading the generation: a match made meanwhile is not missed.
+        let seen = graph.generation();
         let readers = graph.read(|c| c.subscriptions_info_by_topic(dds_topic, true));
         if readers
             .iter()
@@ -104,11 +106,9 @@ fn wait_for_a_reader(graph: &Arc<Graph>, writer: Gid, dds_topic: &str) {
         {
             return;
         }
-        assert!(
-            Instant::now() < deadline,
-            "no reader matched {writer} on {dds_topic}"
-        );
-        graph.wait_for_graph_change(Duration::from_millis(50));
+        let now = Instant::now();
+        assert!(now < deadline, "no reader matched {writer} on {dds_topic}");
+        graph.wait_for_graph_change_since(seen, deadline - now);
     }
 }
 
