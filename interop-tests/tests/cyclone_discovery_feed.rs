@@ -60,8 +60,9 @@ fn feed_reports_a_cyclone_ros_participant() {
             "not everything seen within 20 s: participant={saw_participant} writer={saw_writer} \
              reader={saw_reader} ros_discovery_info={saw_info} lost={saw_lost}"
         );
-        let Some(event) = feed.try_next() else {
-            std::thread::sleep(Duration::from_millis(10));
+        // Woken by the next discovery event (or at the deadline).
+        let Some(event) = feed.next_timeout(deadline.saturating_duration_since(Instant::now()))
+        else {
             continue;
         };
         match event {
