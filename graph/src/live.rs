@@ -14,7 +14,7 @@ use horus_ros_rmw::{
     Context, DiscoveryEvent, DiscoveryFeed, DiscoveryFeedError, FeedWaker, Gid, VendorId,
 };
 
-use crate::subscription::{EventQueue, GraphSubscription};
+use crate::subscription::{GraphSubscription, Subscribers, SUBSCRIPTION_CAPACITY};
 use crate::{EndpointEntry, GraphCache};
 /// Most discovery events applied under one lock, so readers are never held off for long.
 const MAX_BATCH: usize = 1024;
@@ -66,11 +66,10 @@ struct State {
 struct Shared {
     state: Mutex<State>,
     changed: Condvar,
-    subscribers: Mutex<Vec<Weak<EventQueue>>>,
+    /// The queues of `subscribe` and (feature `tokio`) `events`, fed with every change.
+    subscribers: Subscribers,
     watchers: Mutex<Vec<Weak<dyn GraphWatcher>>>,
     stop: AtomicBool,
-    #[cfg(feature = "tokio")]
-    streams: crate::stream::EventStreams,
 }
 
 impl Shared {
@@ -190,11 +189,9 @@ impl Graph {
                 changed_at: Instant::now(),
             }),
             changed: Condvar::new(),
-            subscribers: Mutex::new(Vec::new()),
+            subscribers: Subscribers::default(),
             watchers: Mutex::new(Vec::new()),
             stop: AtomicBool::new(false),
-            #[cfg(feature = "tokio")]
-            streams: crate::stream::EventStreams::default(),
         });
         let feed_waker = feed.waker();
         let worker_shared = Arc::clone(&shared);
@@ -228,19 +225,12 @@ impl Graph {
     /// [`GraphSubscription`] for what happens to a subscriber that falls behind). Dropping the
     /// subscription unsubscribes.
     pub fn subscribe(&self) -> GraphSubscription {
-        let (subscription, queue) = GraphSubscription::new();
-        self.shared
-            .subscribers
-            .lock()
-            .unwrap_or_else(|p| p.into_inner())
-            .push(Arc::downgrade(&queue));
-        subscription
+        GraphSubscription::new(self.subscribers().add(SUBSCRIPTION_CAPACITY))
     }
 
-    /// The event streams of this graph (see [`Graph::events`]).
-    #[cfg(feature = "tokio")]
-    pub(crate) fn event_streams(&self) -> &crate::stream::EventStreams {
-        &self.shared.streams
+    /// The queues every change goes to (`subscribe`, and `events` with the feature `tokio`).
+    pub(crate) fn subscribers(&self) -> &Subscribers {
+        &self.shared.subscribers
     }
 
     /// Tells `watcher` of every change from now on, until it is dropped (the graph keeps only a
@@ -397,8 +387,7 @@ impl Drop for Graph {
         if let Some(worker) = self.worker.take() {
             let _ = worker.join();
         }
-        #[cfg(feature = "tokio")]
-        self.shared.streams.close_all();
+        self.shared.subscribers.close_all();
     }
 }
 
@@ -442,7 +431,7 @@ fn run(shared: &Shared, mut feed: DiscoveryFeed) {
         let Some(first) = feed.next_timeout(None) else {
             continue;
         };
-        let (events, changed) = {
+        let changed = {
             let mut state = shared.state();
             let mut changed = apply(&mut state, first);
             for _ in 1..MAX_BATCH {
@@ -455,32 +444,14 @@ fn run(shared: &Shared, mut feed: DiscoveryFeed) {
                 state.generation += 1;
                 state.changed_at = Instant::now();
             }
-            let events = state.cache.drain_events();
-            // Into the event streams before the change can be seen (the state is still locked).
-            #[cfg(feature = "tokio")]
-            shared.streams.deliver(&events);
-            (events, changed)
+            // To the subscribers before the change can be seen (the state is still locked).
+            shared.subscribers.deliver(&state.cache.drain_events());
+            changed
         };
         shared.changed.notify_all();
-        #[cfg(feature = "tokio")]
-        shared.streams.wake();
+        shared.subscribers.wake();
         if changed {
             shared.tell_watchers();
         }
-        if !events.is_empty() {
-            let mut subscribers = shared.subscribers.lock().unwrap_or_else(|p| p.into_inner());
-            subscribers.retain(|s| match s.upgrade() {
-                Some(queue) => {
-                    queue.push(&events);
-                    true
-                }
-                None => false,
-            });
-        }
-    }
-    // Subscribers learn that no event will come any more.
-    let subscribers = shared.subscribers.lock().unwrap_or_else(|p| p.into_inner());
-    for queue in subscribers.iter().filter_map(Weak::upgrade) {
-        queue.close();
     }
 }

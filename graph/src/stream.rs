@@ -1,74 +1,16 @@
 //! The graph's changes as a [`futures_core::Stream`] (feature `tokio`): [`Graph::events`].
 
 use std::pin::Pin;
-use std::sync::{Arc, Mutex, Weak};
-use std::task::{Context as TaskContext, Poll, Waker};
+use std::sync::Arc;
+use std::task::{Context as TaskContext, Poll};
 
-use horus_ros_rmw::stream::DropOldestQueue;
-pub use horus_ros_rmw::stream::Lagged;
+use horus_ros_rmw::queue::DropOldestQueue;
+pub use horus_ros_rmw::queue::Lagged;
 
 use crate::{Graph, GraphEvent};
 
 /// How many events a [`GraphEvents`] stream buffers unless told otherwise.
 pub const DEFAULT_EVENTS_CAPACITY: usize = 1024;
-
-/// The queues of the live event streams of one graph (each held weakly: a dropped stream is
-/// forgotten at the next change).
-#[derive(Default)]
-pub(crate) struct EventStreams {
-    queues: Mutex<Vec<Weak<DropOldestQueue<GraphEvent>>>>,
-    /// The consumers to wake for what was delivered, once the graph's lock is released.
-    to_wake: Mutex<Vec<Waker>>,
-}
-
-impl EventStreams {
-    fn add(&self, capacity: usize) -> Arc<DropOldestQueue<GraphEvent>> {
-        let queue = Arc::new(DropOldestQueue::new(capacity));
-        self.lock().push(Arc::downgrade(&queue));
-        queue
-    }
-
-    fn lock(&self) -> std::sync::MutexGuard<'_, Vec<Weak<DropOldestQueue<GraphEvent>>>> {
-        self.queues.lock().unwrap_or_else(|p| p.into_inner())
-    }
-
-    /// Gives `events` to every live stream (called by the graph's thread while the change is
-    /// applied, so that whoever sees the change in the graph finds its events in the streams);
-    /// their consumers are woken by [`wake`](Self::wake).
-    pub(crate) fn deliver(&self, events: &[GraphEvent]) {
-        if events.is_empty() {
-            return;
-        }
-        let mut queues = self.lock();
-        queues.retain(|q| q.strong_count() > 0);
-        let wakers: Vec<Waker> = queues
-            .iter()
-            .filter_map(Weak::upgrade)
-            .filter_map(|queue| queue.push_all_deferred(events.iter().cloned()))
-            .collect();
-        drop(queues);
-        self.to_wake
-            .lock()
-            .unwrap_or_else(|p| p.into_inner())
-            .extend(wakers);
-    }
-
-    /// Wakes the consumers of what [`deliver`](Self::deliver) gave (called by the graph's
-    /// thread with no lock of the graph held: a waker may run anything).
-    pub(crate) fn wake(&self) {
-        let wakers = std::mem::take(&mut *self.to_wake.lock().unwrap_or_else(|p| p.into_inner()));
-        for waker in wakers {
-            waker.wake();
-        }
-    }
-
-    /// Ends every stream (the graph is going away).
-    pub(crate) fn close_all(&self) {
-        for queue in self.lock().drain(..).filter_map(|q| q.upgrade()) {
-            queue.close();
-        }
-    }
-}
 
 /// Every change of a [`Graph`] from the stream's creation on, as a [`futures_core::Stream`] of
 /// `Result<GraphEvent, Lagged>`.
@@ -165,7 +107,7 @@ impl Graph {
     /// Every change from now on as a stream buffering at most `capacity` events (at least 1).
     pub fn events_with_capacity(&self, capacity: usize) -> GraphEvents {
         GraphEvents {
-            queue: self.event_streams().add(capacity),
+            queue: self.subscribers().add(capacity),
         }
     }
 }

@@ -1,18 +1,81 @@
-//! [`GraphSubscription`]: the typed changes of a [`Graph`](crate::Graph) as a bounded queue.
+//! The graph's changes as bounded queues, one per consumer: [`GraphSubscription`] for a
+//! blocking consumer, and (feature `tokio`) [`GraphEvents`](crate::GraphEvents) for a task —
+//! both over a [`DropOldestQueue`] fed by the graph's thread through one [`Subscribers`] list.
 //!
-//! Overflow policy (as tokio's broadcast channel): a subscriber that falls more than
-//! [`SUBSCRIPTION_CAPACITY`] events behind loses the oldest ones; its next receive reports how
-//! many with [`RecvError::Lagged`], then goes on with the oldest events still held. The graph's
-//! thread never waits for a subscriber, and a slow one never holds more than the capacity.
+//! Overflow policy ([`horus_ros_rmw::queue`]): a subscriber that falls more than its capacity
+//! behind loses the oldest events; its next receive reports how many
+//! ([`RecvError::Lagged`]), then goes on with the oldest events still held. The graph's thread
+//! never waits for a subscriber, and a slow one never holds more than its capacity.
 
-use std::collections::VecDeque;
-use std::sync::{Arc, Condvar, Mutex, MutexGuard};
+use std::sync::{Arc, Condvar, Mutex, MutexGuard, Weak};
+use std::task::{Context as TaskContext, Poll, Wake, Waker};
 use std::time::{Duration, Instant};
+
+use horus_ros_rmw::queue::{DropOldestQueue, Lagged};
 
 use crate::GraphEvent;
 
 /// Most events a [`GraphSubscription`] holds before it drops the oldest.
 pub const SUBSCRIPTION_CAPACITY: usize = 4096;
+
+/// The queues of the live subscribers of one graph (each held weakly: a dropped subscriber is
+/// forgotten at the next change).
+#[derive(Default)]
+pub(crate) struct Subscribers {
+    queues: Mutex<Vec<Weak<DropOldestQueue<GraphEvent>>>>,
+    /// The consumers to wake for what was delivered, once the graph's lock is released.
+    to_wake: Mutex<Vec<Waker>>,
+}
+
+impl Subscribers {
+    fn lock(&self) -> MutexGuard<'_, Vec<Weak<DropOldestQueue<GraphEvent>>>> {
+        self.queues.lock().unwrap_or_else(|p| p.into_inner())
+    }
+
+    /// A new subscriber's queue, holding at most `capacity` events.
+    pub(crate) fn add(&self, capacity: usize) -> Arc<DropOldestQueue<GraphEvent>> {
+        let queue = Arc::new(DropOldestQueue::new(capacity));
+        self.lock().push(Arc::downgrade(&queue));
+        queue
+    }
+
+    /// Gives `events` to every live subscriber (called by the graph's thread while the change
+    /// is applied, so that whoever sees the change in the graph finds its events queued);
+    /// their consumers are woken by [`wake`](Self::wake).
+    pub(crate) fn deliver(&self, events: &[GraphEvent]) {
+        if events.is_empty() {
+            return;
+        }
+        let mut queues = self.lock();
+        queues.retain(|q| q.strong_count() > 0);
+        let wakers: Vec<Waker> = queues
+            .iter()
+            .filter_map(Weak::upgrade)
+            .filter_map(|queue| queue.push_all_deferred(events.iter().cloned()))
+            .collect();
+        drop(queues);
+        self.to_wake
+            .lock()
+            .unwrap_or_else(|p| p.into_inner())
+            .extend(wakers);
+    }
+
+    /// Wakes the consumers of what [`deliver`](Self::deliver) gave (called by the graph's
+    /// thread with no lock of the graph held: a waker may run anything).
+    pub(crate) fn wake(&self) {
+        let wakers = std::mem::take(&mut *self.to_wake.lock().unwrap_or_else(|p| p.into_inner()));
+        for waker in wakers {
+            waker.wake();
+        }
+    }
+
+    /// Ends every subscription (the graph is going away).
+    pub(crate) fn close_all(&self) {
+        for queue in self.lock().drain(..).filter_map(|q| q.upgrade()) {
+            queue.close();
+        }
+    }
+}
 
 /// Why [`GraphSubscription::recv`] returned no event.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
@@ -31,45 +94,45 @@ pub enum RecvError {
     Closed,
 }
 
+/// Wakes a thread blocked in [`GraphSubscription::recv`] (the queue's consumer waker).
 #[derive(Default)]
-struct Inner {
-    events: VecDeque<GraphEvent>,
-    lagged: u64,
-    closed: bool,
-}
-
-/// The queue shared by a subscription and the graph (which holds it weakly).
-#[derive(Default)]
-pub(crate) struct EventQueue {
-    inner: Mutex<Inner>,
+struct Notify {
+    woken: Mutex<bool>,
     ready: Condvar,
 }
 
-impl EventQueue {
-    fn lock(&self) -> MutexGuard<'_, Inner> {
-        self.inner.lock().unwrap_or_else(|p| p.into_inner())
+impl Wake for Notify {
+    fn wake(self: Arc<Self>) {
+        self.wake_by_ref();
     }
 
-    /// Appends `events`, dropping the oldest beyond the capacity, and wakes the receiver.
-    pub(crate) fn push(&self, events: &[GraphEvent]) {
-        let mut inner = self.lock();
-        if inner.closed {
-            return;
-        }
-        inner.events.extend(events.iter().cloned());
-        let excess = inner.events.len().saturating_sub(SUBSCRIPTION_CAPACITY);
-        if excess > 0 {
-            inner.events.drain(..excess);
-            inner.lagged += excess as u64;
-        }
-        drop(inner);
+    fn wake_by_ref(self: &Arc<Self>) {
+        *self.woken.lock().unwrap_or_else(|p| p.into_inner()) = true;
         self.ready.notify_all();
     }
+}
 
-    /// Ends the subscription: receiving returns what is held, then [`RecvError::Closed`].
-    pub(crate) fn close(&self) {
-        self.lock().closed = true;
-        self.ready.notify_all();
+impl Notify {
+    /// Waits until woken (clearing it), at most until `deadline`; whether it was woken.
+    fn wait(&self, deadline: Option<Instant>) -> bool {
+        let mut woken = self.woken.lock().unwrap_or_else(|p| p.into_inner());
+        while !*woken {
+            woken = match deadline {
+                None => self.ready.wait(woken).unwrap_or_else(|p| p.into_inner()),
+                Some(deadline) => {
+                    let now = Instant::now();
+                    if now >= deadline {
+                        return false;
+                    }
+                    self.ready
+                        .wait_timeout(woken, deadline - now)
+                        .map(|(guard, _)| guard)
+                        .unwrap_or_else(|p| p.into_inner().0)
+                }
+            };
+        }
+        *woken = false;
+        true
     }
 }
 
@@ -78,61 +141,61 @@ impl EventQueue {
 /// overflow policy). Dropping it unsubscribes.
 #[must_use = "a subscription does nothing unless its events are received"]
 pub struct GraphSubscription {
-    queue: Arc<EventQueue>,
+    queue: Arc<DropOldestQueue<GraphEvent>>,
+    notify: Arc<Notify>,
 }
 
 impl std::fmt::Debug for GraphSubscription {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("GraphSubscription")
-            .field("held", &self.queue.lock().events.len())
+            .field("held", &self.queue.len())
             .finish()
     }
 }
 
 impl GraphSubscription {
-    pub(crate) fn new() -> (Self, Arc<EventQueue>) {
-        let queue = Arc::new(EventQueue::default());
-        (
-            Self {
-                queue: Arc::clone(&queue),
-            },
+    pub(crate) fn new(queue: Arc<DropOldestQueue<GraphEvent>>) -> Self {
+        Self {
             queue,
-        )
+            notify: Arc::default(),
+        }
     }
 
     /// The next event, waiting for it at most `timeout` (`None`: until one comes or the
     /// subscription is closed).
     pub fn recv(&self, timeout: Option<Duration>) -> Result<GraphEvent, RecvError> {
         let deadline = timeout.and_then(|t| Instant::now().checked_add(t));
-        let mut inner = self.queue.lock();
+        let waker = Waker::from(Arc::clone(&self.notify));
+        let mut cx = TaskContext::from_waker(&waker);
         loop {
-            if let Some(result) = Self::take(&mut inner) {
-                return result;
-            }
-            inner = match deadline {
-                None => self
-                    .queue
-                    .ready
-                    .wait(inner)
-                    .unwrap_or_else(|p| p.into_inner()),
-                Some(deadline) => {
-                    let now = Instant::now();
-                    if now >= deadline {
+            // Registers the waker under the queue's lock when nothing is held: a later push
+            // wakes `notify`.
+            match self.queue.poll_next(&mut cx) {
+                Poll::Ready(next) => return Self::received(next),
+                Poll::Pending => {
+                    if !self.notify.wait(deadline) {
                         return Err(RecvError::Timeout);
                     }
-                    self.queue
-                        .ready
-                        .wait_timeout(inner, deadline - now)
-                        .map(|(guard, _)| guard)
-                        .unwrap_or_else(|p| p.into_inner().0)
                 }
-            };
+            }
         }
     }
 
     /// The next event if one is held (never waits): `Err(Timeout)` when none is.
     pub fn try_recv(&self) -> Result<GraphEvent, RecvError> {
-        Self::take(&mut self.queue.lock()).unwrap_or(Err(RecvError::Timeout))
+        match self.queue.try_next() {
+            Some(next) => Self::received(Some(next)),
+            None if self.queue.is_closed() => Err(RecvError::Closed),
+            None => Err(RecvError::Timeout),
+        }
+    }
+
+    fn received(next: Option<Result<GraphEvent, Lagged>>) -> Result<GraphEvent, RecvError> {
+        match next {
+            Some(Ok(event)) => Ok(event),
+            Some(Err(Lagged(missed))) => Err(RecvError::Lagged(missed)),
+            None => Err(RecvError::Closed),
+        }
     }
 
     /// The events held now, oldest first, without waiting (a lag report is skipped: compare
@@ -149,12 +212,12 @@ impl GraphSubscription {
 
     /// How many events are held, not yet received.
     pub fn len(&self) -> usize {
-        self.queue.lock().events.len()
+        self.queue.len()
     }
 
     /// Whether no event is held.
     pub fn is_empty(&self) -> bool {
-        self.len() == 0
+        self.queue.is_empty()
     }
 
     /// A handle that closes this subscription from another thread (e.g. a Ctrl+C handler), so
@@ -164,29 +227,13 @@ impl GraphSubscription {
             queue: Arc::downgrade(&self.queue),
         }
     }
-
-    fn take(inner: &mut Inner) -> Option<Result<GraphEvent, RecvError>> {
-        if inner.lagged > 0 {
-            return Some(Err(RecvError::Lagged(std::mem::take(&mut inner.lagged))));
-        }
-        if let Some(event) = inner.events.pop_front() {
-            return Some(Ok(event));
-        }
-        inner.closed.then_some(Err(RecvError::Closed))
-    }
-}
-
-impl Drop for GraphSubscription {
-    fn drop(&mut self) {
-        self.queue.close();
-    }
 }
 
 /// Closes a [`GraphSubscription`] from any thread (see
 /// [`GraphSubscription::interrupter`]).
 #[derive(Clone, Debug)]
 pub struct SubscriptionInterrupter {
-    queue: std::sync::Weak<EventQueue>,
+    queue: Weak<DropOldestQueue<GraphEvent>>,
 }
 
 impl SubscriptionInterrupter {
@@ -211,10 +258,11 @@ mod tests {
 
     #[test]
     fn a_slow_subscriber_holds_at_most_the_capacity_and_learns_how_many_it_missed() {
-        let (sub, queue) = GraphSubscription::new();
+        let queue = Arc::new(DropOldestQueue::new(SUBSCRIPTION_CAPACITY));
+        let sub = GraphSubscription::new(Arc::clone(&queue));
         let events: Vec<_> = (0..SUBSCRIPTION_CAPACITY + 10).map(event).collect();
-        queue.push(&events[..100]);
-        queue.push(&events[100..]);
+        queue.push_all(events[..100].iter().cloned());
+        queue.push_all(events[100..].iter().cloned());
         assert_eq!(sub.len(), SUBSCRIPTION_CAPACITY);
         assert_eq!(sub.try_recv(), Err(RecvError::Lagged(10)));
         assert_eq!(
@@ -227,20 +275,22 @@ mod tests {
 
     #[test]
     fn recv_times_out_then_gets_what_another_thread_pushes() {
-        let (sub, queue) = GraphSubscription::new();
+        let queue = Arc::new(DropOldestQueue::new(SUBSCRIPTION_CAPACITY));
+        let sub = GraphSubscription::new(Arc::clone(&queue));
         assert_eq!(
             sub.recv(Some(Duration::from_millis(1))),
             Err(RecvError::Timeout)
         );
-        let pusher = std::thread::spawn(move || queue.push(&[event(1)]));
+        let pusher = std::thread::spawn(move || queue.push(event(1)));
         assert_eq!(sub.recv(None), Ok(event(1)));
         pusher.join().expect("pusher");
     }
 
     #[test]
     fn an_interrupted_subscription_gives_what_it_holds_then_closed() {
-        let (sub, queue) = GraphSubscription::new();
-        queue.push(&[event(1)]);
+        let queue = Arc::new(DropOldestQueue::new(SUBSCRIPTION_CAPACITY));
+        let sub = GraphSubscription::new(Arc::clone(&queue));
+        queue.push(event(1));
         let interrupter = sub.interrupter();
         let waiter = std::thread::spawn(move || {
             let first = sub.recv(None);
@@ -251,6 +301,6 @@ mod tests {
         let (first, second) = waiter.join().expect("waiter");
         assert_eq!(first, Ok(event(1)));
         assert_eq!(second, Err(RecvError::Closed));
-        queue.push(&[event(2)]);
+        queue.push(event(2));
     }
 }

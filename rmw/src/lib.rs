@@ -25,6 +25,7 @@ pub mod names;
 pub mod node;
 pub mod pubsub;
 pub mod qos;
+pub mod queue;
 pub mod raw;
 #[cfg(feature = "tokio")]
 pub mod stream;
@@ -41,9 +42,10 @@ pub use discovery::{DiscoveredEndpoint, DiscoveredParticipant, DiscoveryEvent, V
 pub use gid::Gid;
 pub use node::{Node, NodeError, WeakNode};
 pub use pubsub::{EndpointError, PublishError, Publisher, Subscription, TakeError};
+pub use queue::{DropOldestQueue, Lagged};
 pub use raw::{
     RawEndpointSpec, RawReader, RawReaderWaker, RawSample, RawWriter, SampleId, ServiceEndpointId,
     ServiceEndpointRole,
 };
 #[cfg(feature = "tokio")]
-pub use stream::{DropOldestQueue, Lagged, SubscriptionStream};
+pub use stream::SubscriptionStream;
