@@ -682,7 +682,10 @@ fn graph_watch_prints_the_graph_then_each_change_and_exits_0_on_sigint_or_sigter
     assert_eq!(v["dds_endpoint"], "writer");
     let server_line = json.expect("service server added", |l| {
         let v = parse(l);
-        v["kind"] == "service_server" && v["change"] == "added" && v["part"] == "response_writer"
+        v["kind"] == "service_server"
+            && v["change"] == "added"
+            && v["part"] == "response_writer"
+            && v["service"] == "/watch_test/sum"
     });
     let v = parse(&server_line);
     assert_eq!(v["service"], "/watch_test/sum");
