@@ -4,7 +4,7 @@
 //! `rcl_service_server_is_available`.
 
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::{Arc, Condvar, Mutex, MutexGuard, OnceLock, Weak};
+use std::sync::{Arc, Condvar, Mutex, MutexGuard, Weak};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
@@ -161,17 +161,10 @@ impl std::fmt::Debug for Graph {
 impl Graph {
     /// The graph of `context`, shared: started on first use, then the same one for every caller
     /// while any of them keeps it (services, the CLI and applications can all look at one graph).
+    /// The context holds it (see [`Context::shared`]), as rmw_zenoh's context holds its graph
+    /// cache.
     pub fn shared(context: &Context) -> Result<Arc<Self>, GraphStartError> {
-        static GRAPHS: OnceLock<Mutex<HashMap<Gid, Weak<Graph>>>> = OnceLock::new();
-        let graphs = GRAPHS.get_or_init(|| Mutex::new(HashMap::new()));
-        let mut graphs = graphs.lock().unwrap_or_else(|p| p.into_inner());
-        graphs.retain(|_, g| g.strong_count() > 0);
-        if let Some(graph) = graphs.get(&context.gid()).and_then(Weak::upgrade) {
-            return Ok(graph);
-        }
-        let graph = Arc::new(Self::new(context)?);
-        graphs.insert(context.gid(), Arc::downgrade(&graph));
-        Ok(graph)
+        context.shared(|| Self::new(context))
     }
 
     /// Starts following `context`'s discovery (one `Graph` per context at a time: see

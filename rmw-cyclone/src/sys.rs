@@ -1125,13 +1125,14 @@ enum Attached {
 
 /// A Cyclone waitset blocking in the calling thread: read conditions (reader has data),
 /// status conditions (e.g. matched) and guard conditions, each identified by a caller-chosen
-/// token.
+/// token. Things may be attached and detached from other threads while one thread waits
+/// (Cyclone's waitset locks its own list).
 #[derive(Debug)]
 pub struct Waiter {
     handle: Arc<Handle>,
     // What is attached, by token: kept alive while attached (read conditions are owned here),
     // except entities watched for their status, which may be deleted while attached.
-    attached: Vec<(usize, Attached)>,
+    attached: std::sync::Mutex<Vec<(usize, Attached)>>,
 }
 
 impl Waiter {
@@ -1144,21 +1145,25 @@ impl Waiter {
         })?;
         Ok(Self {
             handle: Handle::new(h, None),
-            attached: Vec::new(),
+            attached: std::sync::Mutex::new(Vec::new()),
         })
     }
 
-    fn attach(&mut self, h: Arc<Handle>, token: usize) -> Result<()> {
+    fn attached(&self) -> std::sync::MutexGuard<'_, Vec<(usize, Attached)>> {
+        self.attached.lock().unwrap_or_else(|p| p.into_inner())
+    }
+
+    fn attach(&self, h: Arc<Handle>, token: usize) -> Result<()> {
         // SAFETY: both handles live (we keep `h` alive while attached); the token is an opaque
         // integer Cyclone hands back from dds_waitset_wait.
         check("dds_waitset_attach", unsafe {
             c::dds_waitset_attach(self.handle.id, h.id, token as c::dds_attach_t)
         })?;
-        self.attached.push((token, Attached::Owned(h)));
+        self.attached().push((token, Attached::Owned(h)));
         Ok(())
     }
 
-    fn read_condition(&mut self, reader: &Arc<Handle>, token: usize) -> Result<()> {
+    fn read_condition(&self, reader: &Arc<Handle>, token: usize) -> Result<()> {
         // SAFETY: live reader; the condition is a child of it, owned (and deleted) by the Handle
         // we create, which keeps the reader alive.
         let h = check("dds_create_readcondition", unsafe {
@@ -1168,12 +1173,12 @@ impl Waiter {
     }
 
     /// Wakes while `reader` holds any sample (level-triggered: take them to reset).
-    pub fn attach_reader(&mut self, reader: &Reader, token: usize) -> Result<()> {
+    pub fn attach_reader(&self, reader: &Reader, token: usize) -> Result<()> {
         self.read_condition(&reader.handle, token)
     }
 
     /// Wakes while `reader` holds any built-in topic sample.
-    pub fn attach_builtin(&mut self, reader: &BuiltinReader, token: usize) -> Result<()> {
+    pub fn attach_builtin(&self, reader: &BuiltinReader, token: usize) -> Result<()> {
         self.read_condition(&reader.handle, token)
     }
 
@@ -1182,27 +1187,27 @@ impl Waiter {
     ///
     /// The waiter does not keep `entity` alive: deleting it detaches it (Cyclone removes a
     /// deleted entity from every waitset it is attached to).
-    pub fn attach_status(&mut self, entity: &Entity, mask: StatusMask, token: usize) -> Result<()> {
+    pub fn attach_status(&self, entity: &Entity, mask: StatusMask, token: usize) -> Result<()> {
         entity.set_status_mask(mask)?;
         // SAFETY: both handles live (we hold `entity` during the call); the token is opaque.
         check("dds_waitset_attach", unsafe {
             c::dds_waitset_attach(self.handle.id, entity.0.id, token as c::dds_attach_t)
         })?;
-        self.attached
+        self.attached()
             .push((token, Attached::Observed(Arc::downgrade(&entity.0))));
         Ok(())
     }
 
     /// Wakes while `guard` is triggered (reset it with [`GuardCondition::take`]).
-    pub fn attach_guard(&mut self, guard: &GuardCondition, token: usize) -> Result<()> {
+    pub fn attach_guard(&self, guard: &GuardCondition, token: usize) -> Result<()> {
         self.attach(guard.handle.clone(), token)
     }
 
     /// Detaches everything attached with `token`.
-    pub fn detach(&mut self, token: usize) -> Result<()> {
+    pub fn detach(&self, token: usize) -> Result<()> {
         let mut result = Ok(());
         let ws = self.handle.id;
-        self.attached.retain(|(t, a)| {
+        self.attached().retain(|(t, a)| {
             if *t != token {
                 return true;
             }
@@ -1232,7 +1237,7 @@ impl Waiter {
 
     /// [`wait`](Self::wait), with no time limit when `timeout` is `None`.
     pub fn wait_for(&self, timeout: Option<Duration>) -> Result<Vec<usize>> {
-        let mut xs: Vec<c::dds_attach_t> = vec![0; self.attached.len().max(1)];
+        let mut xs: Vec<c::dds_attach_t> = vec![0; self.attached().len().max(1)];
         // SAFETY: live waitset; `xs` has room for `xs.len()` tokens; Cyclone writes at most
         // that many and returns the number triggered (possibly more than fit).
         let n = check("dds_waitset_wait", unsafe {

@@ -29,6 +29,7 @@ pub mod queue;
 pub mod raw;
 #[cfg(feature = "tokio")]
 pub mod stream;
+pub mod wait_set;
 
 pub use backend::{
     Backend, BackendError, BACKEND_ENV, DEFAULT_RMW_IMPLEMENTATION, RMW_IMPLEMENTATIONS,
@@ -49,3 +50,4 @@ pub use raw::{
 };
 #[cfg(feature = "tokio")]
 pub use stream::SubscriptionStream;
+pub use wait_set::{WaitSet, WaitSetError};

@@ -220,18 +220,21 @@ impl std::fmt::Debug for RawWriter {
 pub struct RawReader {
     registration: Registration,
     topic: String,
-    reader: ReaderImpl,
+    pub(crate) reader: ReaderImpl,
     waker: RawReaderWaker,
+    /// The wait sets this reader is attached to (see [`WaitSet`](crate::WaitSet)).
+    #[cfg(feature = "cyclone")]
+    pub(crate) attachments: Vec<crate::wait_set::Attachment>,
 }
 
 /// Makes a [`RawReader`]'s current or next [`wait`](RawReader::wait) return, from any thread
 /// (e.g. to stop the thread waiting on it, or to tell it of something other than data). Cheap
 /// to clone; all clones wake the same reader.
 #[derive(Clone)]
-pub struct RawReaderWaker(WakerImpl);
+pub struct RawReaderWaker(pub(crate) WakerImpl);
 
 #[derive(Clone)]
-enum WakerImpl {
+pub(crate) enum WakerImpl {
     RustDds(std::sync::Arc<mio::Waker>),
     #[cfg(feature = "cyclone")]
     Cyclone(horus_ros_rmw_cyclone::GuardCondition),
@@ -270,7 +273,7 @@ impl RawReaderWaker {
 
 // One per entity, used in place: boxing the larger variant would buy nothing.
 #[allow(clippy::large_enum_variant)]
-enum ReaderImpl {
+pub(crate) enum ReaderImpl {
     RustDds {
         poll: mio::Poll,
         reader: DataReader<RawPayload, RawAdapter>,
@@ -395,6 +398,8 @@ impl Node {
             topic: spec.dds_topic_name.clone(),
             reader,
             waker: RawReaderWaker(waker),
+            #[cfg(feature = "cyclone")]
+            attachments: Vec::new(),
         })
     }
 }

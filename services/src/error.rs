@@ -60,6 +60,10 @@ pub enum SetupError {
     /// The graph of the node's context could not be followed.
     #[error(transparent)]
     Graph(#[from] GraphStartError),
+    /// The wait set taking the context's responses could not be made, or the client's
+    /// response reader not attached to it.
+    #[error(transparent)]
+    WaitSet(#[from] horus_ros_rmw::WaitSetError),
     /// The server thread could not be started.
     #[error("could not start the service thread: {0}")]
     Thread(#[from] std::io::Error),

@@ -286,6 +286,74 @@ fn sixteen_clients_get_only_their_own_replies() {
     assert_eq!(server.served_count(), (CLIENTS * CALLS) as u64);
 }
 
+/// The blocking clients of one context share one wait for replies (whichever caller waits
+/// takes every client's replies): a caller whose reply is slow must not hold up the others, nor
+/// strand them when it gives up.
+#[test]
+fn a_caller_with_a_slow_reply_neither_holds_up_nor_strands_the_other_clients_of_its_context() {
+    let n = node(96, "sharing");
+    // The slow service answers only once the test releases each request.
+    let (arrived_tx, arrived) = std::sync::mpsc::channel::<i64>();
+    let (release, released) = std::sync::mpsc::channel::<()>();
+    let released = std::sync::Mutex::new(released);
+    let _slow = ServiceServerBuilder::<AddTwoInts>::new()
+        .node(&n)
+        .name("/slow")
+        .on_request(move |req| {
+            arrived_tx.send(req.a).expect("test alive");
+            released.lock().expect("lock").recv().expect("released");
+            Ok(AddTwoIntsResponse { sum: req.a + req.b })
+        })
+        .build()
+        .expect("server");
+    let _fast = adder(&n, "/fast");
+    let mut slow = client(&n, "/slow");
+    let mut fast = client(&n, "/fast");
+    assert!(slow.wait_for_service(20 * SECOND) && fast.wait_for_service(20 * SECOND));
+
+    // 1. While a caller waits 30 s for the slow reply, other clients' calls are answered.
+    let waiting = std::thread::spawn(move || {
+        let reply = slow.call(AddTwoIntsRequest { a: 1, b: 1 }, 30 * SECOND);
+        (slow, reply)
+    });
+    assert_eq!(arrived.recv_timeout(20 * SECOND), Ok(1));
+    for i in 0..50 {
+        assert_eq!(
+            fast.call(AddTwoIntsRequest { a: i, b: 2 }, 10 * SECOND),
+            Ok(AddTwoIntsResponse { sum: i + 2 })
+        );
+    }
+    release.send(()).expect("handler alive");
+    let (mut slow, reply) = waiting.join().expect("caller");
+    assert_eq!(reply, Ok(AddTwoIntsResponse { sum: 2 }));
+
+    // 2. A caller that gives up leaves the others able to get their replies: this one times out
+    // while another waits for a reply that comes only after.
+    let mut second = client(&n, "/slow");
+    assert!(second.wait_for_service(20 * SECOND));
+    let giving_up = std::thread::spawn(move || {
+        slow.call(
+            AddTwoIntsRequest { a: 10, b: 0 },
+            Duration::from_millis(300),
+        )
+    });
+    assert_eq!(arrived.recv_timeout(20 * SECOND), Ok(10));
+    let patient =
+        std::thread::spawn(move || second.call(AddTwoIntsRequest { a: 20, b: 0 }, 30 * SECOND));
+    assert_eq!(
+        giving_up.join().expect("caller"),
+        Err(ServiceError::Timeout)
+    );
+    // The request of 10 is answered (late, dropped), then the one of 20.
+    release.send(()).expect("handler alive");
+    assert_eq!(arrived.recv_timeout(20 * SECOND), Ok(20));
+    release.send(()).expect("handler alive");
+    assert_eq!(
+        patient.join().expect("caller"),
+        Ok(AddTwoIntsResponse { sum: 20 })
+    );
+}
+
 #[test]
 fn async_calls_can_be_checked_waited_and_awaited() {
     let n = node(88, "asyncer");

@@ -3,9 +3,10 @@
 
 pub mod env;
 
-use std::collections::BTreeMap;
+use std::any::{Any, TypeId};
+use std::collections::{BTreeMap, HashMap};
 use std::sync::atomic::{AtomicBool, AtomicU32, Ordering};
-use std::sync::{Arc, Mutex, MutexGuard};
+use std::sync::{Arc, Mutex, MutexGuard, Weak};
 
 use crate::backend::{Backend, BackendError};
 use crate::dds::{self, RustddsParticipant};
@@ -198,6 +199,8 @@ pub(crate) struct ContextInner {
     feed_open: AtomicBool,
     /// rmw_cyclonedds' per-context client/service counter (`client_service_id`).
     service_endpoint_ids: AtomicU32,
+    /// What the layers above keep per context, one value per type (see [`Context::shared`]).
+    shared: Mutex<HashMap<TypeId, Weak<dyn Any + Send + Sync>>>,
 }
 
 /// What this participant itself holds: its nodes, its endpoints, and where to report changes to
@@ -237,6 +240,29 @@ impl Context {
         Self::builder().build()
     }
 
+    /// The context's one value of type `T`: made by `create` on first use, then the same for
+    /// every caller while any of them holds it (how the graph cache and the clients' response
+    /// wait set are shared by everything on a context, without a process-wide registry).
+    /// `create` must not call `shared` itself.
+    pub fn shared<T, E>(&self, create: impl FnOnce() -> Result<T, E>) -> Result<Arc<T>, E>
+    where
+        T: Any + Send + Sync,
+    {
+        let mut shared = self.inner.shared.lock().unwrap_or_else(|p| p.into_inner());
+        shared.retain(|_, v| v.strong_count() > 0);
+        if let Some(value) = shared
+            .get(&TypeId::of::<T>())
+            .and_then(Weak::upgrade)
+            .and_then(|v| v.downcast::<T>().ok())
+        {
+            return Ok(value);
+        }
+        let value = Arc::new(create()?);
+        let erased: Arc<dyn Any + Send + Sync> = value.clone();
+        shared.insert(TypeId::of::<T>(), Arc::downgrade(&erased));
+        Ok(value)
+    }
+
     /// A builder to override the environment.
     pub fn builder() -> ContextBuilder {
         ContextBuilder::default()
@@ -273,6 +299,7 @@ impl Context {
                 local,
                 feed_open: AtomicBool::new(false),
                 service_endpoint_ids: AtomicU32::new(0),
+                shared: Mutex::new(HashMap::new()),
             }),
         })
     }

@@ -132,7 +132,7 @@ impl RawReader {
                 user_data,
             )
             .map_err(fail)?;
-        let mut waiter = cyc::Waiter::new().map_err(fail)?;
+        let waiter = cyc::Waiter::new().map_err(fail)?;
         waiter.attach_reader(&reader, DATA).map_err(fail)?;
         let guard = cyc::GuardCondition::new().map_err(fail)?;
         waiter.attach_guard(&guard, WAKE).map_err(fail)?;
@@ -173,6 +173,14 @@ impl RawReader {
             writer,
             publication_handle: sample.publication_handle,
         }))
+    }
+
+    /// Attaches this reader's data to another waitset too, under `token` (detach it with
+    /// `waiter.detach(token)`).
+    pub(crate) fn attach_to(&self, waiter: &cyc::Waiter, token: usize) -> Result<(), String> {
+        waiter
+            .attach_reader(&self.reader, token)
+            .map_err(|e| e.to_string())
     }
 
     /// The guard condition that wakes [`wait`](Self::wait).

@@ -131,7 +131,7 @@ impl CycloneDiscoveryFeed {
             .blob_topic(TOPIC_NAME, TYPE_NAME)
             .map_err(reader)?;
         let guard = Arc::new(GuardWake(cyc::GuardCondition::new().map_err(poll)?));
-        let mut waiter = cyc::Waiter::new().map_err(poll)?;
+        let waiter = cyc::Waiter::new().map_err(poll)?;
         waiter.attach_guard(&guard.0, GUARD).map_err(poll)?;
         waiter
             .attach_builtin(&participants, PARTICIPANTS)

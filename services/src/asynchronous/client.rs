@@ -213,7 +213,7 @@ impl<S: Service> Future for ServiceCall<S> {
             let sent = match this.wait.poll_server(&this.core, cx) {
                 Poll::Pending => return Poll::Pending,
                 Poll::Ready(Ok(server)) => match request.take() {
-                    Some(request) => this.core.send(&request, server, this.wait.deadline),
+                    Some(request) => this.core.send(&request, server, this.wait.deadline, None),
                     None => Err(ServiceError::Transport(
                         "request already consumed".to_owned(),
                     )),

@@ -11,6 +11,7 @@ use horus_ros_rmw::{Gid, Node};
 use super::codec::Typed;
 use super::core::{ClientCore, ClientOptions};
 use super::pending::AsyncServiceClient;
+use super::responses::Membership;
 use crate::wire::WireFlavour;
 use crate::{IntrospectionState, RetryConfig, ServiceError, SetupError};
 
@@ -70,9 +71,8 @@ impl<S: Service> ServiceClientBuilder<S> {
 
     /// A blocking client.
     pub fn build(self) -> Result<ServiceClient<S>, SetupError> {
-        Ok(ServiceClient {
-            core: Arc::new(ClientCore::new(self.options)?),
-        })
+        let (core, responses) = ClientCore::new(self.options)?.join_responses()?;
+        Ok(ServiceClient { core, responses })
     }
 
     /// A non-blocking client.
@@ -84,6 +84,8 @@ impl<S: Service> ServiceClientBuilder<S> {
 /// Calls a service and waits for the reply.
 pub struct ServiceClient<S: Service> {
     core: Arc<ClientCore<Typed<S>>>,
+    /// Where its calls wait for their replies (see `client::responses`).
+    responses: Membership,
 }
 
 impl<S: Service> std::fmt::Debug for ServiceClient<S> {
@@ -142,7 +144,7 @@ impl<S: Service> ServiceClient<S> {
         request: S::Request,
         timeout: Duration,
     ) -> Result<S::Response, ServiceError> {
-        self.core.call_blocking(&request, timeout)
+        self.core.call_blocking(&self.responses, &request, timeout)
     }
 
     /// Calls with retries on Timeout and Transport: 3 retries, backoff 10, 20, 40 ms; each

@@ -16,6 +16,7 @@ use horus_ros_rmw::{Gid, Node, RawReader, RawReaderWaker, RawSample, RawWriter, 
 use horus_ros_msgs::service_msgs::msg::ServiceEventInfo;
 
 use super::codec::{Codec, Typed};
+use super::responses::{Membership, ResponseWaitSet, TakeResponses};
 use crate::introspection::{Introspection, IntrospectionState};
 use crate::naming::{default_service_name, ServiceTopics};
 use crate::runtime::Runtime;
@@ -241,30 +242,48 @@ impl<C: Codec> ClientCore<C> {
         })
     }
 
-    /// Calls once, blocking: waits (within `timeout`) for a server, sends, waits for the reply,
-    /// taking replies off the reader itself.
+    /// Calls once, blocking: waits (within `timeout`) for a server, sends, and waits for the
+    /// reply in the context's response wait set (see [`join_responses`](Self::join_responses)).
     pub(crate) fn call_blocking(
         &self,
+        responses: &Membership,
         request: &C::Request,
         timeout: Duration,
     ) -> Result<C::Response, ServiceError> {
         let deadline = Instant::now() + timeout;
         let server = self.wait_ready(deadline)?;
-        let key = self.send(request, server, deadline)?;
+        let call_waker = responses.set().call_waker();
+        let waker = Waker::from(Arc::clone(&call_waker));
+        let key = self.send(request, server, deadline, Some(waker))?;
         loop {
-            self.drain_replies();
-            // A reply, or the end of every server the request went to (the graph's watcher wakes
-            // the reply reader's wait then).
+            // A reply, or the end of every server the request went to (the graph's watcher
+            // wakes the call's waker then).
             if let Some(result) = self.take_result(key) {
                 return result;
             }
-            let now = Instant::now();
-            if now >= deadline {
+            if Instant::now() >= deadline {
                 self.forget(key);
                 return Err(ServiceError::Timeout);
             }
-            self.wait_for_replies(Some(deadline - now));
+            responses
+                .set()
+                .wait(&call_waker, deadline, || self.is_done(key));
         }
+    }
+
+    /// Makes this client's calls wait in its context's response wait set, which takes its
+    /// replies (for [`call_blocking`](Self::call_blocking)). The reader stays attached to the
+    /// set for its life, so a client that joins takes no replies by itself any more.
+    pub(crate) fn join_responses(self) -> Result<(Arc<Self>, Membership), SetupError>
+    where
+        C: 'static,
+    {
+        let set = ResponseWaitSet::of(self.runtime.node.context())?;
+        let membership = set.attach(&mut lock(&self.replies))?;
+        let core = Arc::new(self);
+        let member: std::sync::Weak<dyn TakeResponses> = Arc::downgrade(&core) as _;
+        membership.register(member);
+        Ok((core, membership))
     }
 
     pub(crate) fn name(&self) -> &ServiceName {
@@ -473,6 +492,7 @@ impl<C: Codec> ClientCore<C> {
         request: &C::Request,
         server: ReadyServer,
         deadline: Instant,
+        waker: Option<Waker>,
     ) -> Result<RequestKey, ServiceError> {
         let body = self.codec.encode(request)?;
         // The pending lock is held while writing, so a reply cannot be routed before its slot exists.
@@ -512,7 +532,7 @@ impl<C: Codec> ClientCore<C> {
             key,
             Slot {
                 result: None,
-                waker: None,
+                waker,
                 deadline,
                 servers: server.reached,
             },
@@ -641,6 +661,13 @@ impl<C: Codec> ClientCore<C> {
             }
         }
         true
+    }
+
+    /// Whether `key` has its result (or is forgotten).
+    fn is_done(&self, key: RequestKey) -> bool {
+        lock(&self.calls.pending)
+            .get(&key)
+            .is_none_or(|slot| slot.result.is_some())
     }
 
     /// The result of `key` if it is in, removing its slot.
@@ -775,5 +802,11 @@ impl<C: Codec> ClientCore<C> {
     /// Requests waiting for their reply now.
     pub(crate) fn pending_count(&self) -> usize {
         lock(&self.calls.pending).len()
+    }
+}
+
+impl<C: Codec> TakeResponses for ClientCore<C> {
+    fn take_responses(&self) {
+        self.drain_replies();
     }
 }

@@ -11,6 +11,7 @@ use horus_ros_rmw::{Gid, Node};
 
 use super::codec::{Raw, RawReply};
 use super::core::{ClientCore, ClientOptions};
+use super::responses::Membership;
 use crate::naming::ServiceTopics;
 use crate::runtime::Runtime;
 use crate::wire::WireFlavour;
@@ -69,16 +70,17 @@ impl DynamicServiceClientBuilder {
         let codec = Raw {
             service_type: self.service_type,
         };
-        Ok(DynamicServiceClient {
-            core: ClientCore::with_codec(runtime, topics, codec, &self.options)?,
-        })
+        let (core, responses) =
+            ClientCore::with_codec(runtime, topics, codec, &self.options)?.join_responses()?;
+        Ok(DynamicServiceClient { core, responses })
     }
 }
 
 /// A client for a service type known at run time; behaves like
 /// [`ServiceClient`](crate::ServiceClient) (same server choice, wire conventions and errors).
 pub struct DynamicServiceClient {
-    core: ClientCore<Raw>,
+    core: std::sync::Arc<ClientCore<Raw>>,
+    responses: Membership,
 }
 
 impl std::fmt::Debug for DynamicServiceClient {
@@ -132,6 +134,6 @@ impl DynamicServiceClient {
     /// Calls once with `request` (a CDR_LE body of the request message, no encapsulation
     /// header); the reply comes back as its body, any rmw_cyclonedds header removed.
     pub fn call(&mut self, request: Vec<u8>, timeout: Duration) -> Result<RawReply, ServiceError> {
-        self.core.call_blocking(&request, timeout)
+        self.core.call_blocking(&self.responses, &request, timeout)
     }
 }

@@ -6,6 +6,7 @@ pub(crate) mod codec;
 pub(crate) mod core;
 mod dynamic;
 mod pending;
+pub(crate) mod responses;
 
 pub use blocking::{ServiceClient, ServiceClientBuilder};
 pub use codec::RawReply;

@@ -185,7 +185,7 @@ impl<S: Service> PendingResponse<S> {
         if let State::Unsent(request) = &mut self.state {
             if let Some(server) = self.core.ready_server() {
                 let outcome = match request.take() {
-                    Some(req) => self.core.send(&req, server, self.deadline),
+                    Some(req) => self.core.send(&req, server, self.deadline, None),
                     None => Err(ServiceError::Transport(
                         "request already consumed".to_owned(),
                     )),

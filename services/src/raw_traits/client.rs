@@ -323,7 +323,7 @@ impl Shared {
         // serves async clients' wake-ups).
         let key = self
             .core
-            .send(&unsent.body, server, Instant::now())
+            .send(&unsent.body, server, Instant::now(), None)
             .map_err(transport_error)?;
         state.current = Some(key);
         Ok(true)

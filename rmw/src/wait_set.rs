@@ -1,0 +1,193 @@
+//! [`WaitSet`]: one thread waiting on the data of many readers at once (`rmw_wait`).
+//!
+//! A reader attached to a set reports its data there for the rest of its life (its own
+//! [`wait`](RawReader::wait) then returns only when its waker is woken); dropping the reader
+//! detaches it. The set's [`waker`](WaitSet::waker) ends the current or next wait from any
+//! thread.
+
+use std::sync::{Arc, Mutex};
+use std::time::Duration;
+
+use rustdds::mio1 as mio;
+
+use crate::raw::{ReaderImpl, WakerImpl};
+use crate::{Backend, Context, RawReader, RawReaderWaker};
+
+/// The token of the set's own waker (no reader key may take it).
+const WAKE: usize = usize::MAX;
+
+/// Why a wait set could not be made, or a reader not attached.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum WaitSetError {
+    /// The DDS layer refused.
+    #[error("wait set: {0}")]
+    Dds(String),
+    /// The reader belongs to another backend than the set.
+    #[error("wait set: the reader is of another DDS backend than the set")]
+    OtherBackend,
+    /// `usize::MAX` is the set's own.
+    #[error("wait set: key {0} is reserved")]
+    ReservedKey(usize),
+}
+
+/// Waits on many readers' data at once; one thread waits at a time (a second caller of
+/// [`wait`](Self::wait) blocks until the first returns).
+pub struct WaitSet {
+    imp: Imp,
+    waker: RawReaderWaker,
+}
+
+enum Imp {
+    RustDds {
+        poll: Mutex<(mio::Poll, mio::Events)>,
+        /// Registers readers while another thread waits in `poll`.
+        registry: mio::Registry,
+    },
+    #[cfg(feature = "cyclone")]
+    Cyclone {
+        waiter: Arc<horus_ros_rmw_cyclone::Waiter>,
+        guard: horus_ros_rmw_cyclone::GuardCondition,
+    },
+}
+
+/// What a Cyclone reader attached to a set holds: its read condition there, deleted with the
+/// reader (rustdds' poll forgets a reader's channel by itself when the channel is closed).
+#[cfg(feature = "cyclone")]
+pub(crate) struct Attachment {
+    waiter: Arc<horus_ros_rmw_cyclone::Waiter>,
+    token: usize,
+}
+
+#[cfg(feature = "cyclone")]
+impl Drop for Attachment {
+    fn drop(&mut self) {
+        if let Err(e) = self.waiter.detach(self.token) {
+            tracing::debug!("could not detach a reader from its wait set: {e}");
+        }
+    }
+}
+
+impl std::fmt::Debug for WaitSet {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("WaitSet")
+    }
+}
+
+impl WaitSet {
+    /// An empty set for readers of `context`'s backend.
+    pub fn new(context: &Context) -> Result<Self, WaitSetError> {
+        let fail = |e: &dyn std::fmt::Display| WaitSetError::Dds(e.to_string());
+        match context.backend() {
+            Backend::RustDds => {
+                let poll = mio::Poll::new().map_err(|e| fail(&e))?;
+                let registry = poll.registry().try_clone().map_err(|e| fail(&e))?;
+                let waker =
+                    mio::Waker::new(poll.registry(), mio::Token(WAKE)).map_err(|e| fail(&e))?;
+                Ok(Self {
+                    imp: Imp::RustDds {
+                        poll: Mutex::new((poll, mio::Events::with_capacity(64))),
+                        registry,
+                    },
+                    waker: RawReaderWaker(WakerImpl::RustDds(Arc::new(waker))),
+                })
+            }
+            #[cfg(feature = "cyclone")]
+            Backend::Cyclone => {
+                let waiter = horus_ros_rmw_cyclone::Waiter::new().map_err(|e| fail(&e))?;
+                let guard = horus_ros_rmw_cyclone::GuardCondition::new().map_err(|e| fail(&e))?;
+                waiter.attach_guard(&guard, WAKE).map_err(|e| fail(&e))?;
+                Ok(Self {
+                    imp: Imp::Cyclone {
+                        waiter: Arc::new(waiter),
+                        guard: guard.clone(),
+                    },
+                    waker: RawReaderWaker(WakerImpl::Cyclone(guard)),
+                })
+            }
+            #[cfg(not(feature = "cyclone"))]
+            Backend::Cyclone => Err(WaitSetError::OtherBackend),
+        }
+    }
+
+    /// Attaches `reader` under `key` (reported by [`wait`](Self::wait) when it may have data),
+    /// for the rest of the reader's life. May be called while another thread waits.
+    pub fn attach(&self, reader: &mut RawReader, key: usize) -> Result<(), WaitSetError> {
+        if key == WAKE {
+            return Err(WaitSetError::ReservedKey(key));
+        }
+        let fail = |e: &dyn std::fmt::Display| WaitSetError::Dds(e.to_string());
+        match (&self.imp, &mut reader.reader) {
+            (Imp::RustDds { registry, .. }, ReaderImpl::RustDds { poll, reader: dds }) => {
+                // A mio source is registered with one poll at a time: move it from the reader's.
+                poll.registry().deregister(dds).map_err(|e| fail(&e))?;
+                registry
+                    .register(dds, mio::Token(key), mio::Interest::READABLE)
+                    .map_err(|e| fail(&e))?;
+                Ok(())
+            }
+            #[cfg(feature = "cyclone")]
+            (Imp::Cyclone { waiter, .. }, ReaderImpl::Cyclone(cyclone)) => {
+                cyclone.attach_to(waiter, key).map_err(|e| fail(&e))?;
+                reader.attachments.push(Attachment {
+                    waiter: Arc::clone(waiter),
+                    token: key,
+                });
+                Ok(())
+            }
+            #[cfg(feature = "cyclone")]
+            _ => Err(WaitSetError::OtherBackend),
+        }
+    }
+
+    /// Wakes the current or next [`wait`](Self::wait), from any thread.
+    pub fn waker(&self) -> RawReaderWaker {
+        self.waker.clone()
+    }
+
+    /// Waits until an attached reader may have data or the waker was woken, at most `timeout`
+    /// (`None`: no limit). Puts the keys of the readers that may have data in `ready` (cleared
+    /// first); returns whether anything was signalled. Take from each until `None`: on the
+    /// rustdds backend a reader is reported once per arrival, on Cyclone while it holds data.
+    pub fn wait(&self, timeout: impl Into<Option<Duration>>, ready: &mut Vec<usize>) -> bool {
+        ready.clear();
+        let timeout = timeout.into();
+        match &self.imp {
+            Imp::RustDds { poll, .. } => {
+                let mut guard = poll.lock().unwrap_or_else(|p| p.into_inner());
+                let (poll, events) = &mut *guard;
+                if let Err(e) = poll.poll(events, timeout) {
+                    tracing::debug!("wait set: poll failed: {e}");
+                    return false;
+                }
+                let mut signalled = false;
+                for event in events.iter() {
+                    signalled = true;
+                    if event.token().0 != WAKE {
+                        ready.push(event.token().0);
+                    }
+                }
+                signalled
+            }
+            #[cfg(feature = "cyclone")]
+            Imp::Cyclone { waiter, guard } => match waiter.wait_for(timeout) {
+                Ok(triggered) => {
+                    for token in &triggered {
+                        if *token == WAKE {
+                            if let Err(e) = guard.take() {
+                                tracing::debug!("wait set: could not reset its guard: {e}");
+                            }
+                        } else {
+                            ready.push(*token);
+                        }
+                    }
+                    !triggered.is_empty()
+                }
+                Err(e) => {
+                    tracing::debug!("wait set: waiting failed: {e}");
+                    false
+                }
+            },
+        }
+    }
+}
