@@ -57,7 +57,7 @@ fn run(round: usize) -> Result<(), Box<dyn std::error::Error>> {
     )?;
 
     let guard = GuardCondition::new()?;
-    let mut waiter = Waiter::new()?;
+    let waiter = Waiter::new()?;
     waiter.attach_reader(&r, 1)?;
     waiter.attach_guard(&guard, 2)?;
     waiter.attach_status(&w.entity(), StatusMask::PUBLICATION_MATCHED, 3)?;

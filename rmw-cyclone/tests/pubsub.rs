@@ -32,7 +32,7 @@ fn pair(domain: u32, topic: &str, qos: &EndpointQos) -> (Participant, Participan
 
 /// Blocks (bounded) until `w` matched at least one reader, through a status condition.
 fn wait_matched(w: &Writer) {
-    let mut waiter = Waiter::new().expect("waiter");
+    let waiter = Waiter::new().expect("waiter");
     waiter
         .attach_status(&w.entity(), StatusMask::PUBLICATION_MATCHED, 1)
         .expect("attach");
@@ -63,7 +63,7 @@ fn raw_write_take_with_writer_guid_and_handle() {
         "a sample without its encapsulation header is refused"
     );
 
-    let mut waiter = Waiter::new().expect("waiter");
+    let waiter = Waiter::new().expect("waiter");
     waiter.attach_reader(&r, 7).expect("attach");
     let mut got = Vec::new();
     let end = Instant::now() + DISCOVERY;
@@ -107,7 +107,7 @@ fn waiter_wakes_on_data_and_on_guard() {
     let (_a, _b, w, r) = pair(142, "rt/rmwc/wake", &EndpointQos::default());
     wait_matched(&w);
     let guard = GuardCondition::new().expect("guard");
-    let mut waiter = Waiter::new().expect("waiter");
+    let waiter = Waiter::new().expect("waiter");
     waiter.attach_reader(&r, 1).expect("attach reader");
     waiter.attach_guard(&guard, 2).expect("attach guard");
 

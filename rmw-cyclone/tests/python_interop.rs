@@ -107,7 +107,7 @@ fn python_cyclone_peer_sees_our_user_data_and_exchanges_cdr() {
     }
 
     // Take its three samples, waking on data.
-    let mut waiter = Waiter::new().expect("waiter");
+    let waiter = Waiter::new().expect("waiter");
     waiter.attach_reader(&r, 1).expect("attach");
     let mut got = Vec::new();
     let pywriter = loop {

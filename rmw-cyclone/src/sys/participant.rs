@@ -1,0 +1,146 @@
+//! Participants and blob topics.
+
+use std::collections::HashMap;
+use std::os::raw::c_char;
+use std::sync::{Arc, Mutex};
+
+use cyclors as c;
+
+use super::*;
+use crate::qos::EndpointQos;
+use crate::Guid;
+
+/// A DDS domain participant with USER_DATA (for ROS: `enclave=/;`). Cheap to clone; the
+/// participant is deleted when the last clone and the last entity created from it are dropped.
+#[derive(Debug, Clone)]
+pub struct Participant {
+    pub(super) handle: Arc<Handle>,
+    pub(super) domain: Arc<Domain>,
+}
+
+impl Participant {
+    /// Creates a participant in `domain` with the given USER_DATA.
+    pub fn new(domain: Domain, user_data: &[u8]) -> Result<Self> {
+        let mut q = QosBox::new()?;
+        q.user_data(user_data);
+        // SAFETY: the domain exists (held by `domain`); the QoS pointer is valid for the call
+        // (Cyclone copies it); NULL listener: no callbacks.
+        let h = check("dds_create_participant", unsafe {
+            c::dds_create_participant(domain.id, q.0, std::ptr::null())
+        })?;
+        // The participant's parent is the domain entity: deleted only after the participant.
+        Ok(Self {
+            handle: Handle::new(h, Some(&domain.handle)),
+            domain: Arc::new(domain),
+        })
+    }
+
+    /// The participant as an [`Entity`] (GUID, instance handle).
+    pub fn entity(&self) -> Entity {
+        Entity(self.handle.clone())
+    }
+
+    /// The participant's GUID (its GID in ROS terms).
+    pub fn guid(&self) -> Result<Guid> {
+        self.entity().guid()
+    }
+
+    /// The domain id.
+    pub fn domain_id(&self) -> u32 {
+        self.domain.id
+    }
+
+    /// A keyless topic of opaque serialized samples (the "blob" sertype of `cyclors`' cyclocut,
+    /// as zenoh-plugin-ros2dds uses): any topic and type name; Cyclone never interprets the
+    /// bytes, it just carries them with their 4-byte encapsulation header.
+    pub fn blob_topic(&self, topic_name: &str, type_name: &str) -> Result<Topic> {
+        let n = cstring("cdds_create_blob_topic", topic_name)?;
+        let t = cstring("cdds_create_blob_topic", type_name)?;
+        // SAFETY: live participant; both strings are valid for the call and only read (the
+        // `*mut` in the signature is historical): the sertype duplicates the type name and
+        // dds_create_topic_sertype copies the topic name. The sertype's ownership moves to
+        // the topic.
+        let h = check("cdds_create_blob_topic", unsafe {
+            c::cdds_create_blob_topic(
+                self.handle.id,
+                n.as_ptr() as *mut c_char,
+                t.as_ptr() as *mut c_char,
+                true,
+            )
+        })?;
+        Ok(Topic {
+            handle: Handle::new(h, Some(&self.handle)),
+            name: topic_name.to_owned(),
+            type_name: type_name.to_owned(),
+        })
+    }
+
+    /// A writer of `topic` with `qos` and USER_DATA (for ROS: `typehash=RIHS01_…;`).
+    pub fn writer(&self, topic: &Topic, qos: &EndpointQos, user_data: &[u8]) -> Result<Writer> {
+        let mut q = QosBox::new()?;
+        q.endpoint(qos);
+        q.user_data(user_data);
+        // SAFETY: live participant and topic (both held); QoS valid for the call; no listener.
+        let h = check("dds_create_writer", unsafe {
+            c::dds_create_writer(self.handle.id, topic.handle.id, q.0, std::ptr::null())
+        })?;
+        // The writer keeps the topic (and through it the participant) alive.
+        Ok(Writer {
+            handle: Handle::new(h, Some(&topic.handle)),
+        })
+    }
+
+    /// A reader of `topic` with `qos` and USER_DATA.
+    pub fn reader(&self, topic: &Topic, qos: &EndpointQos, user_data: &[u8]) -> Result<Reader> {
+        let mut q = QosBox::new()?;
+        q.endpoint(qos);
+        q.user_data(user_data);
+        // SAFETY: as for `writer`.
+        let h = check("dds_create_reader", unsafe {
+            c::dds_create_reader(self.handle.id, topic.handle.id, q.0, std::ptr::null())
+        })?;
+        Ok(Reader {
+            handle: Handle::new(h, Some(&topic.handle)),
+            writers: Mutex::new(HashMap::new()),
+        })
+    }
+
+    /// A reader of one of the DDS built-in discovery topics (default QoS: reliable,
+    /// transient-local, so it also gets everything discovered before it was created).
+    pub fn builtin_reader(&self, topic: BuiltinTopic) -> Result<BuiltinReader> {
+        let pseudo = match topic {
+            BuiltinTopic::Participant => c::DDS_BUILTIN_TOPIC_DCPSPARTICIPANT,
+            BuiltinTopic::Publication => c::DDS_BUILTIN_TOPIC_DCPSPUBLICATION,
+            BuiltinTopic::Subscription => c::DDS_BUILTIN_TOPIC_DCPSSUBSCRIPTION,
+        };
+        // SAFETY: live participant; `pseudo` is one of Cyclone's built-in topic pseudo handles;
+        // NULL QoS and listener.
+        let h = check("dds_create_reader(builtin)", unsafe {
+            c::dds_create_reader(self.handle.id, pseudo, std::ptr::null(), std::ptr::null())
+        })?;
+        Ok(BuiltinReader {
+            handle: Handle::new(h, Some(&self.handle)),
+            topic,
+        })
+    }
+}
+
+/// A blob topic (see [`Participant::blob_topic`]).
+#[derive(Debug)]
+pub struct Topic {
+    pub(super) handle: Arc<Handle>,
+    pub(super) name: String,
+    pub(super) type_name: String,
+}
+
+impl Topic {
+    /// The topic name as on the wire (for ROS: `rt/…`, `rq/…`, `rr/…`).
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// The DDS type name (for ROS: `pkg::msg::dds_::Type_`).
+    pub fn type_name(&self) -> &str {
+        &self.type_name
+    }
+}
