@@ -1,354 +1,27 @@
-//! `horus-ros graph`: the whole graph in one document, or (`--watch`) a live, timestamped diff
-//! of the nodes and endpoints appearing and vanishing. Formats: `docs/cli-json.md`.
+//! `graph --watch`: the graph's changes as timestamped `+`/`-` lines (or JSON objects), one per
+//! node or endpoint appearing or vanishing.
 
 use std::collections::{BTreeMap, HashMap};
 use std::io::Write;
 use std::time::SystemTime;
 
-use horus_ros_graph::{
-    Gid, GraphCache, GraphEvent, NamesAndTypes, RecvError, ServiceEndpointInfo, TopicEndpointInfo,
-};
+use horus_ros_graph::{Gid, GraphCache, GraphEvent, RecvError};
 use horus_ros_msgs::TypeHash;
 use horus_ros_rmw::names::{
     is_hidden_name, DemangledTopic, ROS_SERVICE_REQUESTER_PREFIX, ROS_SERVICE_RESPONSE_PREFIX,
     ROS_TOPIC_PREFIX, SERVICE_REPLY_SUFFIX, SERVICE_REQUEST_SUFFIX,
 };
-use horus_ros_rmw::qos::{EndpointKind, Qos};
+use horus_ros_rmw::qos::EndpointKind;
 use serde_json::{json, Value};
 
-use crate::session::{GraphSource, Session};
+use super::GraphArgs;
+use crate::session::Session;
 use crate::verb::names;
 use crate::{CliError, Global};
 
-/// Arguments of `graph`.
-#[derive(Debug, clap::Args)]
-#[command(after_help = "\
-Without --watch: one document of every node (with its publishers, subscribers, servers and
-clients), every topic (types, publishers and subscriptions with GIDs and QoS) and every service
-(types, servers and clients). With --json it is one JSON document (docs/cli-json.md).
-
-With --watch: first the current graph as `+` lines (after discovery settles), then one
-timestamped line per change, until Ctrl+C (or SIGTERM), exit status 0:
-  2026-11-22T01:23:45.678Z + node /ns/talker
-  2026-11-22T01:23:45.679Z + publisher /ns/chatter [std_msgs/msg/String] gid 01.0f.…
-  2026-11-22T01:23:47.012Z - service server /add_two_ints [example_interfaces/srv/AddTwoInts] request reader gid 01.0f.…
-With --json, one JSON object per line instead.")]
-pub struct GraphArgs {
-    /// Print a live, timestamped diff of nodes and endpoints appearing and vanishing until Ctrl+C.
-    #[arg(long)]
-    pub watch: bool,
-    /// Include hidden nodes, topics and services (a name token starting with `_`).
-    #[arg(short = 'a', long)]
-    pub all: bool,
-}
-
-/// Runs `graph`.
-pub fn run(global: &Global, args: &GraphArgs) -> Result<(), CliError> {
-    if args.watch {
-        return watch(global, args);
-    }
-    let source = GraphSource::open(global)?;
-    let doc = source.read(|c| GraphDoc::read(c, args.all));
-    let domain_id = source.domain_id();
-    if global.json {
-        names::print_json(&doc.to_json(domain_id))
-    } else {
-        let mut out = std::io::stdout().lock();
-        match out
-            .write_all(doc.render(domain_id).as_bytes())
-            .and_then(|()| out.flush())
-        {
-            // A reader that stopped early (`| head`) is not an error.
-            Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
-                Err(CliError::new(format!("could not write the graph: {e}")))
-            }
-            _ => Ok(()),
-        }
-    }
-}
-
-// ---------------------------------------------------------------------------------------------
-// The document.
-
-/// One node and what it publishes, subscribes to, serves and calls (as `node info` reads it).
-struct NodeDoc {
-    name: String,
-    namespace: String,
-    enclave: Option<String>,
-    subscribers: NamesAndTypes,
-    publishers: NamesAndTypes,
-    service_servers: NamesAndTypes,
-    service_clients: NamesAndTypes,
-    action_servers: NamesAndTypes,
-    action_clients: NamesAndTypes,
-}
-
-/// One topic with its endpoints (as `topic info -v` reads it).
-struct TopicDoc {
-    name: String,
-    types: Vec<String>,
-    publishers: Vec<TopicEndpointInfo>,
-    subscriptions: Vec<TopicEndpointInfo>,
-}
-
-/// One service with its servers and clients (as `service info -v` reads it).
-struct ServiceDoc {
-    name: String,
-    types: Vec<String>,
-    clients_count: usize,
-    services_count: usize,
-    clients: Vec<ServiceEndpointInfo>,
-    servers: Vec<ServiceEndpointInfo>,
-}
-
-/// The whole graph, read under one lock so that its parts agree.
-struct GraphDoc {
-    nodes: Vec<NodeDoc>,
-    topics: Vec<TopicDoc>,
-    services: Vec<ServiceDoc>,
-}
-
-/// Keeps the names that are not hidden (all of them with `all`).
-fn visible(names_and_types: NamesAndTypes, all: bool) -> NamesAndTypes {
-    if all {
-        return names_and_types;
-    }
-    names_and_types
-        .into_iter()
-        .filter(|(name, _)| !is_hidden_name(name))
-        .collect()
-}
-
-impl GraphDoc {
-    fn read(cache: &GraphCache, all: bool) -> Self {
-        let nodes = cache
-            .node_names()
-            .into_iter()
-            .filter(|n| all || !names::is_hidden_node(&n.name))
-            .map(|n| {
-                let get = |r: Result<NamesAndTypes, _>| r.unwrap_or_default();
-                let publishers =
-                    get(cache.publisher_names_and_types_by_node(&n.name, &n.namespace));
-                let subscribers =
-                    get(cache.subscription_names_and_types_by_node(&n.name, &n.namespace));
-                NodeDoc {
-                    action_servers: visible(names::filter_action_names(&publishers), all),
-                    action_clients: visible(names::filter_action_names(&subscribers), all),
-                    service_servers: visible(
-                        get(cache.service_names_and_types_by_node(&n.name, &n.namespace)),
-                        all,
-                    ),
-                    service_clients: visible(
-                        get(cache.client_names_and_types_by_node(&n.name, &n.namespace)),
-                        all,
-                    ),
-                    publishers: visible(publishers, all),
-                    subscribers: visible(subscribers, all),
-                    name: n.name,
-                    namespace: n.namespace,
-                    enclave: n.enclave,
-                }
-            })
-            .collect();
-        let topics = cache
-            .topic_names_and_types(all)
-            .into_iter()
-            .map(|(name, types)| TopicDoc {
-                publishers: cache.publishers_info_by_topic(&name, false),
-                subscriptions: cache.subscriptions_info_by_topic(&name, false),
-                types: types.into_iter().collect(),
-                name,
-            })
-            .collect();
-        let services = cache
-            .service_names_and_types(all)
-            .into_iter()
-            .map(|(name, types)| ServiceDoc {
-                clients_count: cache.count_clients(&name),
-                services_count: cache.count_services(&name),
-                // Only an error with no_mangle, which is not used.
-                clients: cache
-                    .clients_info_by_service(&name, false)
-                    .unwrap_or_default(),
-                servers: cache
-                    .servers_info_by_service(&name, false)
-                    .unwrap_or_default(),
-                types: types.into_iter().collect(),
-                name,
-            })
-            .collect();
-        Self {
-            nodes,
-            topics,
-            services,
-        }
-    }
-
-    /// The JSON document (`docs/cli-json.md`, "graph").
-    fn to_json(&self, domain_id: u16) -> Value {
-        let nodes: Vec<Value> = self
-            .nodes
-            .iter()
-            .map(|n| {
-                json!({
-                    "full_name": names::node_full_name(&n.namespace, &n.name),
-                    "name": n.name,
-                    "namespace": n.namespace,
-                    "enclave": n.enclave,
-                    "subscribers": names::names_and_types_json(&n.subscribers),
-                    "publishers": names::names_and_types_json(&n.publishers),
-                    "service_servers": names::names_and_types_json(&n.service_servers),
-                    "service_clients": names::names_and_types_json(&n.service_clients),
-                    "action_servers": names::names_and_types_json(&n.action_servers),
-                    "action_clients": names::names_and_types_json(&n.action_clients),
-                })
-            })
-            .collect();
-        let topics: Vec<Value> = self
-            .topics
-            .iter()
-            .map(|t| {
-                json!({
-                    "name": t.name,
-                    "types": t.types,
-                    "publisher_count": t.publishers.len(),
-                    "subscription_count": t.subscriptions.len(),
-                    "publishers": t.publishers.iter().map(names::topic_endpoint_json).collect::<Vec<_>>(),
-                    "subscriptions": t.subscriptions.iter().map(names::topic_endpoint_json).collect::<Vec<_>>(),
-                })
-            })
-            .collect();
-        let services: Vec<Value> = self
-            .services
-            .iter()
-            .map(|s| {
-                json!({
-                    "name": s.name,
-                    "types": s.types,
-                    "clients_count": s.clients_count,
-                    "services_count": s.services_count,
-                    "clients": s.clients.iter().map(names::service_endpoint_json).collect::<Vec<_>>(),
-                    "servers": s.servers.iter().map(names::service_endpoint_json).collect::<Vec<_>>(),
-                })
-            })
-            .collect();
-        json!({
-            "domain_id": domain_id,
-            "nodes": nodes,
-            "topics": topics,
-            "services": services,
-        })
-    }
-
-    /// The text document (`docs/cli-json.md`, "graph: text layout").
-    fn render(&self, domain_id: u16) -> String {
-        let mut out = format!(
-            "Domain {domain_id}: {}, {}, {}\n",
-            plural(self.nodes.len(), "node"),
-            plural(self.topics.len(), "topic"),
-            plural(self.services.len(), "service"),
-        );
-        out.push_str("\nNodes:\n");
-        for n in &self.nodes {
-            out.push_str(&format!(
-                "  {}\n",
-                names::node_full_name(&n.namespace, &n.name)
-            ));
-            for (title, list) in [
-                ("Subscribers", &n.subscribers),
-                ("Publishers", &n.publishers),
-                ("Service Servers", &n.service_servers),
-                ("Service Clients", &n.service_clients),
-                ("Action Servers", &n.action_servers),
-                ("Action Clients", &n.action_clients),
-            ] {
-                if list.is_empty() {
-                    continue;
-                }
-                out.push_str(&format!("    {title}:\n"));
-                for (name, types) in list {
-                    out.push_str(&format!("      {name}: {}\n", join_types(types)));
-                }
-            }
-        }
-        out.push_str("\nTopics:\n");
-        for t in &self.topics {
-            out.push_str(&format!("  {}: {}\n", t.name, join_types(&t.types)));
-            for (title, list) in [
-                ("Publishers", &t.publishers),
-                ("Subscriptions", &t.subscriptions),
-            ] {
-                out.push_str(&format!("    {title} ({}):\n", list.len()));
-                for e in list {
-                    out.push_str(&format!(
-                        "      {}  gid {}  {}\n",
-                        endpoint_node(&e.node_namespace, &e.node_name),
-                        e.endpoint_gid,
-                        qos_summary(&e.qos_profile),
-                    ));
-                }
-            }
-        }
-        out.push_str("\nServices:\n");
-        for s in &self.services {
-            out.push_str(&format!("  {}: {}\n", s.name, join_types(&s.types)));
-            for (title, list) in [("Servers", &s.servers), ("Clients", &s.clients)] {
-                out.push_str(&format!("    {title} ({}):\n", list.len()));
-                for e in list {
-                    let gids: Vec<String> = e.endpoint_gids.iter().map(Gid::to_string).collect();
-                    out.push_str(&format!(
-                        "      {}  gids {}\n",
-                        endpoint_node(&e.node_namespace, &e.node_name),
-                        gids.join(", "),
-                    ));
-                }
-            }
-        }
-        out
-    }
-}
-
-fn plural(n: usize, word: &str) -> String {
-    if n == 1 {
-        format!("1 {word}")
-    } else {
-        format!("{n} {word}s")
-    }
-}
-
-fn join_types<S: AsRef<str>>(types: impl IntoIterator<Item = S>) -> String {
-    let types: Vec<String> = types.into_iter().map(|t| t.as_ref().to_owned()).collect();
-    types.join(", ")
-}
-
-/// The full name of an endpoint's node; the placeholders (`_CREATED_BY_BARE_DDS_APP_`,
-/// `_NODE_NAME_UNKNOWN_`) alone.
-fn endpoint_node(namespace: &str, name: &str) -> String {
-    if name == horus_ros_graph::CREATED_BY_BARE_DDS_APP
-        || name == horus_ros_graph::NODE_NAME_UNKNOWN
-    {
-        name.to_owned()
-    } else {
-        names::node_full_name(namespace, name)
-    }
-}
-
-/// `RELIABLE, VOLATILE, KEEP_LAST (10)`: the policies that decide matching, in one line.
-fn qos_summary(qos: &Qos) -> String {
-    format!(
-        "{}, {}, {}",
-        qos.reliability,
-        qos.durability,
-        qos.history_depth_string()
-    )
-}
-
-// ---------------------------------------------------------------------------------------------
-// --watch.
-
 /// What a DDS endpoint is to a ROS user, from its topic prefix and side.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Role {
+pub(super) enum Role {
     /// Writer on `rt/…`.
     Publisher,
     /// Reader on `rt/…`.
@@ -366,7 +39,7 @@ enum Role {
 impl Role {
     /// The role and ROS name of an endpoint; `None` for a topic that is not ROS
     /// (e.g. `ros_discovery_info`).
-    fn of(dds_topic: &str, kind: EndpointKind) -> Option<(Self, String)> {
+    pub(super) fn of(dds_topic: &str, kind: EndpointKind) -> Option<(Self, String)> {
         use EndpointKind::{Reader, Writer};
         match (DemangledTopic::from_dds_topic_name(dds_topic), kind) {
             (DemangledTopic::Topic(t), Writer) => Some((Self::Publisher, t.as_str().to_owned())),
@@ -388,7 +61,7 @@ impl Role {
     }
 
     /// The endpoint as ROS users name it, in text lines.
-    fn text(self) -> &'static str {
+    pub(super) fn text(self) -> &'static str {
         match self {
             Self::Publisher => "publisher",
             Self::Subscription => "subscription",
@@ -398,7 +71,7 @@ impl Role {
     }
 
     /// `kind` in JSON lines.
-    fn json_kind(self) -> &'static str {
+    pub(super) fn json_kind(self) -> &'static str {
         match self {
             Self::Publisher => "publisher",
             Self::Subscription => "subscription",
@@ -408,7 +81,7 @@ impl Role {
     }
 
     /// Which of a server's or client's two DDS endpoints this is.
-    fn part(self) -> Option<&'static str> {
+    pub(super) fn part(self) -> Option<&'static str> {
         match self {
             Self::Publisher | Self::Subscription => None,
             Self::ServerRequestReader => Some("request reader"),
@@ -418,11 +91,11 @@ impl Role {
         }
     }
 
-    fn is_service(self) -> bool {
+    pub(super) fn is_service(self) -> bool {
         self.part().is_some()
     }
 
-    fn kind(self) -> EndpointKind {
+    pub(super) fn kind(self) -> EndpointKind {
         match self {
             Self::Publisher | Self::ServerResponseWriter | Self::ClientRequestWriter => {
                 EndpointKind::Writer
@@ -436,7 +109,7 @@ impl Role {
 
 /// One endpoint as the watcher last printed it.
 #[derive(Debug, Clone, PartialEq, Eq)]
-struct EndpointView {
+pub(super) struct EndpointView {
     gid: Gid,
     role: Role,
     /// The ROS topic or service name.
@@ -449,7 +122,7 @@ struct EndpointView {
 
 /// One line of `--watch`.
 #[derive(Debug, Clone, PartialEq, Eq)]
-enum Change {
+pub(super) enum Change {
     Node {
         added: bool,
         name: String,
@@ -462,7 +135,7 @@ enum Change {
 }
 
 impl Change {
-    fn text(&self, time: &str) -> String {
+    pub(super) fn text(&self, time: &str) -> String {
         match self {
             Self::Node {
                 added,
@@ -488,7 +161,7 @@ impl Change {
         }
     }
 
-    fn json(&self, time: &str) -> Value {
+    pub(super) fn json(&self, time: &str) -> Value {
         let change = |added: bool| if added { "added" } else { "removed" };
         match self {
             Self::Node {
@@ -534,7 +207,7 @@ impl Change {
     }
 }
 
-fn sign(added: bool) -> char {
+pub(super) fn sign(added: bool) -> char {
     if added {
         '+'
     } else {
@@ -546,7 +219,7 @@ fn sign(added: bool) -> char {
 /// against it and against the cache, so a change is printed once even when the initial snapshot
 /// and the first events overlap.
 #[derive(Debug, Default)]
-struct Watcher {
+pub(super) struct Watcher {
     all: bool,
     /// Visible nodes by (namespace, name), with how many of that name are present.
     nodes: BTreeMap<(String, String), usize>,
@@ -555,7 +228,12 @@ struct Watcher {
 }
 
 /// The type and type hash of endpoint `gid` on `dds_topic`, if the cache still has it.
-fn lookup(cache: &GraphCache, gid: Gid, role: Role, dds_topic: &str) -> Option<(String, TypeHash)> {
+pub(super) fn lookup(
+    cache: &GraphCache,
+    gid: Gid,
+    role: Role,
+    dds_topic: &str,
+) -> Option<(String, TypeHash)> {
     let infos = match role.kind() {
         EndpointKind::Writer => cache.publishers_info_by_topic(dds_topic, true),
         EndpointKind::Reader => cache.subscriptions_info_by_topic(dds_topic, true),
@@ -566,7 +244,7 @@ fn lookup(cache: &GraphCache, gid: Gid, role: Role, dds_topic: &str) -> Option<(
 
 /// The type to show: a service endpoint's `pkg/srv/Name_Request` / `_Response` as the service
 /// type `pkg/srv/Name`.
-fn endpoint_type(role: Role, ty: String) -> String {
+pub(super) fn endpoint_type(role: Role, ty: String) -> String {
     if !role.is_service() {
         return ty;
     }
@@ -579,7 +257,7 @@ fn endpoint_type(role: Role, ty: String) -> String {
     }
 }
 
-fn node_count(cache: &GraphCache, namespace: &str, name: &str) -> usize {
+pub(super) fn node_count(cache: &GraphCache, namespace: &str, name: &str) -> usize {
     cache
         .node_names()
         .iter()
@@ -588,24 +266,24 @@ fn node_count(cache: &GraphCache, namespace: &str, name: &str) -> usize {
 }
 
 impl Watcher {
-    fn new(all: bool) -> Self {
+    pub(super) fn new(all: bool) -> Self {
         Self {
             all,
             ..Self::default()
         }
     }
 
-    fn visible_node(&self, name: &str) -> bool {
+    pub(super) fn visible_node(&self, name: &str) -> bool {
         self.all || !names::is_hidden_node(name)
     }
 
-    fn visible_name(&self, name: &str) -> bool {
+    pub(super) fn visible_name(&self, name: &str) -> bool {
         self.all || !is_hidden_name(name)
     }
 
     /// The current graph as `+` changes (nodes, then topic endpoints by topic, then service
     /// endpoints by service), and the view set to it.
-    fn snapshot(&mut self, cache: &GraphCache) -> Vec<Change> {
+    pub(super) fn snapshot(&mut self, cache: &GraphCache) -> Vec<Change> {
         let mut out = Vec::new();
         for n in cache.node_names() {
             if !self.visible_node(&n.name) {
@@ -660,7 +338,7 @@ impl Watcher {
     }
 
     /// The changes one graph event makes to the view (none if the view already shows it).
-    fn apply(&mut self, cache: &GraphCache, event: GraphEvent) -> Vec<Change> {
+    pub(super) fn apply(&mut self, cache: &GraphCache, event: GraphEvent) -> Vec<Change> {
         match event {
             GraphEvent::NodeAdded { name, .. } | GraphEvent::NodeRemoved { name, .. }
                 if !self.visible_node(&name) =>
@@ -744,12 +422,12 @@ impl Watcher {
 }
 
 /// RFC 3339 UTC with milliseconds: `2026-11-22T01:23:45.678Z`.
-fn rfc3339_millis(t: SystemTime) -> String {
+pub(super) fn rfc3339_millis(t: SystemTime) -> String {
     chrono::DateTime::<chrono::Utc>::from(t).to_rfc3339_opts(chrono::SecondsFormat::Millis, true)
 }
 
 /// Writes changes, one line each; `false` once stdout is gone (e.g. a closed pipe).
-fn emit(out: &mut impl Write, changes: &[Change], json: bool) -> bool {
+pub(super) fn emit(out: &mut impl Write, changes: &[Change], json: bool) -> bool {
     if changes.is_empty() {
         return true;
     }
@@ -768,7 +446,7 @@ fn emit(out: &mut impl Write, changes: &[Change], json: bool) -> bool {
 }
 
 /// `graph --watch`: the snapshot, then every change, until SIGINT / SIGTERM / SIGHUP.
-fn watch(global: &Global, args: &GraphArgs) -> Result<(), CliError> {
+pub(super) fn watch(global: &Global, args: &GraphArgs) -> Result<(), CliError> {
     let session = Session::open(global)?;
     let mut watcher = Watcher::new(args.all);
     let stdout = std::io::stdout();
