@@ -15,6 +15,7 @@
 
 use std::time::{Duration, Instant};
 
+use horus_ros_graph::Graph;
 use horus_ros_rmw::VendorId;
 use horus_ros_services::prelude::*;
 use interop_tests::fastdds::{FastDdsPeer, Served};
@@ -141,15 +142,17 @@ fn client_is_refused(
     client: &mut ServiceClient<AddTwoInts>,
     peer: &mut FastDdsPeer,
 ) {
-    let deadline = Instant::now() + 10 * SECOND;
-    while !client.server_available() {
-        assert!(
-            Instant::now() < deadline,
-            "the Fast DDS server never showed up on the graph; peer output:\n{}",
-            peer.output()
-        );
-        std::thread::sleep(Duration::from_millis(20));
-    }
+    let graph = Graph::shared(context).expect("graph");
+    let shown = graph.wait_until(10 * SECOND, |cache| {
+        cache
+            .servers_info_by_service(client.name().as_str(), false)
+            .is_ok_and(|servers| !servers.is_empty())
+    });
+    assert!(
+        shown && client.server_available(),
+        "the Fast DDS server never showed up on the graph; peer output:\n{}",
+        peer.output()
+    );
     let backend = context.backend();
     for k in 0..3 {
         let asked = Instant::now();

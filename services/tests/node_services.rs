@@ -421,11 +421,16 @@ fn get_type_description_answers_by_hash_as_rcl() {
 
     // Dropping NodeServices takes the services off the graph.
     drop(services);
-    let deadline = Instant::now() + 10 * SECOND;
-    while c.server_available() && Instant::now() < deadline {
-        std::thread::sleep(Duration::from_millis(50));
-    }
-    assert!(!c.server_available(), "the server is still seen after drop");
+    let graph = Graph::shared(peer.context()).expect("graph");
+    let gone = graph.wait_until(10 * SECOND, |cache| {
+        cache
+            .servers_info_by_service(c.name().as_str(), false)
+            .is_ok_and(|servers| servers.is_empty())
+    });
+    assert!(
+        gone && !c.server_available(),
+        "the server is still seen after drop"
+    );
 }
 
 /// [`served`] with rclcpp's `allow_undeclared_parameters`.
