@@ -55,6 +55,13 @@ fn run(round: usize) -> Result<(), Box<dyn std::error::Error>> {
         &qos,
         b"typehash=RIHS01_r;",
     )?;
+    // A filtered reader: every sample goes through the sertype's sample allocation,
+    // deserialization and release (it keeps those longer than their encapsulation header).
+    let filtered = b.reader(
+        &b.filtered_blob_topic("rt/leakcheck", "test::Blob_", |head| head.len() > 4)?,
+        &qos,
+        b"typehash=RIHS01_f;",
+    )?;
 
     let guard = GuardCondition::new()?;
     let waiter = Waiter::new()?;
@@ -77,15 +84,17 @@ fn run(round: usize) -> Result<(), Box<dyn std::error::Error>> {
 
     let body = vec![0xabu8; 1000];
     let mut got = 0;
+    let mut kept = 0;
+    waiter.attach_reader(&filtered, 5)?;
     for i in 0..SAMPLES {
         let mut cdr = vec![0, 1, 0, 0];
         cdr.extend_from_slice(&(i as u32).to_le_bytes());
         cdr.extend_from_slice(&body);
         w.write(&cdr)?;
     }
-    while got < SAMPLES {
+    while got < SAMPLES || kept < SAMPLES {
         if Instant::now() > deadline {
-            return Err(format!("only {got} samples").into());
+            return Err(format!("only {got} samples, {kept} filtered").into());
         }
         waiter.wait(Duration::from_millis(200))?;
         while let Some(s) = r.take()? {
@@ -93,11 +102,14 @@ fn run(round: usize) -> Result<(), Box<dyn std::error::Error>> {
             assert!(s.writer_guid.is_some());
             got += 1;
         }
+        while filtered.take()?.is_some() {
+            kept += 1;
+        }
         for br in &builtins {
             br.take()?;
         }
     }
-    assert_eq!(w.matched_subscriptions()?.len(), 1);
+    assert_eq!(w.matched_subscriptions()?.len(), 2);
     assert_eq!(r.matched_publications()?.len(), 1);
     guard.trigger()?;
     assert!(!waiter.wait(Duration::from_millis(100))?.is_empty());

@@ -51,7 +51,7 @@ pub use qos::{Durability, EndpointQos, History, Liveliness, Reliability};
 pub use sys::{
     BuiltinReader, BuiltinSample, BuiltinTopic, Domain, EndpointInfo, Entity, Error,
     GuardCondition, MatchedEndpoint, Participant, ParticipantInfo, Reader, Result, Sample,
-    StatusMask, Topic, Waiter, WeakEntity, Writer,
+    StatusMask, Topic, Waiter, WeakEntity, Writer, HEAD_LEN,
 };
 
 /// A DDS GUID: 12-byte GUID prefix (shared by a participant and its endpoints) + 4-byte

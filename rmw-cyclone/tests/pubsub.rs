@@ -209,3 +209,87 @@ fn domain_is_shared_per_id_and_config_must_agree() {
     let d3 = Domain::acquire(148, &format!("{},<CycloneDDS/>", config())).expect("reconfigured");
     drop(d3);
 }
+
+/// A sample with rmw_cyclonedds' request header: client `guid`, sequence number `seq`.
+fn with_header(guid: u64, seq: i64) -> Vec<u8> {
+    let mut cdr = vec![0, 1, 0, 0];
+    cdr.extend_from_slice(&guid.to_le_bytes());
+    cdr.extend_from_slice(&seq.to_le_bytes());
+    cdr.extend_from_slice(&7i64.to_le_bytes());
+    cdr
+}
+
+/// Takes from `r` until `n` samples came (bounded), then what is left at once.
+fn take_all(r: &Reader, n: usize) -> Vec<Vec<u8>> {
+    let waiter = Waiter::new().expect("waiter");
+    waiter.attach_reader(r, 1).expect("attach");
+    let mut got = Vec::new();
+    let end = Instant::now() + DISCOVERY;
+    while got.len() < n && Instant::now() < end {
+        waiter.wait(Duration::from_millis(500)).expect("wait");
+        while let Some(s) = r.take().expect("take") {
+            got.push(s.cdr);
+        }
+    }
+    got
+}
+
+#[test]
+fn a_filtered_topic_stores_only_what_its_filter_keeps_from_remote_and_local_writers() {
+    let qos = EndpointQos {
+        history: History::KeepLast(100),
+        ..Default::default()
+    };
+    let a = participant(144, "enclave=/a;");
+    let b = participant(144, "enclave=/b;");
+    let topic = "rr/rmwc/filteredReply";
+    let ty = "test::Reply_";
+    // Keeps the samples whose header names client 2 (the filter sees the first 20 bytes).
+    let mine = |head: &[u8]| {
+        head.len() == horus_ros_rmw_cyclone::HEAD_LEN
+            && head.get(4..12) == Some(&2u64.to_le_bytes()[..])
+    };
+    let filtered = b
+        .reader(
+            &b.filtered_blob_topic(topic, ty, mine).expect("topic"),
+            &qos,
+            b"",
+        )
+        .expect("filtered reader");
+    let all = b
+        .reader(&b.blob_topic(topic, ty).expect("topic"), &qos, b"")
+        .expect("reader");
+    let remote = a
+        .writer(&a.blob_topic(topic, ty).expect("topic"), &qos, b"")
+        .expect("writer");
+    let local = b
+        .writer(&b.blob_topic(topic, ty).expect("topic"), &qos, b"")
+        .expect("local writer");
+    wait_matched(&remote);
+    wait_matched(&local);
+    for seq in 0..10 {
+        let w = if seq % 2 == 0 { &remote } else { &local };
+        w.write(&with_header(1 + seq as u64 % 3, seq))
+            .expect("write");
+    }
+    // A sample too short to hold a header: the filter sees fewer bytes, and refuses it.
+    remote.write(&[0, 1, 0, 0, 2]).expect("write");
+    let everything = take_all(&all, 11);
+    assert_eq!(
+        everything.len(),
+        11,
+        "the unfiltered reader stores every sample"
+    );
+    let kept = take_all(&filtered, 3);
+    let seqs: Vec<i64> = kept
+        .iter()
+        .map(|s| i64::from_le_bytes(s[12..20].try_into().expect("seq")))
+        .collect();
+    assert_eq!(
+        seqs,
+        vec![1, 4, 7],
+        "only client 2's samples, from both writers"
+    );
+    drop(filtered);
+    drop(b);
+}

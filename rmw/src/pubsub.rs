@@ -291,6 +291,7 @@ impl Node {
                     &M::dds_type_name(),
                     &dds_qos,
                     M::type_hash().to_user_data().as_bytes(),
+                    None,
                 )
                 .map_err(fail)?;
                 let waker = crate::RawReaderWaker::cyclone(reader.guard());

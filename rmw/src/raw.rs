@@ -348,6 +348,32 @@ impl Node {
 
     /// Creates a raw reader on an already-mangled DDS topic.
     pub fn create_raw_reader(&self, spec: &RawEndpointSpec) -> Result<RawReader, EndpointError> {
+        self.raw_reader(spec, None)
+    }
+
+    /// Creates the reply reader of a service client that writes rmw_cyclonedds' request
+    /// header with `client` as its id: it stores only the responses to that client. A server of
+    /// that convention cannot address one reader, so every client's reader receives every
+    /// response (rmw_cyclonedds' `rmw_take_response` drops the others'); on the Cyclone backend
+    /// a content filter drops them inside Cyclone, before they are stored, taken or wake
+    /// anyone. On rustdds this is [`create_raw_reader`](Self::create_raw_reader): its servers
+    /// address the reader a request names.
+    pub fn create_response_reader(
+        &self,
+        spec: &RawEndpointSpec,
+        client: u64,
+    ) -> Result<RawReader, EndpointError> {
+        self.raw_reader(spec, Some(client))
+    }
+
+    fn raw_reader(
+        &self,
+        spec: &RawEndpointSpec,
+        responses_of: Option<u64>,
+    ) -> Result<RawReader, EndpointError> {
+        // Only the Cyclone backend needs (and has) the filter.
+        #[cfg(not(feature = "cyclone"))]
+        let _ = responses_of;
         let dds_qos =
             spec.qos
                 .to_dds(EndpointKind::Reader)
@@ -382,6 +408,7 @@ impl Node {
                     &spec.dds_type_name,
                     &dds_qos,
                     spec.user_data().as_bytes(),
+                    responses_of,
                 )
                 .map_err(dds_error("reader", spec))?;
                 let waker = WakerImpl::Cyclone(reader.guard());

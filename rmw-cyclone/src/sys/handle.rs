@@ -9,18 +9,35 @@ use super::*;
 use crate::Guid;
 
 /// An owned Cyclone entity: `dds_delete`d on drop, after which the parent (if any) is released.
-#[derive(Debug)]
 pub(super) struct Handle {
     pub(super) id: c::dds_entity_t,
     // Dropped after `Drop::drop` ran, so the child is always deleted before its parent.
     pub(super) _parent: Option<Arc<Handle>>,
+    // What Cyclone may call into while the entity lives (a topic's filter): dropped after it.
+    pub(super) _keep: Option<Box<dyn std::any::Any + Send + Sync>>,
+}
+
+impl std::fmt::Debug for Handle {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Handle").field("id", &self.id).finish()
+    }
 }
 
 impl Handle {
     pub(super) fn new(id: c::dds_entity_t, parent: Option<&Arc<Handle>>) -> Arc<Self> {
+        Self::keeping(id, parent, None)
+    }
+
+    /// A handle that also keeps `keep` alive until the entity is deleted.
+    pub(super) fn keeping(
+        id: c::dds_entity_t,
+        parent: Option<&Arc<Handle>>,
+        keep: Option<Box<dyn std::any::Any + Send + Sync>>,
+    ) -> Arc<Self> {
         Arc::new(Self {
             id,
             _parent: parent.cloned(),
+            _keep: keep,
         })
     }
 }

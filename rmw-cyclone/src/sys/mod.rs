@@ -29,6 +29,7 @@ mod endpoints;
 mod handle;
 mod participant;
 mod qos;
+mod sertype;
 mod wait;
 
 pub use builtin::*;
@@ -37,6 +38,7 @@ pub use endpoints::*;
 pub use handle::*;
 pub use participant::*;
 use qos::*;
+pub use sertype::HEAD_LEN;
 pub use wait::*;
 
 // ---------------------------------------------------------------------------------------------

@@ -1,7 +1,6 @@
 //! Participants and blob topics.
 
 use std::collections::HashMap;
-use std::os::raw::c_char;
 use std::sync::{Arc, Mutex};
 
 use cyclors as c;
@@ -51,25 +50,40 @@ impl Participant {
     }
 
     /// A keyless topic of opaque serialized samples (the "blob" sertype of `cyclors`' cyclocut,
-    /// as zenoh-plugin-ros2dds uses): any topic and type name; Cyclone never interprets the
-    /// bytes, it just carries them with their 4-byte encapsulation header.
+    /// as zenoh-plugin-ros2dds uses, with a sample form for filters: see `sys::sertype`): any
+    /// topic and type name; Cyclone never interprets the bytes, it just carries them with their
+    /// 4-byte encapsulation header.
     pub fn blob_topic(&self, topic_name: &str, type_name: &str) -> Result<Topic> {
-        let n = cstring("cdds_create_blob_topic", topic_name)?;
-        let t = cstring("cdds_create_blob_topic", type_name)?;
-        // SAFETY: live participant; both strings are valid for the call and only read (the
-        // `*mut` in the signature is historical): the sertype duplicates the type name and
-        // dds_create_topic_sertype copies the topic name. The sertype's ownership moves to
-        // the topic.
-        let h = check("cdds_create_blob_topic", unsafe {
-            c::cdds_create_blob_topic(
-                self.handle.id,
-                n.as_ptr() as *mut c_char,
-                t.as_ptr() as *mut c_char,
-                true,
-            )
-        })?;
+        let h = sertype::create_topic(self.handle.id, topic_name, type_name)?;
         Ok(Topic {
             handle: Handle::new(h, Some(&self.handle)),
+            name: topic_name.to_owned(),
+            type_name: type_name.to_owned(),
+        })
+    }
+
+    /// A [`blob_topic`](Self::blob_topic) whose readers store only the samples `keep` accepts,
+    /// judged by their first [`HEAD_LEN`] bytes (encapsulation header included; fewer if the
+    /// sample is shorter). Cyclone runs the filter as it stores a sample, in its own thread or
+    /// the writer's: keep it short, and it must not call into Cyclone.
+    pub fn filtered_blob_topic(
+        &self,
+        topic_name: &str,
+        type_name: &str,
+        keep: impl Fn(&[u8]) -> bool + Send + Sync + 'static,
+    ) -> Result<Topic> {
+        let h = sertype::create_topic(self.handle.id, topic_name, type_name)?;
+        // Deleted if the filter cannot be set; else it keeps the filter alive.
+        let handle = Handle::new(h, Some(&self.handle));
+        let filter = sertype::set_filter(h, Box::new(keep))?;
+        let handle = Arc::try_unwrap(handle)
+            .map(|mut handle| {
+                handle._keep = Some(Box::new(filter));
+                Arc::new(handle)
+            })
+            .map_err(|_| error("filtered_blob_topic", "topic handle shared"))?;
+        Ok(Topic {
+            handle,
             name: topic_name.to_owned(),
             type_name: type_name.to_owned(),
         })

@@ -103,6 +103,24 @@ pub(crate) struct Sample {
     pub(crate) publication_handle: u64,
 }
 
+/// Whether a reply reader of `client` stores the sample starting with `head`: rmw_cyclonedds'
+/// `rmw_take_response` keeps a response whose request header (`cdds_request_header_t`, right
+/// after the encapsulation header) names the client's id, and drops the others'. What does not
+/// hold a header is kept, for the reader to report.
+fn keeps_response(head: &[u8], client: u64) -> bool {
+    let Some((encapsulation, rest)) = head.split_first_chunk::<4>() else {
+        return true;
+    };
+    let Some(guid) = rest.first_chunk::<8>() else {
+        return true;
+    };
+    match [encapsulation[0], encapsulation[1]] {
+        CDR_LE_ID => u64::from_le_bytes(*guid) == client,
+        CDR_BE_ID => u64::from_be_bytes(*guid) == client,
+        _ => true,
+    }
+}
+
 /// A raw reader with its own waitset (level-triggered on data), listed with the context's live
 /// endpoints while it exists.
 pub(crate) struct RawReader {
@@ -122,15 +140,21 @@ impl RawReader {
         type_name: &str,
         policies: &rustdds::QosPolicies,
         user_data: &[u8],
+        responses_of: Option<u64>,
     ) -> Result<(Self, Gid), String> {
         let fail = |e: cyc::Error| e.to_string();
+        let topic = match responses_of {
+            None => topic(p, topic_name, type_name)?,
+            Some(client) => p
+                .participant
+                .filtered_blob_topic(topic_name, type_name, move |head| {
+                    keeps_response(head, client)
+                })
+                .map_err(fail)?,
+        };
         let reader = p
             .participant
-            .reader(
-                &topic(p, topic_name, type_name)?,
-                &qos::endpoint_qos(policies),
-                user_data,
-            )
+            .reader(&topic, &qos::endpoint_qos(policies), user_data)
             .map_err(fail)?;
         let waiter = cyc::Waiter::new().map_err(fail)?;
         waiter.attach_reader(&reader, DATA).map_err(fail)?;
@@ -211,5 +235,31 @@ impl RawReader {
 impl Drop for RawReader {
     fn drop(&mut self) {
         self.local_endpoints.remove(self.gid);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_reply_reader_keeps_its_clients_responses_and_what_it_cannot_judge() {
+        let mut le = vec![0, 1, 0, 0];
+        le.extend_from_slice(&7u64.to_le_bytes());
+        le.extend_from_slice(&1i64.to_le_bytes());
+        assert!(keeps_response(&le, 7));
+        assert!(!keeps_response(&le, 8));
+        let mut be = vec![0, 0, 0, 0];
+        be.extend_from_slice(&7u64.to_be_bytes());
+        assert!(keeps_response(&be, 7));
+        assert!(!keeps_response(&be, 7u64.swap_bytes()));
+        assert!(
+            keeps_response(&[0, 1, 0, 0, 7], 8),
+            "too short for a header"
+        );
+        assert!(
+            keeps_response(&[0, 2, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0], 8),
+            "not plain CDR"
+        );
     }
 }

@@ -196,7 +196,11 @@ impl<C: Codec> ClientCore<C> {
         options: &ClientOptions,
     ) -> Result<Self, SetupError> {
         let requests = runtime.node.create_raw_writer(&topics.request)?;
-        let replies = runtime.node.create_raw_reader(&topics.reply)?;
+        // Stores only the replies to this client, where a server sends every client's replies
+        // to every client (rmw_cyclonedds' convention, on the Cyclone backend).
+        let replies = runtime
+            .node
+            .create_response_reader(&topics.reply, client_id(requests.gid()))?;
         // rmw_get_gid_for_client, which rcl puts in a client's introspection events: the request
         // writer's GUID on rmw_fastrtps (jazzy `rmw_get_gid_for_client.cpp`: `info->writer_guid_`),
         // the client id announced as `clientid=` on rmw_cyclonedds (jazzy `rmw_node.cpp`:
