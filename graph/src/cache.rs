@@ -13,6 +13,7 @@ use horus_ros_rmw::qos::EndpointKind;
 use crate::endpoint::{participant_gid_from_prefix, EndpointEntry, GuidPrefix};
 use crate::event::GraphEvent;
 use crate::query::{demangle_service_type, demangle_type};
+use crate::RosEndpoint;
 
 /// What is known about one participant.
 #[derive(Debug, Clone, Default)]
@@ -335,6 +336,7 @@ impl GraphCache {
             gid: entry.gid,
             kind: entry.kind,
             topic: entry.dds_topic_name.clone(),
+            ros: RosEndpoint::of(&entry.dds_topic_name, entry.kind),
         });
         if let Some(old) = self.endpoints.get(&entry.gid) {
             self.index.remove_endpoint(old);
@@ -344,6 +346,7 @@ impl GraphCache {
             self.emit(GraphEvent::EndpointRemoved {
                 gid: old.gid,
                 kind: old.kind,
+                ros: RosEndpoint::of(&old.dds_topic_name, old.kind),
                 topic: old.dds_topic_name,
             });
         }
@@ -361,6 +364,7 @@ impl GraphCache {
                 self.emit(GraphEvent::EndpointRemoved {
                     gid: old.gid,
                     kind: old.kind,
+                    ros: RosEndpoint::of(&old.dds_topic_name, old.kind),
                     topic: old.dds_topic_name,
                 });
                 true

@@ -3,6 +3,8 @@
 use horus_ros_msgs::rmw_dds_common::Gid;
 use horus_ros_rmw::qos::EndpointKind;
 
+use crate::RosEndpoint;
+
 /// One change of the graph.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum GraphEvent {
@@ -28,6 +30,9 @@ pub enum GraphEvent {
         kind: EndpointKind,
         /// Its DDS topic name (e.g. `rt/chatter`).
         topic: String,
+        /// What it is to ROS, and the ROS name it serves (`None`: not a ROS topic, e.g.
+        /// `ros_discovery_info`).
+        ros: Option<RosEndpoint>,
     },
     /// A reader or writer was lost (by itself or with its participant).
     EndpointRemoved {
@@ -37,5 +42,7 @@ pub enum GraphEvent {
         kind: EndpointKind,
         /// Its DDS topic name.
         topic: String,
+        /// What it was to ROS, and the ROS name it served.
+        ros: Option<RosEndpoint>,
     },
 }

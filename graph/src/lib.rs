@@ -16,6 +16,7 @@
 mod cache;
 mod endpoint;
 mod endpoint_query;
+mod endpoint_role;
 mod error;
 mod event;
 mod info;
@@ -31,6 +32,7 @@ mod tests;
 
 pub use cache::{GraphCache, Unsettled};
 pub use endpoint::{participant_gid_from_prefix, EndpointEntry, GuidPrefix};
+pub use endpoint_role::{EndpointRole, RosEndpoint};
 pub use error::GraphError;
 pub use event::GraphEvent;
 pub use horus_ros_msgs::rmw_dds_common::Gid;

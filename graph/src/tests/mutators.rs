@@ -4,7 +4,8 @@ use horus_ros_rmw::qos::EndpointKind;
 
 use super::fixtures::*;
 use crate::{
-    participant_gid_from_prefix, GraphCache, GraphEvent, CREATED_BY_BARE_DDS_APP, NODE_NAME_UNKNOWN,
+    participant_gid_from_prefix, EndpointRole, GraphCache, GraphEvent, RosEndpoint,
+    CREATED_BY_BARE_DDS_APP, NODE_NAME_UNKNOWN,
 };
 
 fn node_added(name: &str, namespace: &str) -> GraphEvent {
@@ -26,6 +27,7 @@ fn endpoint_removed(g: &str, kind: EndpointKind, topic: &str) -> GraphEvent {
         gid: gid(g),
         kind,
         topic: topic.to_owned(),
+        ros: RosEndpoint::of(topic, kind),
     }
 }
 
@@ -69,13 +71,21 @@ fn events_are_recorded_only_when_enabled() {
             GraphEvent::EndpointAdded {
                 gid: gid("w"),
                 kind: EndpointKind::Writer,
-                topic: "rt/t".to_owned()
+                topic: "rt/t".to_owned(),
+                ros: Some(RosEndpoint {
+                    role: EndpointRole::Publisher,
+                    name: "/t".to_owned()
+                }),
             },
             endpoint_removed("w", EndpointKind::Writer, "rt/t"),
             GraphEvent::EndpointAdded {
                 gid: gid("w"),
                 kind: EndpointKind::Writer,
-                topic: "rt/u".to_owned()
+                topic: "rt/u".to_owned(),
+                ros: Some(RosEndpoint {
+                    role: EndpointRole::Publisher,
+                    name: "/u".to_owned()
+                }),
             },
             node_added("a", "/"),
         ]

@@ -5,11 +5,11 @@ use std::collections::{BTreeMap, HashMap};
 use std::io::Write;
 use std::time::SystemTime;
 
-use horus_ros_graph::{Gid, GraphCache, GraphEvent, RecvError};
+use horus_ros_graph::{EndpointRole as Role, Gid, GraphCache, GraphEvent, RecvError, RosEndpoint};
 use horus_ros_msgs::TypeHash;
 use horus_ros_rmw::names::{
-    is_hidden_name, DemangledTopic, ROS_SERVICE_REQUESTER_PREFIX, ROS_SERVICE_RESPONSE_PREFIX,
-    ROS_TOPIC_PREFIX, SERVICE_REPLY_SUFFIX, SERVICE_REQUEST_SUFFIX,
+    is_hidden_name, ROS_SERVICE_REQUESTER_PREFIX, ROS_SERVICE_RESPONSE_PREFIX, ROS_TOPIC_PREFIX,
+    SERVICE_REPLY_SUFFIX, SERVICE_REQUEST_SUFFIX,
 };
 use horus_ros_rmw::qos::EndpointKind;
 use serde_json::{json, Value};
@@ -19,90 +19,48 @@ use crate::session::Session;
 use crate::verb::names;
 use crate::{CliError, Global};
 
-/// What a DDS endpoint is to a ROS user, from its topic prefix and side.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(super) enum Role {
-    /// Writer on `rt/…`.
-    Publisher,
-    /// Reader on `rt/…`.
-    Subscription,
-    /// Reader on `rq/…Request`.
-    ServerRequestReader,
-    /// Writer on `rr/…Reply`.
-    ServerResponseWriter,
-    /// Writer on `rq/…Request`.
-    ClientRequestWriter,
-    /// Reader on `rr/…Reply`.
-    ClientResponseReader,
+/// How the lines name an endpoint's role (the role itself comes with the graph's events).
+pub(super) trait RoleText {
+    /// The endpoint as ROS users name it, in text lines.
+    fn text(self) -> &'static str;
+    /// `kind` in JSON lines.
+    fn json_kind(self) -> &'static str;
+    /// Which of a server's or client's two DDS endpoints this is.
+    fn part(self) -> Option<&'static str>;
 }
 
-impl Role {
-    /// The role and ROS name of an endpoint; `None` for a topic that is not ROS
-    /// (e.g. `ros_discovery_info`).
-    pub(super) fn of(dds_topic: &str, kind: EndpointKind) -> Option<(Self, String)> {
-        use EndpointKind::{Reader, Writer};
-        match (DemangledTopic::from_dds_topic_name(dds_topic), kind) {
-            (DemangledTopic::Topic(t), Writer) => Some((Self::Publisher, t.as_str().to_owned())),
-            (DemangledTopic::Topic(t), Reader) => Some((Self::Subscription, t.as_str().to_owned())),
-            (DemangledTopic::ServiceRequest(s), Reader) => {
-                Some((Self::ServerRequestReader, s.as_str().to_owned()))
-            }
-            (DemangledTopic::ServiceReply(s), Writer) => {
-                Some((Self::ServerResponseWriter, s.as_str().to_owned()))
-            }
-            (DemangledTopic::ServiceRequest(s), Writer) => {
-                Some((Self::ClientRequestWriter, s.as_str().to_owned()))
-            }
-            (DemangledTopic::ServiceReply(s), Reader) => {
-                Some((Self::ClientResponseReader, s.as_str().to_owned()))
-            }
-            (DemangledTopic::NotRos, _) => None,
+impl RoleText for Role {
+    fn text(self) -> &'static str {
+        if self.is_server() {
+            "service server"
+        } else if self.is_client() {
+            "service client"
+        } else if self.kind() == EndpointKind::Writer {
+            "publisher"
+        } else {
+            "subscription"
         }
     }
 
-    /// The endpoint as ROS users name it, in text lines.
-    pub(super) fn text(self) -> &'static str {
-        match self {
-            Self::Publisher => "publisher",
-            Self::Subscription => "subscription",
-            Self::ServerRequestReader | Self::ServerResponseWriter => "service server",
-            Self::ClientRequestWriter | Self::ClientResponseReader => "service client",
+    fn json_kind(self) -> &'static str {
+        if self.is_server() {
+            "service_server"
+        } else if self.is_client() {
+            "service_client"
+        } else if self.kind() == EndpointKind::Writer {
+            "publisher"
+        } else {
+            "subscription"
         }
     }
 
-    /// `kind` in JSON lines.
-    pub(super) fn json_kind(self) -> &'static str {
+    fn part(self) -> Option<&'static str> {
         match self {
-            Self::Publisher => "publisher",
-            Self::Subscription => "subscription",
-            Self::ServerRequestReader | Self::ServerResponseWriter => "service_server",
-            Self::ClientRequestWriter | Self::ClientResponseReader => "service_client",
-        }
-    }
-
-    /// Which of a server's or client's two DDS endpoints this is.
-    pub(super) fn part(self) -> Option<&'static str> {
-        match self {
-            Self::Publisher | Self::Subscription => None,
-            Self::ServerRequestReader => Some("request reader"),
-            Self::ServerResponseWriter => Some("response writer"),
-            Self::ClientRequestWriter => Some("request writer"),
-            Self::ClientResponseReader => Some("response reader"),
-        }
-    }
-
-    pub(super) fn is_service(self) -> bool {
-        self.part().is_some()
-    }
-
-    pub(super) fn kind(self) -> EndpointKind {
-        match self {
-            Self::Publisher | Self::ServerResponseWriter | Self::ClientRequestWriter => {
-                EndpointKind::Writer
-            }
-            Self::Subscription | Self::ServerRequestReader | Self::ClientResponseReader => {
-                EndpointKind::Reader
-            }
+            Role::ServerRequestReader => Some("request reader"),
+            Role::ServerResponseWriter => Some("response writer"),
+            Role::ClientRequestWriter => Some("request writer"),
+            Role::ClientResponseReader => Some("response reader"),
+            _ => None,
         }
     }
 }
@@ -314,7 +272,7 @@ impl Watcher {
             dds_topics.push((reply, EndpointKind::Reader));
         }
         for (dds_topic, kind) in dds_topics {
-            let Some((role, name)) = Role::of(&dds_topic, kind) else {
+            let Some(RosEndpoint { role, name }) = RosEndpoint::of(&dds_topic, kind) else {
                 continue;
             };
             let infos = match kind {
@@ -381,10 +339,12 @@ impl Watcher {
                     Vec::new()
                 }
             }
-            GraphEvent::EndpointAdded { gid, kind, topic } => {
-                let Some((role, name)) = Role::of(&topic, kind) else {
-                    return Vec::new();
-                };
+            GraphEvent::EndpointAdded {
+                gid,
+                topic,
+                ros: Some(RosEndpoint { role, name }),
+                ..
+            } => {
                 if !self.visible_name(&name) {
                     return Vec::new();
                 }
@@ -413,6 +373,7 @@ impl Watcher {
                 out.push(Change::Endpoint { added: true, view });
                 out
             }
+            GraphEvent::EndpointAdded { ros: None, .. } => Vec::new(),
             GraphEvent::EndpointRemoved { gid, .. } => match self.endpoints.remove(&gid) {
                 Some(view) => vec![Change::Endpoint { added: false, view }],
                 None => Vec::new(),
@@ -500,37 +461,6 @@ mod tests {
         assert_eq!(rfc3339_millis(t), "2000-02-29T00:00:00.000Z");
         let t = UNIX_EPOCH + Duration::from_secs(4_102_444_799);
         assert_eq!(rfc3339_millis(t), "2099-12-31T23:59:59.000Z");
-    }
-
-    #[test]
-    fn roles_from_dds_topics() {
-        use EndpointKind::{Reader, Writer};
-        let role = Role::of;
-        assert_eq!(
-            role("rt/ns/chatter", Writer),
-            Some((Role::Publisher, "/ns/chatter".to_owned()))
-        );
-        assert_eq!(
-            role("rt/chatter", Reader),
-            Some((Role::Subscription, "/chatter".to_owned()))
-        );
-        assert_eq!(
-            role("rq/add_two_intsRequest", Reader),
-            Some((Role::ServerRequestReader, "/add_two_ints".to_owned()))
-        );
-        assert_eq!(
-            role("rr/add_two_intsReply", Writer),
-            Some((Role::ServerResponseWriter, "/add_two_ints".to_owned()))
-        );
-        assert_eq!(
-            role("rq/add_two_intsRequest", Writer),
-            Some((Role::ClientRequestWriter, "/add_two_ints".to_owned()))
-        );
-        assert_eq!(
-            role("rr/add_two_intsReply", Reader),
-            Some((Role::ClientResponseReader, "/add_two_ints".to_owned()))
-        );
-        assert_eq!(role("ros_discovery_info", Writer), None);
     }
 
     #[test]
