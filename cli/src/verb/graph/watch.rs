@@ -43,14 +43,10 @@ impl RoleText for Role {
     }
 
     fn json_kind(self) -> &'static str {
-        if self.is_server() {
-            "service_server"
-        } else if self.is_client() {
-            "service_client"
-        } else if self.kind() == EndpointKind::Writer {
-            "publisher"
-        } else {
-            "subscription"
+        match self.text() {
+            "service server" => "service_server",
+            "service client" => "service_client",
+            other => other,
         }
     }
 
