@@ -20,10 +20,9 @@
 //! The parameter services answer from a [`Parameters`] store with rclcpp's semantics, the type
 //! description service from a [`TypeRegistry`] with rcl's.
 
-mod parameters;
 mod types;
 
-pub use parameters::{
+pub use horus_ros_parameters::{
     type_name as parameter_type_name, ParameterChange, ParameterError, ParameterValueExt,
     Parameters,
 };

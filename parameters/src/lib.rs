@@ -3,6 +3,9 @@
 //!
 //! Reasons and error texts are rclcpp's, so that `ros2 param set` prints what it prints for an
 //! rclcpp node.
+//!
+//! A pure data structure (no DDS): horus-ros-services' `NodeServices` serves it as a node's
+//! parameter services and publishes its changes on `/parameter_events`.
 
 use std::collections::BTreeMap;
 use std::sync::{Arc, Mutex, MutexGuard};
@@ -63,8 +66,8 @@ struct ParameterInfo {
     descriptor: ParameterDescriptor,
 }
 
-/// The parameters of one node, shared by the [`NodeServices`](crate::NodeServices) servers and
-/// the application. Cloning gives another handle to the same store.
+/// The parameters of one node, shared by the parameter services (horus-ros-services'
+/// `NodeServices`) and the application. Cloning gives another handle to the same store.
 #[derive(Debug, Clone, Default)]
 pub struct Parameters {
     inner: Arc<Mutex<Store>>,
@@ -107,14 +110,15 @@ pub struct ParameterChange {
     pub deleted_parameters: Vec<Parameter>,
 }
 
-/// Why `set_atomically` failed before producing a result: rclcpp's
+/// Why [`Parameters::set_atomically_result`] failed before producing a result: rclcpp's
 /// `ParameterNotDeclaredException` (its text is
-/// `parameter '<name>' cannot be set because it was not declared`).
-pub(crate) struct NotDeclaredForSet(pub(crate) String);
+/// `parameter '<name>' cannot be set because it was not declared`), naming the parameter.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct NotDeclaredForSet(pub String);
 
 impl NotDeclaredForSet {
     /// rclcpp's exception text, which `~/set_parameters` returns as the reason.
-    pub(crate) fn reason(&self) -> String {
+    pub fn reason(&self) -> String {
         format!(
             "parameter '{}' cannot be set because it was not declared",
             self.0
@@ -309,7 +313,7 @@ impl Parameters {
 
     /// rclcpp's `set_parameters_atomically`: a result (`successful`, `reason`), or the
     /// not-declared "exception".
-    pub(crate) fn set_atomically_result(
+    pub fn set_atomically_result(
         &self,
         parameters: &[Parameter],
     ) -> Result<SetParametersResult, NotDeclaredForSet> {
@@ -318,7 +322,7 @@ impl Parameters {
 
     /// `~/get_parameters`: values in request order; an empty list when any name is undeclared
     /// (or statically typed and uninitialized), as rclcpp's service.
-    pub(crate) fn get_many(&self, names: &[String]) -> Vec<ParameterValue> {
+    pub fn get_many(&self, names: &[String]) -> Vec<ParameterValue> {
         let store = self.lock();
         names
             .iter()
@@ -328,7 +332,7 @@ impl Parameters {
     }
 
     /// `~/get_parameter_types`: types in request order, empty when any name is undeclared.
-    pub(crate) fn types_many(&self, names: &[String]) -> Vec<u8> {
+    pub fn types_many(&self, names: &[String]) -> Vec<u8> {
         let store = self.lock();
         names
             .iter()
@@ -338,7 +342,7 @@ impl Parameters {
     }
 
     /// `~/describe_parameters`: descriptors in request order, empty when any name is undeclared.
-    pub(crate) fn describe_many(&self, names: &[String]) -> Vec<ParameterDescriptor> {
+    pub fn describe_many(&self, names: &[String]) -> Vec<ParameterDescriptor> {
         let store = self.lock();
         names
             .iter()
