@@ -13,7 +13,7 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 // The dynamic type system lives in the library target (src/lib.rs), reachable by fuzz targets.
-use horus_ros_cli::dynamic;
+use horus_ros_dynamic as dynamic;
 
 use error::CliError;
 

@@ -47,11 +47,11 @@ const TARGETS: &[(&str, Entry)] = &[
         "service_wire_fastrtps",
         horus_ros_services::fuzzing::fastrtps,
     ),
-    ("dynamic_cdr", horus_ros_cli::dynamic::fuzzing::cdr),
-    ("dynamic_yaml", horus_ros_cli::dynamic::fuzzing::yaml),
+    ("dynamic_cdr", horus_ros_dynamic::fuzzing::cdr),
+    ("dynamic_yaml", horus_ros_dynamic::fuzzing::yaml),
     (
         "dynamic_description",
-        horus_ros_cli::dynamic::fuzzing::description,
+        horus_ros_dynamic::fuzzing::description,
     ),
 ];
 

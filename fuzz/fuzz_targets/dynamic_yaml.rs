@@ -1,4 +1,4 @@
 //! The CLI's YAML arguments filled into a compiled type, then encoded.
 #![no_main]
 
-libfuzzer_sys::fuzz_target!(|data: &[u8]| horus_ros_cli::dynamic::fuzzing::yaml(data));
+libfuzzer_sys::fuzz_target!(|data: &[u8]| horus_ros_dynamic::fuzzing::yaml(data));

@@ -3,8 +3,8 @@
 //! them; the test checks that the committed files are these).
 
 use byteorder::BigEndian;
-use horus_ros_cli::dynamic::cdr;
-use horus_ros_cli::dynamic::fuzzing::{compiled_roots, compiled_schema};
+use horus_ros_dynamic::cdr;
+use horus_ros_dynamic::fuzzing::{compiled_roots, compiled_schema};
 use horus_ros_msgs::cdr::{to_cdr, to_cdr_body};
 use horus_ros_msgs::example_interfaces::srv::{AddTwoInts, AddTwoIntsRequest, AddTwoIntsResponse};
 use horus_ros_msgs::fuzzing::SERVICE_PAYLOAD_TYPES;
