@@ -213,12 +213,17 @@ pub fn expect_failure(domain: u32, args: &[&str], stderr: &str) {
     assert_eq!(run.stderr, stderr, "`horus-ros {}`", args.join(" "));
 }
 
-/// Runs a `--json` command until its output parses and `check` accepts it, at most
-/// [`SETTLE`]; returns the document.
+/// Runs a `--json` command until it succeeds, its output parses and `check` accepts it, at
+/// most [`SETTLE`]; returns the document. A fresh process may not have discovered what it is
+/// asked about yet (it then fails, e.g. with "Unknown service"), as with [`expect_stdout`].
 pub fn expect_json(domain: u32, args: &[&str], check: impl Fn(&Value) -> bool) -> Value {
     let deadline = Instant::now() + SETTLE;
     loop {
         let run = horus(domain, args);
+        if run.code != Some(0) && Instant::now() < deadline {
+            std::thread::sleep(Duration::from_millis(100));
+            continue;
+        }
         assert_eq!(run.code, Some(0), "`horus-ros {}`: {run:?}", args.join(" "));
         let doc: Value = serde_json::from_str(&run.stdout).unwrap_or_else(|e| {
             panic!(
