@@ -10,7 +10,6 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::task::{Context as TaskContext, Poll};
 use std::thread::JoinHandle;
-use std::time::Duration;
 
 use horus_ros_msgs::Message;
 
@@ -63,9 +62,6 @@ impl<M: Message> std::fmt::Debug for SubscriptionStream<M> {
     }
 }
 
-/// Longest single wait of a stream's thread; arriving data and the stream's drop wake it at once.
-const IDLE_WAIT: Duration = Duration::from_secs(3600);
-
 impl<M: Message> Subscription<M> {
     /// This subscription's messages as a bounded stream holding at most `capacity` of them (at
     /// least 1); see [`SubscriptionStream`]. Fails only if its thread cannot be started.
@@ -111,7 +107,8 @@ fn pump<M: Message>(
         if !batch.is_empty() {
             queue.push_all(batch.drain(..));
         }
-        subscription.wait(IDLE_WAIT);
+        // Arriving data and the stream's drop (its waker) end the wait.
+        subscription.wait(None);
     }
     queue.close();
 }

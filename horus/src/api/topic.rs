@@ -254,7 +254,7 @@ impl<T: Message> Topic<T> {
             }
             let mut state = self.lock();
             let sub = self.ensure_subscription(&mut state).ok()?;
-            sub.wait(Duration::from_secs(3600));
+            sub.wait(None);
         }
     }
 

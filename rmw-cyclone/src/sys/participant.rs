@@ -73,17 +73,17 @@ impl Participant {
         keep: impl Fn(&[u8]) -> bool + Send + Sync + 'static,
     ) -> Result<Topic> {
         let h = sertype::create_topic(self.handle.id, topic_name, type_name)?;
-        // Deleted if the filter cannot be set; else it keeps the filter alive.
-        let handle = Handle::new(h, Some(&self.handle));
-        let filter = sertype::set_filter(h, Box::new(keep))?;
-        let handle = Arc::try_unwrap(handle)
-            .map(|mut handle| {
-                handle._keep = Some(Box::new(filter));
-                Arc::new(handle)
-            })
-            .map_err(|_| error("filtered_blob_topic", "topic handle shared"))?;
+        let filter = match sertype::set_filter(h, Box::new(keep)) {
+            Ok(filter) => filter,
+            Err(e) => {
+                // Deletes the topic.
+                drop(Handle::new(h, Some(&self.handle)));
+                return Err(e);
+            }
+        };
         Ok(Topic {
-            handle,
+            // The topic keeps its filter alive until it is deleted.
+            handle: Handle::keeping(h, Some(&self.handle), Some(Box::new(filter))),
             name: topic_name.to_owned(),
             type_name: type_name.to_owned(),
         })

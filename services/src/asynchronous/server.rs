@@ -8,7 +8,7 @@ use std::pin::Pin;
 use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
 use std::sync::Arc;
 use std::thread::JoinHandle;
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 use futures_util::future::Either;
 use futures_util::FutureExt;
@@ -34,10 +34,6 @@ pub const DEFAULT_MAX_IN_FLIGHT: usize = 256;
 
 /// Most undecodable samples skipped in one drain before the thread checks whether to stop.
 const MAX_ERRORS_PER_DRAIN: usize = 1000;
-
-/// Longest single wait of the server's reader thread when nothing is parked: requests, a
-/// handler finishing, `stop()` and graph changes while replies are parked all wake it at once.
-const IDLE_WAIT: Duration = Duration::from_secs(3600);
 
 type BoxedResponse<S> =
     Pin<Box<dyn Future<Output = Result<<S as Service>::Response, String>> + Send + 'static>>;
@@ -386,8 +382,9 @@ impl<S: Service> Dispatcher<S> {
             }
             // Parked replies whose client can hear them now go out; old ones are dropped.
             let next_expiry = self.work.wire.flush(&self.work.replies);
-            let wait =
-                next_expiry.map_or(IDLE_WAIT, |t| t.saturating_duration_since(Instant::now()));
+            // Requests, a handler finishing, `stop()` and graph changes while replies are parked
+            // all wake it; the only deadline is the earliest parked reply's expiry.
+            let wait = next_expiry.map(|t| t.saturating_duration_since(Instant::now()));
             self.requests.wait(wait);
         }
     }
