@@ -15,6 +15,18 @@ use crate::event::GraphEvent;
 use crate::query::{demangle_service_type, demangle_type};
 use crate::RosEndpoint;
 
+/// The event for the loss of `old`.
+fn removed_event(old: EndpointEntry) -> GraphEvent {
+    GraphEvent::EndpointRemoved {
+        gid: old.gid,
+        kind: old.kind,
+        ros: RosEndpoint::of(&old.dds_topic_name, old.kind),
+        type_name: demangle_type(&old.dds_type_name),
+        type_hash: old.type_hash,
+        topic: old.dds_topic_name,
+    }
+}
+
 /// What is known about one participant.
 #[derive(Debug, Clone, Default)]
 pub(crate) struct Participant {
@@ -337,18 +349,17 @@ impl GraphCache {
             kind: entry.kind,
             topic: entry.dds_topic_name.clone(),
             ros: RosEndpoint::of(&entry.dds_topic_name, entry.kind),
+            type_name: demangle_type(&entry.dds_type_name),
+            type_hash: entry.type_hash,
         });
         if let Some(old) = self.endpoints.get(&entry.gid) {
             self.index.remove_endpoint(old);
         }
         self.index.add_endpoint(&entry);
         if let Some(old) = self.endpoints.insert(entry.gid, entry) {
-            self.emit(GraphEvent::EndpointRemoved {
-                gid: old.gid,
-                kind: old.kind,
-                ros: RosEndpoint::of(&old.dds_topic_name, old.kind),
-                topic: old.dds_topic_name,
-            });
+            if self.recording() {
+                self.emit(removed_event(old));
+            }
         }
         if let Some(event) = event {
             self.emit(event);
@@ -361,12 +372,9 @@ impl GraphCache {
         match self.endpoints.remove(&gid) {
             Some(old) => {
                 self.index.remove_endpoint(&old);
-                self.emit(GraphEvent::EndpointRemoved {
-                    gid: old.gid,
-                    kind: old.kind,
-                    ros: RosEndpoint::of(&old.dds_topic_name, old.kind),
-                    topic: old.dds_topic_name,
-                });
+                if self.recording() {
+                    self.emit(removed_event(old));
+                }
                 true
             }
             None => false,

@@ -1,6 +1,7 @@
 //! Typed graph changes recorded by the mutators of [`GraphCache`](crate::GraphCache).
 
 use horus_ros_msgs::rmw_dds_common::Gid;
+use horus_ros_msgs::TypeHash;
 use horus_ros_rmw::qos::EndpointKind;
 
 use crate::RosEndpoint;
@@ -33,6 +34,11 @@ pub enum GraphEvent {
         /// What it is to ROS, and the ROS name it serves (`None`: not a ROS topic, e.g.
         /// `ros_discovery_info`).
         ros: Option<RosEndpoint>,
+        /// Its type as the graph's queries give it (`pkg/msg/Name` demangled from the DDS type
+        /// name, as [`TopicEndpointInfo::topic_type`](crate::TopicEndpointInfo::topic_type)).
+        type_name: String,
+        /// Its type hash from USER_DATA ([`TypeHash::ZERO`] if absent).
+        type_hash: TypeHash,
     },
     /// A reader or writer was lost (by itself or with its participant).
     EndpointRemoved {
@@ -44,5 +50,9 @@ pub enum GraphEvent {
         topic: String,
         /// What it was to ROS, and the ROS name it served.
         ros: Option<RosEndpoint>,
+        /// Its type as the graph's queries gave it.
+        type_name: String,
+        /// Its type hash from USER_DATA ([`TypeHash::ZERO`] if absent).
+        type_hash: TypeHash,
     },
 }

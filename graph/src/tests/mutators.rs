@@ -1,5 +1,6 @@
 //! Mutators: change reporting, events, participant loss, node removal, late discovery info.
 
+use horus_ros_msgs::TypeHash;
 use horus_ros_rmw::qos::EndpointKind;
 
 use super::fixtures::*;
@@ -28,6 +29,8 @@ fn endpoint_removed(g: &str, kind: EndpointKind, topic: &str) -> GraphEvent {
         kind,
         topic: topic.to_owned(),
         ros: RosEndpoint::of(topic, kind),
+        type_name: "std_msgs/msg/String".to_owned(),
+        type_hash: TypeHash::ZERO,
     }
 }
 
@@ -76,6 +79,8 @@ fn events_are_recorded_only_when_enabled() {
                     role: EndpointRole::Publisher,
                     name: "/t".to_owned()
                 }),
+                type_name: "std_msgs/msg/String".to_owned(),
+                type_hash: TypeHash::ZERO,
             },
             endpoint_removed("w", EndpointKind::Writer, "rt/t"),
             GraphEvent::EndpointAdded {
@@ -86,6 +91,8 @@ fn events_are_recorded_only_when_enabled() {
                     role: EndpointRole::Publisher,
                     name: "/u".to_owned()
                 }),
+                type_name: "std_msgs/msg/String".to_owned(),
+                type_hash: TypeHash::ZERO,
             },
             node_added("a", "/"),
         ]

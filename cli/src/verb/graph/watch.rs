@@ -68,8 +68,8 @@ pub(super) struct EndpointView {
     role: Role,
     /// The ROS topic or service name.
     name: String,
-    /// The message type (`pkg/msg/Name`) or service type (`pkg/srv/Name`), when it was known.
-    ty: Option<String>,
+    /// The message type (`pkg/msg/Name`) or service type (`pkg/srv/Name`).
+    ty: String,
     type_hash: TypeHash,
     dds_topic: String,
 }
@@ -103,9 +103,7 @@ impl Change {
             Self::Endpoint { added, view } => {
                 let mut line =
                     format!("{time} {} {} {}", sign(*added), view.role.text(), view.name);
-                if let Some(ty) = &view.ty {
-                    line.push_str(&format!(" [{ty}]"));
-                }
+                line.push_str(&format!(" [{}]", view.ty));
                 if let Some(part) = view.role.part() {
                     line.push_str(&format!(" {part}"));
                 }
@@ -179,21 +177,6 @@ pub(super) struct Watcher {
     nodes: BTreeMap<(String, String), usize>,
     /// Visible endpoints by GID.
     endpoints: HashMap<Gid, EndpointView>,
-}
-
-/// The type and type hash of endpoint `gid` on `dds_topic`, if the cache still has it.
-pub(super) fn lookup(
-    cache: &GraphCache,
-    gid: Gid,
-    role: Role,
-    dds_topic: &str,
-) -> Option<(String, TypeHash)> {
-    let infos = match role.kind() {
-        EndpointKind::Writer => cache.publishers_info_by_topic(dds_topic, true),
-        EndpointKind::Reader => cache.subscriptions_info_by_topic(dds_topic, true),
-    };
-    let info = infos.into_iter().find(|i| i.endpoint_gid == gid)?;
-    Some((endpoint_type(role, info.topic_type), info.topic_type_hash))
 }
 
 /// The type to show: a service endpoint's `pkg/srv/Name_Request` / `_Response` as the service
@@ -280,7 +263,7 @@ impl Watcher {
                     gid: info.endpoint_gid,
                     role,
                     name: name.clone(),
-                    ty: Some(endpoint_type(role, info.topic_type)),
+                    ty: endpoint_type(role, info.topic_type),
                     type_hash: info.topic_type_hash,
                     dds_topic: dds_topic.clone(),
                 };
@@ -339,6 +322,8 @@ impl Watcher {
                 gid,
                 topic,
                 ros: Some(RosEndpoint { role, name }),
+                type_name,
+                type_hash,
                 ..
             } => {
                 if !self.visible_name(&name) {
@@ -356,13 +341,14 @@ impl Watcher {
                         });
                     }
                 }
-                let found = lookup(cache, gid, role, &topic);
+                // The type comes with the event: by the time it is applied, the cache may
+                // have lost the endpoint again.
                 let view = EndpointView {
                     gid,
                     role,
                     name,
-                    type_hash: found.as_ref().map_or(TypeHash::ZERO, |f| f.1),
-                    ty: found.map(|f| f.0),
+                    ty: endpoint_type(role, type_name),
+                    type_hash,
                     dds_topic: topic,
                 };
                 self.endpoints.insert(gid, view.clone());
@@ -465,10 +451,10 @@ mod tests {
             gid: Gid::from_bytes([1; 16]),
             role: Role::ServerRequestReader,
             name: "/add_two_ints".to_owned(),
-            ty: Some(endpoint_type(
+            ty: endpoint_type(
                 Role::ServerRequestReader,
                 "example_interfaces/srv/AddTwoInts_Request".to_owned(),
-            )),
+            ),
             type_hash: TypeHash::ZERO,
             dds_topic: "rq/add_two_intsRequest".to_owned(),
         };
