@@ -373,6 +373,21 @@ impl Graph {
     }
 }
 
+/// What the request/reply layer of rmw asks of the graph.
+impl horus_ros_rmw::service::Peers for Graph {
+    fn participant_vendor(&self, gid: Gid) -> Option<VendorId> {
+        Graph::participant_vendor(self, gid)
+    }
+
+    fn is_matched(&self, local: Gid, remote: Gid) -> bool {
+        Graph::is_matched(self, local, remote)
+    }
+
+    fn matched_in_participant(&self, local: Gid, remote: Gid) -> bool {
+        Graph::matched_in_participant(self, local, remote).is_some()
+    }
+}
+
 impl Drop for Graph {
     fn drop(&mut self) {
         self.shared.stop.store(true, Ordering::SeqCst);

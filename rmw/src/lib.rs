@@ -7,6 +7,8 @@
 //! - [`names`]: ROS name validation, expansion and DDS mangling.
 //! - [`qos`]: QoS profiles and their DDS mapping.
 //! - [`Gid`]: 16-byte global ids.
+//! - [`service`]: request/reply (`rmw_send_request`, `rmw_take_request`, `rmw_send_response`,
+//!   `rmw_take_response`) in each peer's wire convention.
 
 pub mod args;
 pub mod backend;
@@ -27,6 +29,7 @@ pub mod pubsub;
 pub mod qos;
 pub mod queue;
 pub mod raw;
+pub mod service;
 #[cfg(feature = "tokio")]
 pub mod stream;
 pub mod wait_set;

@@ -1,4 +1,4 @@
-//! Fuzzing entry points for the two request/reply wire conventions (see `wire.rs`): each takes
+//! Fuzzing entry points for the two request/reply wire conventions (see `horus_ros_rmw::service`): each takes
 //! arbitrary bytes, reads them as a server reads a request and as a client reads a reply, and
 //! panics only on a bug (called by the `fuzz/` targets and `tests/fuzz_wire.rs`).
 //!
@@ -13,7 +13,8 @@ use serde::{de::DeserializeOwned, Serialize};
 
 use horus_ros_msgs::with_service_payload_type;
 
-use crate::wire::{decode, encode, CycloneHeader, CYCLONE_HEADER_LEN};
+use crate::cdr::{decode, encode};
+use horus_ros_rmw::service::{CycloneHeader, CYCLONE_HEADER_LEN};
 
 /// Decodes a message body of type `T` in the given byte order; if it is accepted, checks that it
 /// re-encodes (little-endian, as we send) to bytes that decode to a value encoding the same.

@@ -304,7 +304,7 @@ pub(crate) fn encode_event<Q: Serialize, R: Serialize>(
         (true, Some(r)) => std::slice::from_ref(r),
         _ => &[],
     };
-    match crate::wire::encode(&EventRef {
+    match crate::cdr::encode(&EventRef {
         info,
         request,
         response,

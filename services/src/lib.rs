@@ -29,6 +29,7 @@ mod macros;
 
 #[cfg(feature = "tokio")]
 mod asynchronous;
+mod cdr;
 mod client;
 mod error;
 #[doc(hidden)]
@@ -37,12 +38,10 @@ mod introspection;
 mod naming;
 mod node_services;
 mod raw_traits;
-mod reply_park;
 mod retry;
 mod runtime;
 mod server;
 mod server_wire;
-mod wire;
 
 #[cfg(feature = "tokio")]
 pub use asynchronous::{
@@ -54,6 +53,7 @@ pub use client::{
     PendingResponse, RawReply, ServiceClient, ServiceClientBuilder,
 };
 pub use error::{Error, Result, ServiceError, SetupError};
+pub use horus_ros_rmw::service::WireFlavour;
 pub use introspection::{IntrospectionState, SERVICE_EVENT_TOPIC_POSTFIX};
 pub use naming::default_service_name;
 pub use node_services::{
@@ -67,7 +67,6 @@ pub use raw_traits::{
 };
 pub use retry::RetryConfig;
 pub use server::{ServiceServer, ServiceServerBuilder};
-pub use wire::WireFlavour;
 
 pub use horus_ros_msgs::{Message, Service};
 pub use horus_ros_rmw::{Context, Node};

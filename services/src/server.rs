@@ -12,17 +12,20 @@ use horus_ros_msgs::service_msgs::msg::ServiceEventInfo;
 use horus_ros_msgs::{dds_type_name, Service};
 use horus_ros_rmw::names::ServiceName;
 use horus_ros_rmw::qos::Qos;
-use horus_ros_rmw::{Gid, Node, RawReader, RawReaderWaker, RawSample, RawWriter};
+use horus_ros_rmw::service::{Request, TakenRequest};
+use horus_ros_rmw::{Gid, Node, RawReader, RawReaderWaker, RawWriter};
 
+use crate::cdr::{decode, encode};
 use crate::introspection::{encode_event, EventType, Introspection, IntrospectionState};
 use crate::naming::{default_service_name, ServiceTopics};
 use crate::runtime::Runtime;
-use crate::server_wire::{Request, ServerWire};
-use crate::wire::{decode, encode, WireFlavour};
+use crate::server_wire::ServerWire;
 use crate::SetupError;
+use crate::WireFlavour;
 
-/// Most undecodable samples skipped in one drain before the thread checks whether to stop.
-const MAX_ERRORS_PER_DRAIN: usize = 1000;
+/// Most samples dropped (undecodable, or no request to answer) in one drain before the thread
+/// checks whether to stop.
+pub(crate) const MAX_ERRORS_PER_DRAIN: usize = 1000;
 
 type Handler<S> = Box<
     dyn FnMut(<S as Service>::Request) -> Result<<S as Service>::Response, String> + Send + 'static,
@@ -139,15 +142,14 @@ impl<S: Service> ServiceServerBuilder<S> {
         if let Some((state, qos)) = &self.introspection {
             introspection.configure(*state, qos)?;
         }
+        // Parked replies go out when their client's reader is matched: the graph wakes us.
         let wire = ServerWire::new(
-            Arc::clone(&runtime.graph),
+            &runtime,
             topics.name.clone(),
             reply_writer,
             self.flavour,
-            runtime.node.context().backend(),
+            waker.clone(),
         );
-        // Parked replies go out when their client's reader is matched: the graph wakes us.
-        wire.wake_on_graph_change(waker.clone());
         let worker = ServerLoop::<S> {
             requests,
             replies,
@@ -280,11 +282,10 @@ impl<S: Service> ServerLoop<S> {
         while !self.shared.stop.load(Ordering::SeqCst) {
             let mut errors = 0;
             let drained = loop {
-                match self.requests.take() {
-                    Ok(Some(sample)) => self.serve(sample),
-                    Ok(None) => break true,
-                    Err(e) => {
-                        self.wire.warn_unreadable(&e);
+                match self.wire.take_request(&mut self.requests) {
+                    TakenRequest::Request(request) => self.serve(request),
+                    TakenRequest::Empty => break true,
+                    TakenRequest::Dropped => {
                         errors += 1;
                         if errors >= MAX_ERRORS_PER_DRAIN {
                             break false;
@@ -293,7 +294,7 @@ impl<S: Service> ServerLoop<S> {
                 }
             };
             // Parked replies whose client can hear them now go out; old ones are dropped.
-            let next_expiry = self.wire.flush(&self.replies);
+            let next_expiry = self.wire.flush_parked(&self.replies);
             if !drained {
                 // Wake-ups are edge-triggered: what is left would not wake us.
                 continue;
@@ -307,19 +308,17 @@ impl<S: Service> ServerLoop<S> {
 
     /// Answers one request in its client's convention: at once if the client's reply reader is
     /// matched, else parked until it is (never waiting here).
-    fn serve(&mut self, sample: RawSample) {
-        let Some(request) = self.wire.interpret(sample) else {
-            return;
-        };
+    fn serve(&mut self, request: Request) {
         let (outcome, response) = self.handle(&request);
-        let Some(mut reply) = self.wire.reply(&request.route, outcome) else {
+        let Some(mut reply) = self.wire.response(&request.route, outcome) else {
             return;
         };
         // rcl `rcl_send_response`: RESPONSE_SENT once the response is sent.
         if let Some(response) = response {
             if self.introspection.state() != IntrospectionState::Off {
                 let introspection = Arc::clone(&self.introspection);
-                let (client_gid, sequence_number) = (request.writer_guid, request.sequence_number);
+                let (client_gid, sequence_number) =
+                    (request.id.writer_guid, request.id.sequence_number);
                 reply = reply.on_sent(Box::new(move || {
                     introspection.emit(
                         ServiceEventInfo::RESPONSE_SENT,
@@ -337,7 +336,7 @@ impl<S: Service> ServerLoop<S> {
                 }));
             }
         }
-        if let Err(e) = self.wire.send_or_park(&self.replies, reply) {
+        if let Err(e) = self.wire.send_response(&self.replies, reply) {
             tracing::warn!(service = %self.wire.service(), "could not send a reply: {e}");
         }
     }
@@ -353,8 +352,8 @@ impl<S: Service> ServerLoop<S> {
                 // rcl `rcl_take_request_with_info`: REQUEST_RECEIVED once the request is taken.
                 self.introspection.emit(
                     ServiceEventInfo::REQUEST_RECEIVED,
-                    request.writer_guid,
-                    request.sequence_number,
+                    request.id.writer_guid,
+                    request.id.sequence_number,
                     |info, contents| {
                         encode_event::<S::Request, S::Response>(
                             info,

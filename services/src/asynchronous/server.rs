@@ -17,23 +17,21 @@ use horus_ros_msgs::service_msgs::msg::ServiceEventInfo;
 use horus_ros_msgs::{dds_type_name, Service};
 use horus_ros_rmw::names::ServiceName;
 use horus_ros_rmw::qos::Qos;
-use horus_ros_rmw::{Gid, Node, RawReader, RawReaderWaker, RawSample, RawWriter};
+use horus_ros_rmw::service::{ReplyRoute, Request, TakenRequest};
+use horus_ros_rmw::{Gid, Node, RawReader, RawReaderWaker, RawWriter};
 use tokio::runtime::Handle;
 
+use crate::cdr::{decode, encode};
 use crate::introspection::{encode_event, EventType, Introspection, IntrospectionState};
 use crate::naming::{default_service_name, ServiceTopics};
 use crate::runtime::Runtime;
-use crate::server::panic_message;
-use crate::server_wire::{ReplyRoute, ServerWire};
-use crate::wire::{decode, encode};
+use crate::server::{panic_message, MAX_ERRORS_PER_DRAIN};
+use crate::server_wire::ServerWire;
 use crate::{ServiceServerBuilder, SetupError};
 
 /// How many requests one [`AsyncServiceServer`] handles at once unless told otherwise
 /// ([`AsyncServiceServerBuilder::max_in_flight`]).
 pub const DEFAULT_MAX_IN_FLIGHT: usize = 256;
-
-/// Most undecodable samples skipped in one drain before the thread checks whether to stop.
-const MAX_ERRORS_PER_DRAIN: usize = 1000;
 
 type BoxedResponse<S> =
     Pin<Box<dyn Future<Output = Result<<S as Service>::Response, String>> + Send + 'static>>;
@@ -148,15 +146,14 @@ impl<S: Service> AsyncServiceServerBuilder<S> {
         if let Some((state, qos)) = &base.introspection {
             introspection.configure(*state, qos)?;
         }
+        // Parked replies go out when their client's reader is matched: the graph wakes us.
         let wire = Arc::new(ServerWire::new(
-            Arc::clone(&runtime.graph),
+            &runtime,
             topics.name.clone(),
             reply_writer,
             base.flavour,
-            runtime.node.context().backend(),
+            waker.clone(),
         ));
-        // Parked replies go out when their client's reader is matched: the graph wakes us.
-        wire.wake_on_graph_change(waker.clone());
         let shared = Arc::new(Shared {
             stop: AtomicBool::new(false),
             served: AtomicU64::new(0),
@@ -368,11 +365,10 @@ impl<S: Service> Dispatcher<S> {
             let mut errors = 0;
             // At the bound, requests stay in the reader: a finishing handler wakes us.
             while shared.in_flight.load(Ordering::SeqCst) < self.max_in_flight {
-                match self.requests.take() {
-                    Ok(Some(sample)) => self.dispatch(sample),
-                    Ok(None) => break,
-                    Err(e) => {
-                        self.work.wire.warn_unreadable(&e);
+                match self.work.wire.take_request(&mut self.requests) {
+                    TakenRequest::Request(request) => self.dispatch(request),
+                    TakenRequest::Empty => break,
+                    TakenRequest::Dropped => {
                         errors += 1;
                         if errors >= MAX_ERRORS_PER_DRAIN {
                             break;
@@ -381,7 +377,7 @@ impl<S: Service> Dispatcher<S> {
                 }
             }
             // Parked replies whose client can hear them now go out; old ones are dropped.
-            let next_expiry = self.work.wire.flush(&self.work.replies);
+            let next_expiry = self.work.wire.flush_parked(&self.work.replies);
             // Requests, a handler finishing, `stop()` and graph changes while replies are parked
             // all wake it; the only deadline is the earliest parked reply's expiry.
             let wait = next_expiry.map(|t| t.saturating_duration_since(Instant::now()));
@@ -391,12 +387,12 @@ impl<S: Service> Dispatcher<S> {
 
     /// Decodes one request and starts its handler as a task (a malformed one is answered, or
     /// dropped, here).
-    fn dispatch(&mut self, sample: RawSample) {
-        let Some(request) = self.work.wire.interpret(sample) else {
-            return;
-        };
-        let (route, client_gid, sequence) =
-            (request.route, request.writer_guid, request.sequence_number);
+    fn dispatch(&mut self, request: Request) {
+        let (route, client_gid, sequence) = (
+            request.route,
+            request.id.writer_guid,
+            request.id.sequence_number,
+        );
         let decoded = match decode::<S::Request>(request.message(), request.big_endian) {
             Ok(decoded) => decoded,
             Err(e) => {
@@ -480,7 +476,7 @@ impl Work {
             &self.shared.failed
         };
         counter.fetch_add(1, Ordering::Relaxed);
-        let Some(mut reply) = self.wire.reply(&route, result) else {
+        let Some(mut reply) = self.wire.response(&route, result) else {
             return;
         };
         // rcl `rcl_send_response`: RESPONSE_SENT once the response is sent.
@@ -504,7 +500,7 @@ impl Work {
                 }));
             }
         }
-        if let Err(e) = self.wire.send_or_park(&self.replies, reply) {
+        if let Err(e) = self.wire.send_response(&self.replies, reply) {
             tracing::warn!(service = %self.wire.service(), "could not send a reply: {e}");
         }
     }

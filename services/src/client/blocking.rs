@@ -12,7 +12,7 @@ use super::codec::Typed;
 use super::core::{ClientCore, ClientOptions};
 use super::pending::AsyncServiceClient;
 use super::responses::Membership;
-use crate::wire::WireFlavour;
+use crate::WireFlavour;
 use crate::{IntrospectionState, RetryConfig, ServiceError, SetupError};
 
 /// Builds a [`ServiceClient`] or an [`AsyncServiceClient`].

@@ -8,8 +8,8 @@ use horus_ros_msgs::description::EVENT_SUFFIX;
 use horus_ros_msgs::service_msgs::msg::ServiceEventInfo;
 use horus_ros_msgs::{dds_type_name, Service};
 
+use crate::cdr::{decode, encode};
 use crate::introspection::{encode_event, EventType};
-use crate::wire::{decode, encode};
 use crate::ServiceError;
 
 /// Encodes requests and decodes replies for one service type.

@@ -2,7 +2,7 @@
 //! wire convention, and routing replies to the calls waiting for them.
 
 use std::collections::HashMap;
-use std::sync::atomic::{AtomicBool, AtomicI64, AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Arc, Condvar, Mutex, MutexGuard};
 use std::task::Waker;
 use std::time::{Duration, Instant};
@@ -11,22 +11,18 @@ use horus_ros_graph::{GraphView, GraphWatcher};
 use horus_ros_msgs::Service;
 use horus_ros_rmw::names::ServiceName;
 use horus_ros_rmw::qos::Qos;
-use horus_ros_rmw::{Gid, Node, RawReader, RawReaderWaker, RawSample, RawWriter, SampleId};
+use horus_ros_rmw::service::{Client, Peers, TakenResponse, WireFlavour};
+use horus_ros_rmw::{Gid, Node, RawReaderWaker};
 
 use horus_ros_msgs::service_msgs::msg::ServiceEventInfo;
 
 use super::codec::{Codec, Typed};
 use super::responses::{Membership, ResponseWaitSet, TakeResponses};
+use crate::cdr::decode;
 use crate::introspection::{Introspection, IntrospectionState};
 use crate::naming::{default_service_name, ServiceTopics};
 use crate::runtime::Runtime;
-use crate::wire::{
-    client_id, decode, peer_vendor, CycloneHeader, WireFlavour, HORUS_CLIENT_MARKER,
-};
 use crate::{ServiceError, SetupError};
-
-/// rmw_cyclonedds numbers requests with one process-wide counter; so do we.
-static NEXT_CYCLONE_SEQ: AtomicI64 = AtomicI64::new(1);
 
 /// How long our reply reader must have been matched with an rmw_cyclonedds server's reply writer
 /// before the first request (see [`ClientCore::ready_server`]).
@@ -136,11 +132,8 @@ pub(crate) struct ClientCore<C: Codec> {
     codec: C,
     runtime: Runtime,
     name: ServiceName,
-    requests: Mutex<RawWriter>,
-    replies: Mutex<RawReader>,
-    request_writer: Gid,
-    reply_reader: Gid,
-    client_id: u64,
+    /// rmw's side: the request writer and response reader.
+    endpoints: Client,
     /// What rmw_get_gid_for_client gives for this client (see [`ClientCore::with_codec`]).
     client_gid: [u8; 16],
     introspection: std::sync::Arc<Introspection>,
@@ -195,12 +188,7 @@ impl<C: Codec> ClientCore<C> {
         codec: C,
         options: &ClientOptions,
     ) -> Result<Self, SetupError> {
-        let requests = runtime.node.create_raw_writer(&topics.request)?;
-        // Stores only the replies to this client, where a server sends every client's replies
-        // to every client (rmw_cyclonedds' convention, on the Cyclone backend).
-        let replies = runtime
-            .node
-            .create_response_reader(&topics.reply, client_id(requests.gid()))?;
+        let endpoints = Client::new(&runtime.node, &topics.request, &topics.reply)?;
         // rmw_get_gid_for_client, which rcl puts in a client's introspection events: the request
         // writer's GUID on rmw_fastrtps (jazzy `rmw_get_gid_for_client.cpp`: `info->writer_guid_`),
         // the client id announced as `clientid=` on rmw_cyclonedds (jazzy `rmw_node.cpp`:
@@ -208,7 +196,7 @@ impl<C: Codec> ClientCore<C> {
         // convention, one that does not the latter's.
         let client_gid = match topics.request.service_id {
             Some(id) if !runtime.node.context().backend().carries_sample_identity() => id.id,
-            _ => *requests.gid().as_bytes(),
+            _ => *endpoints.request_writer().as_bytes(),
         };
         let introspection = Introspection::new(
             runtime.node.clone(),
@@ -221,8 +209,8 @@ impl<C: Codec> ClientCore<C> {
         let calls = Arc::new(Calls {
             pending: Mutex::new(HashMap::new()),
             completed: Condvar::new(),
-            request_writer: requests.gid(),
-            reply_waker: replies.waker(),
+            request_writer: endpoints.request_writer(),
+            reply_waker: endpoints.response_reader_mut().waker(),
             wake_on_graph_change: AtomicBool::new(false),
         });
         let watcher: std::sync::Weak<dyn GraphWatcher> = Arc::downgrade(&calls) as _;
@@ -231,11 +219,7 @@ impl<C: Codec> ClientCore<C> {
             client_gid,
             introspection,
             codec,
-            request_writer: requests.gid(),
-            reply_reader: replies.gid(),
-            client_id: client_id(requests.gid()),
-            requests: Mutex::new(requests),
-            replies: Mutex::new(replies),
+            endpoints,
             runtime,
             name: topics.name,
             flavour: options.flavour,
@@ -283,7 +267,7 @@ impl<C: Codec> ClientCore<C> {
         C: 'static,
     {
         let set = ResponseWaitSet::of(self.runtime.node.context())?;
-        let membership = set.attach(&mut lock(&self.replies))?;
+        let membership = set.attach(&mut self.endpoints.response_reader_mut())?;
         let core = Arc::new(self);
         let member: std::sync::Weak<dyn TakeResponses> = Arc::downgrade(&core) as _;
         membership.register(member);
@@ -321,7 +305,10 @@ impl<C: Codec> ClientCore<C> {
 
     /// The GIDs of the request writer and reply reader.
     pub(crate) fn gids(&self) -> (Gid, Gid) {
-        (self.request_writer, self.reply_reader)
+        (
+            self.endpoints.request_writer(),
+            self.endpoints.response_reader(),
+        )
     }
 
     /// The servers of this service and type that the graph knows with both endpoints.
@@ -368,10 +355,10 @@ impl<C: Codec> ClientCore<C> {
         let backend = self.runtime.node.context().backend();
         let mut settles_at: Option<Instant> = None;
         let flavour = servers.iter().find_map(|&(reader, writer)| {
-            graph.matched_since(self.request_writer, reader)?;
-            let reply_match = graph.matched_since(self.reply_reader, writer)?;
+            graph.matched_since(self.endpoints.request_writer(), reader)?;
+            let reply_match = graph.matched_since(self.endpoints.response_reader(), writer)?;
             let flavour =
-                WireFlavour::choose(backend, peer_vendor(graph, reader), self.flavour).ok()?;
+                WireFlavour::choose(backend, graph.vendor_of(reader), self.flavour).ok()?;
             // An rmw_cyclonedds server waits for a client's reply reader only when the client
             // announces `clientid=` in USER_DATA, which rustdds cannot send: then give its writer
             // time to match our reader (it learns of it about when we learn of its writer). No
@@ -391,7 +378,7 @@ impl<C: Codec> ClientCore<C> {
         let reached = servers
             .into_iter()
             .map(|(reader, _)| reader)
-            .filter(|reader| graph.is_matched(self.request_writer, *reader))
+            .filter(|reader| graph.is_matched(self.endpoints.request_writer(), *reader))
             .collect();
         Readiness::Ready(ReadyServer { flavour, reached })
     }
@@ -416,10 +403,10 @@ impl<C: Codec> ClientCore<C> {
         self.servers()
             .into_iter()
             .filter_map(|(reader, writer)| {
-                graph.matched_since(self.request_writer, reader)?;
-                let reply_match = graph.matched_since(self.reply_reader, writer)?;
+                graph.matched_since(self.endpoints.request_writer(), reader)?;
+                let reply_match = graph.matched_since(self.endpoints.response_reader(), writer)?;
                 let flavour =
-                    WireFlavour::choose(backend, peer_vendor(graph, reader), self.flavour).ok()?;
+                    WireFlavour::choose(backend, graph.vendor_of(reader), self.flavour).ok()?;
                 (flavour == WireFlavour::CycloneDds).then_some(reply_match + CYCLONE_MATCH_SETTLE)
             })
             .min()
@@ -470,7 +457,7 @@ impl<C: Codec> ClientCore<C> {
         let backend = self.runtime.node.context().backend();
         let mut why = None;
         for (reader, _) in self.servers() {
-            match WireFlavour::choose(backend, peer_vendor(graph, reader), self.flavour) {
+            match WireFlavour::choose(backend, graph.vendor_of(reader), self.flavour) {
                 Ok(_) => return None,
                 Err(reason) => why = Some(reason),
             }
@@ -501,37 +488,14 @@ impl<C: Codec> ClientCore<C> {
         let body = self.codec.encode(request)?;
         // The pending lock is held while writing, so a reply cannot be routed before its slot exists.
         let mut pending = lock(&self.calls.pending);
-        let requests = lock(&self.requests);
-        let key = match server.flavour {
-            WireFlavour::FastRtps => {
-                let related = SampleId {
-                    writer: self.reply_reader,
-                    sequence_number: HORUS_CLIENT_MARKER,
-                };
-                let id = requests
-                    .write(body, Some(related), None)
-                    .map_err(|e| ServiceError::Transport(e.to_string()))?;
-                RequestKey {
-                    flavour: WireFlavour::FastRtps,
-                    sequence: id.sequence_number,
-                }
-            }
-            WireFlavour::CycloneDds => {
-                let seq = NEXT_CYCLONE_SEQ.fetch_add(1, Ordering::Relaxed);
-                let header = CycloneHeader {
-                    guid: self.client_id,
-                    seq,
-                };
-                requests
-                    .write(header.prepend(&body), None, None)
-                    .map_err(|e| ServiceError::Transport(e.to_string()))?;
-                RequestKey {
-                    flavour: WireFlavour::CycloneDds,
-                    sequence: seq,
-                }
-            }
+        let sequence = self
+            .endpoints
+            .send_request(&body, server.flavour)
+            .map_err(|e| ServiceError::Transport(e.to_string()))?;
+        let key = RequestKey {
+            flavour: server.flavour,
+            sequence,
         };
-        drop(requests);
         pending.insert(
             key,
             Slot {
@@ -555,16 +519,14 @@ impl<C: Codec> ClientCore<C> {
     /// Takes every reply that has arrived and hands each to its call; replies to nobody (late,
     /// after a timeout, or to other clients) are dropped.
     pub(crate) fn drain_replies(&self) {
-        let mut replies = lock(&self.replies);
         let mut routed = false;
         loop {
-            match replies.take() {
-                Ok(Some(sample)) => routed |= self.route(sample),
+            match self.endpoints.take_response() {
+                Ok(Some(response)) => routed |= self.route(response),
                 Ok(None) => break,
                 Err(e) => tracing::debug!(service = %self.name, "dropped a reply: {e}"),
             }
         }
-        drop(replies);
         if routed {
             self.calls.completed.notify_all();
         }
@@ -573,7 +535,7 @@ impl<C: Codec> ClientCore<C> {
     /// Waits for reply data, a graph change that ends a call, or [`wake`](Self::wake), at most
     /// `timeout` (`None`: no limit); then call [`drain_replies`](Self::drain_replies).
     pub(crate) fn wait_for_replies(&self, timeout: Option<Duration>) {
-        lock(&self.replies).wait(timeout);
+        self.endpoints.response_reader_mut().wait(timeout);
     }
 
     /// Makes the current or next [`wait_for_replies`](Self::wait_for_replies) return.
@@ -587,59 +549,19 @@ impl<C: Codec> ClientCore<C> {
         self.calls.wake_on_graph_change.store(on, Ordering::SeqCst);
     }
 
-    /// The call a reply with `sequence` belongs to, and its outcome: a negative sequence number
-    /// is a horus-ros server's error reply (the handler's message as a CDR string).
-    fn outcome(
-        &self,
-        flavour: WireFlavour,
-        sequence: i64,
-        body: &[u8],
-        big_endian: bool,
-    ) -> (RequestKey, Result<C::Response, ServiceError>) {
-        if sequence < 0 {
-            let message = decode::<String>(body, big_endian)
+    /// The call `response` belongs to, and its outcome: a horus-ros server's error reply carries
+    /// the handler's message as a CDR string.
+    fn route(&self, response: TakenResponse) -> bool {
+        let key = RequestKey {
+            flavour: response.flavour,
+            sequence: response.sequence_number,
+        };
+        let outcome = if response.failed {
+            let message = decode::<String>(response.message(), response.big_endian)
                 .unwrap_or_else(|_| "the service handler failed".to_owned());
-            let key = RequestKey {
-                flavour,
-                sequence: sequence.saturating_neg(),
-            };
-            (key, Err(ServiceError::ServiceFailed(message)))
+            Err(ServiceError::ServiceFailed(message))
         } else {
-            let key = RequestKey { flavour, sequence };
-            (key, self.codec.decode(body, big_endian))
-        }
-    }
-
-    fn route(&self, sample: RawSample) -> bool {
-        let (key, outcome) = match sample.related {
-            Some(related) => {
-                // rmw_fastrtps `__rmw_take_response`: ours iff the related GUID is our reader or writer.
-                if related.writer != self.reply_reader && related.writer != self.request_writer {
-                    return false;
-                }
-                self.outcome(
-                    WireFlavour::FastRtps,
-                    related.sequence_number,
-                    &sample.body,
-                    sample.big_endian,
-                )
-            }
-            None => {
-                // rmw_cyclonedds `rmw_take_response`: ours iff the header carries our id.
-                let Some((header, message)) = CycloneHeader::split(&sample.body, sample.big_endian)
-                else {
-                    return false;
-                };
-                if header.guid != self.client_id {
-                    return false;
-                }
-                self.outcome(
-                    WireFlavour::CycloneDds,
-                    header.seq,
-                    message,
-                    sample.big_endian,
-                )
-            }
+            self.codec.decode(response.message(), response.big_endian)
         };
         let mut pending = lock(&self.calls.pending);
         // rcl `rcl_take_response_with_info`: RESPONSE_RECEIVED for every response taken (a

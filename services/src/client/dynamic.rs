@@ -14,7 +14,7 @@ use super::core::{ClientCore, ClientOptions};
 use super::responses::Membership;
 use crate::naming::ServiceTopics;
 use crate::runtime::Runtime;
-use crate::wire::WireFlavour;
+use crate::WireFlavour;
 use crate::{ServiceError, SetupError};
 
 /// One side of a service type: its DDS type name and RIHS01 hash.

@@ -15,7 +15,7 @@ use horus_ros_rmw::{Gid, Node};
 use super::{encapsulate_into, le_body, ServiceClientTrait, TransportError};
 use crate::client::codec::{Raw, RawReply};
 use crate::client::core::{ClientCore, ClientOptions, Readiness, RequestKey};
-use crate::wire::WireFlavour;
+use crate::WireFlavour;
 use crate::{ServiceError, SetupError};
 
 /// The default [`send_timeout`](DdsServiceClientBuilder::send_timeout).

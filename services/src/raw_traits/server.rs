@@ -12,14 +12,15 @@ use std::time::Instant;
 use horus_ros_msgs::Service;
 use horus_ros_rmw::names::ServiceName;
 use horus_ros_rmw::qos::Qos;
+use horus_ros_rmw::service::{ReplyRoute, Request, TakenRequest};
 use horus_ros_rmw::{Gid, Node, RawReader, RawReaderWaker, RawWriter};
 
 use super::{encapsulate_into, le_body, ServiceRequest, ServiceServerTrait, TransportError};
 use crate::naming::{default_service_name, ServiceTopics};
 use crate::runtime::Runtime;
-use crate::server_wire::{ReplyRoute, Request, ServerWire};
-use crate::wire::WireFlavour;
-use crate::SetupError;
+use crate::server::MAX_ERRORS_PER_DRAIN;
+use crate::server_wire::ServerWire;
+use crate::{SetupError, WireFlavour};
 
 /// Most requests received and not yet taken; beyond, the oldest is dropped.
 const MAX_QUEUED: usize = 4096;
@@ -27,9 +28,6 @@ const MAX_QUEUED: usize = 4096;
 /// Most requests taken and not yet answered; beyond, the oldest is forgotten (its
 /// `send_reply` then fails with `UnknownRequest`).
 const MAX_OUTSTANDING: usize = 4096;
-
-/// Most undecodable samples skipped in one drain before the thread checks whether to stop.
-const MAX_ERRORS_PER_DRAIN: usize = 1000;
 
 /// Builds a [`DdsServiceServer`].
 #[must_use = "a builder does nothing until .build() is called"]
@@ -91,16 +89,15 @@ impl<S: Service> DdsServiceServerBuilder<S> {
         )?;
         let reader = runtime.node.create_raw_reader(&topics.request)?;
         let writer = runtime.node.create_raw_writer(&topics.reply)?;
+        // Parked replies go out when their client's reader is matched: the graph wakes the
+        // request thread, which flushes them.
         let wire = ServerWire::new(
-            Arc::clone(&runtime.graph),
+            &runtime,
             topics.name,
             writer.gid(),
             self.flavour,
-            runtime.node.context().backend(),
+            reader.waker(),
         );
-        // Parked replies go out when their client's reader is matched: the graph wakes the
-        // request thread, which flushes them.
-        wire.wake_on_graph_change(reader.waker());
         let shared = Arc::new(Shared {
             request_reader: reader.gid(),
             reply_writer: writer.gid(),
@@ -236,11 +233,11 @@ impl<S: Service> ServiceServerTrait for DdsServiceServer<S> {
             .ok_or(TransportError::UnknownRequest(sequence_number))?;
         let body = le_body::<S::Response>(data)?;
         self.outstanding.remove(&sequence_number);
-        let Some(reply) = self.shared.wire.reply(&route, Ok(body.into_owned())) else {
+        let Some(reply) = self.shared.wire.response(&route, Ok(body.into_owned())) else {
             return Ok(());
         };
         let writer = lock(&self.shared.writer);
-        let result = self.shared.wire.send_or_park(&writer, reply);
+        let result = self.shared.wire.send_response(&writer, reply);
         drop(writer);
         if self.shared.wire.parked() > 0 {
             // The request thread sends it once the client's reader is matched.
@@ -298,21 +295,18 @@ impl Shared {
             let mut arrived = false;
             let mut errors = 0;
             let drained = loop {
-                match reader.take() {
-                    Ok(Some(sample)) => {
-                        if let Some(request) = self.wire.interpret(sample) {
-                            let mut queue = self.queue();
-                            if queue.len() >= MAX_QUEUED {
-                                queue.pop_front();
-                                tracing::warn!(service = %self.wire.service(), "request queue full: dropped the oldest request");
-                            }
-                            queue.push_back(request);
-                            arrived = true;
+                match self.wire.take_request(&mut reader) {
+                    TakenRequest::Request(request) => {
+                        let mut queue = self.queue();
+                        if queue.len() >= MAX_QUEUED {
+                            queue.pop_front();
+                            tracing::warn!(service = %self.wire.service(), "request queue full: dropped the oldest request");
                         }
+                        queue.push_back(request);
+                        arrived = true;
                     }
-                    Ok(None) => break true,
-                    Err(e) => {
-                        self.wire.warn_unreadable(&e);
+                    TakenRequest::Empty => break true,
+                    TakenRequest::Dropped => {
                         errors += 1;
                         if errors >= MAX_ERRORS_PER_DRAIN {
                             break false;
@@ -327,7 +321,7 @@ impl Shared {
                 }
             }
             // Parked replies whose client can hear them now go out; old ones are dropped.
-            let next_expiry = self.wire.flush(&lock(&self.writer));
+            let next_expiry = self.wire.flush_parked(&lock(&self.writer));
             if !drained {
                 // Wake-ups are edge-triggered: what is left would not wake us.
                 continue;

@@ -12,7 +12,7 @@
 use std::collections::{HashMap, VecDeque};
 use std::time::{Duration, Instant};
 
-use horus_ros_rmw::Gid;
+use crate::Gid;
 
 /// How long a parked reply waits for its client's reply reader to be matched before it is
 /// dropped: longer than discovery takes between two loaded processes (a reader's announcement can
