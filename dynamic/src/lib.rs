@@ -9,14 +9,21 @@
 //! - [`repr`]: Python `repr()` of a message.
 //! - [`convert`]: rosidl_runtime_py `message_to_ordereddict` / `message_to_csv`.
 //! - [`pyyaml`]: PyYAML's `yaml.dump` of those values, as ros2cli prints them.
+//! - [`json`]: messages as JSON objects, and filled from them.
+//! - [`ServiceType`]: a service type known at run time, its requests filled from YAML or JSON
+//!   and its responses decoded.
 
 pub mod cdr;
 pub mod convert;
 #[doc(hidden)]
 pub mod fuzzing;
+pub mod json;
 pub mod pyyaml;
 pub mod repr;
+mod service_type;
 pub mod yaml;
+
+pub use service_type::{compiled_description, ServiceType};
 
 use std::collections::HashMap;
 

@@ -19,6 +19,9 @@
 //!   are caught.
 //! - [`ServiceClient`]: `call`, `call_resilient`, `call_optional`; [`AsyncServiceClient`] returns
 //!   [`PendingResponse`]s that can be checked, waited on or awaited.
+//! - [`DynamicServiceClient`]: call a service whose type is known only at run time
+//!   ([`ServiceType`], e.g. from a node's `~/get_type_description`) with YAML, JSON or
+//!   [`dynamic`] values.
 //! - The wire convention (rmw_fastrtps or rmw_cyclonedds) is chosen per peer from its DDS vendor.
 //! - Feature `tokio`: `AsyncServiceClient::call` and `wait_for_service_async` as futures,
 //!   async handlers (`ServiceServerBuilder::on_request_async`, `AsyncServiceServer`) run on the
@@ -49,8 +52,8 @@ pub use asynchronous::{
     DEFAULT_MAX_IN_FLIGHT,
 };
 pub use client::{
-    AsyncServiceClient, DynamicPart, DynamicServiceClient, DynamicServiceClientBuilder,
-    PendingResponse, RawReply, ServiceClient, ServiceClientBuilder,
+    AsyncServiceClient, DynamicCallError, DynamicPart, DynamicServiceClient,
+    DynamicServiceClientBuilder, PendingResponse, RawReply, ServiceClient, ServiceClientBuilder,
 };
 pub use error::{Error, Result, ServiceError, SetupError};
 pub use horus_ros_rmw::service::WireFlavour;
@@ -68,6 +71,8 @@ pub use raw_traits::{
 pub use retry::RetryConfig;
 pub use server::{ServiceServer, ServiceServerBuilder};
 
+pub use horus_ros_dynamic as dynamic;
+pub use horus_ros_dynamic::ServiceType;
 pub use horus_ros_msgs::{Message, Service};
 pub use horus_ros_rmw::{Context, Node};
 

@@ -1,10 +1,13 @@
-//! [`DynamicServiceClient`]: calls a service whose type is known only at run time (by name, DDS
-//! type names and hashes), sending and receiving CDR bodies the caller encodes and decodes —
-//! how `horus-ros service call` reaches services of packages it was not built with.
+//! [`DynamicServiceClient`]: calls a service whose type is known only at run time — by its
+//! [`ServiceType`] (requests and responses as dynamic values, YAML or JSON), or by DDS type names
+//! and hashes alone (CDR bodies the caller encodes and decodes) — how `horus-ros service call`
+//! reaches services of packages it was not built with.
 
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use horus_ros_msgs::TypeHash;
+use horus_ros_dynamic::{ServiceType, Value};
+use horus_ros_msgs::{dds_type_name, TypeHash};
 use horus_ros_rmw::names::ServiceName;
 use horus_ros_rmw::qos::Qos;
 use horus_ros_rmw::{Gid, Node};
@@ -26,6 +29,47 @@ pub struct DynamicPart {
     pub type_hash: TypeHash,
 }
 
+/// Why a call with values ([`DynamicServiceClient::call_value`], `call_yaml`, `call_json`)
+/// failed.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum DynamicCallError {
+    /// The client was built from DDS type names only ([`DynamicServiceClient::builder`]), so it
+    /// has no schema to fill a request or decode a response with.
+    #[error(
+        "this client knows its service type by DDS type names only; build it with \
+         DynamicServiceClient::for_type to call with values"
+    )]
+    NoSchema,
+    /// The request values do not fit the request type.
+    #[error("invalid request for {service_type}: {message}")]
+    Request {
+        /// The service type.
+        service_type: String,
+        /// What is wrong (the field named).
+        message: String,
+    },
+    /// The call itself failed.
+    #[error(transparent)]
+    Call(#[from] ServiceError),
+    /// The response does not decode as the response type.
+    #[error("cannot decode the response as {service_type}: {message}")]
+    Response {
+        /// The service type.
+        service_type: String,
+        /// What is wrong.
+        message: String,
+    },
+}
+
+/// A [`DynamicCallError::Request`] for `service_type`.
+fn invalid_request(service_type: &ServiceType) -> impl Fn(String) -> DynamicCallError + '_ {
+    |message| DynamicCallError::Request {
+        service_type: service_type.name().to_owned(),
+        message,
+    }
+}
+
 /// Builds a [`DynamicServiceClient`].
 #[must_use = "a builder does nothing until .build() is called"]
 #[derive(Clone, Debug)]
@@ -34,6 +78,7 @@ pub struct DynamicServiceClientBuilder {
     service_type: String,
     request: DynamicPart,
     response: DynamicPart,
+    schema: Option<Arc<ServiceType>>,
 }
 
 impl DynamicServiceClientBuilder {
@@ -72,15 +117,20 @@ impl DynamicServiceClientBuilder {
         };
         let (core, responses) =
             ClientCore::with_codec(runtime, topics, codec, &self.options)?.join_responses()?;
-        Ok(DynamicServiceClient { core, responses })
+        Ok(DynamicServiceClient {
+            core,
+            responses,
+            schema: self.schema,
+        })
     }
 }
 
 /// A client for a service type known at run time; behaves like
 /// [`ServiceClient`](crate::ServiceClient) (same server choice, wire conventions and errors).
 pub struct DynamicServiceClient {
-    core: std::sync::Arc<ClientCore<Raw>>,
+    core: Arc<ClientCore<Raw>>,
     responses: Membership,
+    schema: Option<Arc<ServiceType>>,
 }
 
 impl std::fmt::Debug for DynamicServiceClient {
@@ -108,7 +158,38 @@ impl DynamicServiceClient {
             service_type: service_type.into(),
             request,
             response,
+            schema: None,
         }
+    }
+
+    /// A builder for the service `name` of the run-time type `service_type` (e.g.
+    /// [`ServiceType::compiled`], or [`ServiceType::from_descriptions`] on what a node's
+    /// `~/get_type_description` returned): its calls can take and give dynamic values, YAML and
+    /// JSON.
+    pub fn for_type(
+        name: impl Into<String>,
+        service_type: ServiceType,
+    ) -> DynamicServiceClientBuilder {
+        let (request_hash, response_hash) = service_type.part_hashes();
+        let mut builder = Self::builder(
+            name,
+            service_type.name(),
+            DynamicPart {
+                dds_type_name: dds_type_name(&service_type.request_type()),
+                type_hash: request_hash,
+            },
+            DynamicPart {
+                dds_type_name: dds_type_name(&service_type.response_type()),
+                type_hash: response_hash,
+            },
+        );
+        builder.schema = Some(Arc::new(service_type));
+        builder
+    }
+
+    /// The run-time service type, when the client was built with [`for_type`](Self::for_type).
+    pub fn service_type(&self) -> Option<&ServiceType> {
+        self.schema.as_deref()
     }
 
     /// The fully-qualified service name.
@@ -135,5 +216,55 @@ impl DynamicServiceClient {
     /// header); the reply comes back as its body, any rmw_cyclonedds header removed.
     pub fn call(&mut self, request: Vec<u8>, timeout: Duration) -> Result<RawReply, ServiceError> {
         self.core.call_blocking(&self.responses, &request, timeout)
+    }
+
+    /// Calls once with `request` (a value of the request type, e.g. from
+    /// [`ServiceType::request_from_yaml`]); the response comes back as a value of the response
+    /// type.
+    pub fn call_value(
+        &mut self,
+        request: &Value,
+        timeout: Duration,
+    ) -> Result<Value, DynamicCallError> {
+        let schema = Arc::clone(self.schema.as_ref().ok_or(DynamicCallError::NoSchema)?);
+        let body = schema
+            .encode_request(request)
+            .map_err(invalid_request(&schema))?;
+        let reply = self.call(body, timeout)?;
+        schema
+            .decode_response(&reply.body, reply.big_endian)
+            .map_err(|message| DynamicCallError::Response {
+                service_type: schema.name().to_owned(),
+                message,
+            })
+    }
+
+    /// Calls once with the request filled from ros2cli's YAML (`'{a: 1, b: 2}'`, as
+    /// `ros2 service call` takes it); fields not given keep their defaults.
+    pub fn call_yaml(
+        &mut self,
+        request: &str,
+        timeout: Duration,
+    ) -> Result<Value, DynamicCallError> {
+        let schema = Arc::clone(self.schema.as_ref().ok_or(DynamicCallError::NoSchema)?);
+        let request = schema
+            .request_from_yaml(request)
+            .map_err(invalid_request(&schema))?;
+        self.call_value(&request, timeout)
+    }
+
+    /// Calls once with the request filled from a JSON object of its fields (checked as YAML
+    /// values are); the response comes back as a JSON object of its fields.
+    pub fn call_json(
+        &mut self,
+        request: &serde_json::Value,
+        timeout: Duration,
+    ) -> Result<serde_json::Value, DynamicCallError> {
+        let schema = Arc::clone(self.schema.as_ref().ok_or(DynamicCallError::NoSchema)?);
+        let request = schema
+            .request_from_json(request)
+            .map_err(invalid_request(&schema))?;
+        let response = self.call_value(&request, timeout)?;
+        Ok(schema.response_to_json(&response))
     }
 }

@@ -10,5 +10,7 @@ pub(crate) mod responses;
 
 pub use blocking::{ServiceClient, ServiceClientBuilder};
 pub use codec::RawReply;
-pub use dynamic::{DynamicPart, DynamicServiceClient, DynamicServiceClientBuilder};
+pub use dynamic::{
+    DynamicCallError, DynamicPart, DynamicServiceClient, DynamicServiceClientBuilder,
+};
 pub use pending::{AsyncServiceClient, PendingResponse};

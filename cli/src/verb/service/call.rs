@@ -22,15 +22,12 @@ pub(crate) mod describe;
 use std::time::{Duration, Instant};
 
 use horus_ros_graph::GraphCache;
-use horus_ros_msgs::dds_type_name;
-use horus_ros_msgs::description::{REQUEST_SUFFIX, RESPONSE_SUFFIX};
 use horus_ros_rmw::names::ServiceName;
 
-use crate::dynamic::{cdr, repr, yaml, Value};
+use crate::dynamic::{ServiceType, Value};
 use crate::session::Session;
 use crate::{CliError, Global};
-use describe::ServiceTypeInfo;
-use horus_ros_services::{DynamicPart, DynamicServiceClient, RawReply, ServiceError};
+use horus_ros_services::{DynamicCallError, DynamicServiceClient, RawReply, ServiceError};
 
 /// Arguments of `service call`.
 #[derive(Debug, clap::Args)]
@@ -95,10 +92,13 @@ pub fn run(global: &Global, args: &CallArgs) -> Result<(), CliError> {
     loop {
         println!("requester: making request: {request_repr}\n");
         let last_call = Instant::now();
-        let reply = client
-            .call(opened.body.clone(), timeout)
-            .map_err(|e| call_error(e, &opened.service, timeout))?;
-        println!("response:\n{}\n", opened.response_repr(&reply)?);
+        let response = client
+            .call_value(&opened.request, timeout)
+            .map_err(|e| match e {
+                DynamicCallError::Call(e) => call_error(e, &opened.service, timeout),
+                e => CliError::new(format!("Cannot call {}: {e}", opened.service)),
+            })?;
+        println!("response:\n{}\n", opened.info.response_repr(&response));
         calls += 1;
         let Some(period) = period else { break };
         if args.count.is_some_and(|n| calls >= n) {
@@ -117,7 +117,7 @@ pub(crate) struct Target {
     service_type: String,
     values: String,
     /// The type information and the request, when the type is compiled in.
-    compiled: Option<(ServiceTypeInfo, Value)>,
+    compiled: Option<(ServiceType, Value)>,
 }
 
 impl Target {
@@ -131,13 +131,9 @@ impl Target {
                 "Failed to parse values as YAML: {e}"
             )));
         }
-        let info = describe::compiled(&service_type)
-            .map(|d| ServiceTypeInfo::from_descriptions(&service_type, &[d]))
-            .transpose()
-            .map_err(CliError::new)?;
-        let compiled = match info {
+        let compiled = match ServiceType::compiled(&service_type) {
             Some(info) => {
-                let request = fill(&info, &service_type, values)?;
+                let request = fill(&info, values)?;
                 Some((info, request))
             }
             None => None,
@@ -211,16 +207,13 @@ impl Target {
                     timeout,
                 )
                 .map_err(|e| CliError::new(format!("Cannot call {service}: {e}")))?;
-                let request = fill(&info, &service_type, &self.values)?;
+                let request = fill(&info, &self.values)?;
                 (info, request)
             }
         };
-        let body = cdr::encode(
-            &info.schema,
-            &format!("{service_type}{REQUEST_SUFFIX}"),
-            &request,
-        )
-        .map_err(|e| CliError::new(format!("Cannot encode the request: {e}")))?;
+        let body = info
+            .encode_request(&request)
+            .map_err(|e| CliError::new(format!("Cannot encode the request: {e}")))?;
         Ok(Opened {
             session,
             service,
@@ -232,14 +225,10 @@ impl Target {
     }
 }
 
-/// The request of `service_type` filled from `values`.
-fn fill(info: &ServiceTypeInfo, service_type: &str, values: &str) -> Result<Value, CliError> {
-    yaml::fill_from_yaml(
-        &info.schema,
-        &format!("{service_type}{REQUEST_SUFFIX}"),
-        values,
-    )
-    .map_err(|e| CliError::new(format!("Failed to populate field: {e}")))
+/// The request of `info` filled from `values`.
+fn fill(info: &ServiceType, values: &str) -> Result<Value, CliError> {
+    info.request_from_yaml(values)
+        .map_err(|e| CliError::new(format!("Failed to populate field: {e}")))
 }
 
 /// A [`Target`] on the graph: the session, the service's full name and type, the encoded
@@ -251,7 +240,7 @@ pub(crate) struct Opened {
     pub(crate) service: ServiceName,
     /// The service type (`pkg/srv/Name`).
     pub(crate) service_type: String,
-    info: ServiceTypeInfo,
+    info: ServiceType,
     request: Value,
     /// The encoded request.
     pub(crate) body: Vec<u8>,
@@ -260,46 +249,30 @@ pub(crate) struct Opened {
 impl Opened {
     /// A new client of the service on the session's node.
     pub(crate) fn client(&self) -> Result<DynamicServiceClient, CliError> {
-        let request_type = format!("{}{REQUEST_SUFFIX}", self.service_type);
-        let response_type = format!("{}{RESPONSE_SUFFIX}", self.service_type);
-        Ok(DynamicServiceClient::builder(
-            self.service.as_str(),
-            self.service_type.as_str(),
-            DynamicPart {
-                dds_type_name: dds_type_name(&request_type),
-                type_hash: self.info.request.compute_type_hash(),
-            },
-            DynamicPart {
-                dds_type_name: dds_type_name(&response_type),
-                type_hash: self.info.response.compute_type_hash(),
-            },
+        Ok(
+            DynamicServiceClient::for_type(self.service.as_str(), self.info.clone())
+                .node(&self.session.node)
+                .build()?,
         )
-        .node(&self.session.node)
-        .build()?)
     }
 
     /// The request as Python's `repr` shows it.
     pub(crate) fn request_repr(&self) -> String {
-        let request_type = format!("{}{REQUEST_SUFFIX}", self.service_type);
-        repr::repr(&self.info.schema, &request_type, &self.request)
+        self.info.request_repr(&self.request)
     }
 
     /// A reply decoded as the response type, as Python's `repr` shows it.
     pub(crate) fn response_repr(&self, reply: &RawReply) -> Result<String, CliError> {
-        let response_type = format!("{}{RESPONSE_SUFFIX}", self.service_type);
-        let response = cdr::decode(
-            &self.info.schema,
-            &response_type,
-            &reply.body,
-            reply.big_endian,
-        )
-        .map_err(|e| {
-            CliError::new(format!(
-                "Cannot decode the response of {}: {e}",
-                self.service
-            ))
-        })?;
-        Ok(repr::repr(&self.info.schema, &response_type, &response))
+        let response = self
+            .info
+            .decode_response(&reply.body, reply.big_endian)
+            .map_err(|e| {
+                CliError::new(format!(
+                    "Cannot decode the response of {}: {e}",
+                    self.service
+                ))
+            })?;
+        Ok(self.info.response_repr(&response))
     }
 }
 

@@ -24,13 +24,14 @@ use horus_ros_rmw::names::{ServiceName, TopicName};
 use horus_ros_rmw::qos::Qos;
 use horus_ros_rmw::RawEndpointSpec;
 use horus_ros_services::SERVICE_EVENT_TOPIC_POSTFIX;
-use serde_json::{json, Map, Value as Json};
+use serde_json::{json, Value as Json};
 
 use super::call::describe;
 use super::call::normalize_type;
 use crate::dynamic::convert::{to_csv, to_ordereddict, ConvertOptions};
+use crate::dynamic::json::to_json;
 use crate::dynamic::pyyaml::{dump, PyValue};
-use crate::dynamic::{cdr, Container, Elem, Schema, Value};
+use crate::dynamic::{cdr, Schema, ServiceType, Value};
 use crate::session::Session;
 use crate::{CliError, Global};
 
@@ -227,8 +228,8 @@ fn event_type(
     service_type: &str,
 ) -> Result<EventType, CliError> {
     let name = format!("{service_type}{EVENT_SUFFIX}");
-    let info = match describe::compiled(service_type) {
-        Some(d) => describe::ServiceTypeInfo::from_descriptions(service_type, &[d]),
+    let info = match ServiceType::compiled(service_type) {
+        Some(info) => Ok(info),
         None => describe::fetch(
             &session.node,
             &session.graph,
@@ -242,7 +243,11 @@ fn event_type(
             "Could not load the type for the passed service: {e}"
         ))
     })?;
-    let description = service_event_description(service_type, &info.request, &info.response);
+    let description = service_event_description(
+        service_type,
+        info.request_description(),
+        info.response_description(),
+    );
     let schema = Schema::from_description(&description)
         .and_then(|s| s.check(&name).map(|()| s))
         .map_err(|e| {
@@ -286,7 +291,7 @@ fn event_type_name(n: i128) -> Option<&'static str> {
 /// One event as JSON: `info` with `event_type` by name and `client_gid` as a dotted GID; the
 /// request and response as JSON values of their fields.
 fn event_json(schema: &Schema, name: &str, v: &Value) -> Json {
-    let mut j = struct_json(schema, name, v);
+    let mut j = to_json(schema, name, v);
     if let Some(info) = j.get_mut("info").and_then(Json::as_object_mut) {
         if let Some(n) = info.get("event_type").and_then(Json::as_i64) {
             if let Some(name) = event_type_name(i128::from(n)) {
@@ -302,43 +307,4 @@ fn event_json(schema: &Schema, name: &str, v: &Value) -> Json {
         }
     }
     j
-}
-
-fn struct_json(schema: &Schema, name: &str, v: &Value) -> Json {
-    let (Ok(s), Value::Struct(fields)) = (schema.get(name), v) else {
-        return Json::Null;
-    };
-    let mut map = Map::new();
-    for (m, f) in s.members.iter().zip(fields) {
-        let value = match (m.ty.container, f) {
-            (Container::Single, f) => elem_json(schema, &m.ty.elem, f),
-            (_, Value::List(items)) => Json::Array(
-                items
-                    .iter()
-                    .map(|i| elem_json(schema, &m.ty.elem, i))
-                    .collect(),
-            ),
-            (_, f) => elem_json(schema, &m.ty.elem, f),
-        };
-        map.insert(m.name.clone(), value);
-    }
-    Json::Object(map)
-}
-
-fn elem_json(schema: &Schema, e: &Elem, v: &Value) -> Json {
-    match (e, v) {
-        (Elem::Nested(n), v) => struct_json(schema, n, v),
-        (_, Value::Bool(b)) => json!(b),
-        (_, Value::Int(i)) => i64::try_from(*i)
-            .map(Json::from)
-            .or_else(|_| u64::try_from(*i).map(Json::from))
-            .unwrap_or_else(|_| json!(i.to_string())),
-        (_, Value::Float(f)) => serde_json::Number::from_f64(*f).map_or(Json::Null, Json::Number),
-        (_, Value::Str(s)) => json!(s),
-        (_, Value::Byte(b)) => json!(b),
-        (_, Value::List(items)) => {
-            Json::Array(items.iter().map(|i| elem_json(schema, e, i)).collect())
-        }
-        (_, Value::Struct(_)) => Json::Null,
-    }
 }

@@ -19,75 +19,12 @@ use horus_ros_msgs::description::{EVENT_SUFFIX, REQUEST_SUFFIX, RESPONSE_SUFFIX}
 use horus_ros_msgs::type_description_interfaces::srv::{
     GetTypeDescription, GetTypeDescriptionRequest, GetTypeDescriptionResponse,
 };
-use horus_ros_msgs::{example_interfaces, rcl_interfaces, std_srvs, type_description_interfaces};
 use horus_ros_msgs::{Service, TypeDescription, TypeHash};
 use horus_ros_rmw::names::ServiceName;
 use horus_ros_rmw::Node;
 
-use crate::dynamic::{sub_description, Schema};
+use crate::dynamic::ServiceType;
 use horus_ros_services::ServiceClient;
-
-/// A service type ready for dynamic calls.
-pub struct ServiceTypeInfo {
-    /// All structs involved.
-    pub schema: Schema,
-    /// `pkg/srv/Name_Request` and its full description.
-    pub request: TypeDescription,
-    /// `pkg/srv/Name_Response` and its full description.
-    pub response: TypeDescription,
-}
-
-impl ServiceTypeInfo {
-    /// From descriptions that contain the request and response types (and what they use).
-    pub fn from_descriptions(
-        service_type: &str,
-        descriptions: &[TypeDescription],
-    ) -> Result<Self, String> {
-        let req_name = format!("{service_type}{REQUEST_SUFFIX}");
-        let resp_name = format!("{service_type}{RESPONSE_SUFFIX}");
-        let find = |name: &str| {
-            descriptions
-                .iter()
-                .find_map(|d| sub_description(d, name).ok())
-                .ok_or_else(|| format!("the type description lacks type '{name}'"))
-        };
-        let request = find(&req_name)?;
-        let response = find(&resp_name)?;
-        let mut schema = Schema::from_description(&request).map_err(|e| e.to_string())?;
-        schema.add(&response).map_err(|e| e.to_string())?;
-        schema.check(&req_name).map_err(|e| e.to_string())?;
-        schema.check(&resp_name).map_err(|e| e.to_string())?;
-        Ok(Self {
-            schema,
-            request,
-            response,
-        })
-    }
-}
-
-/// The description of a service type compiled into horus-ros-msgs.
-pub fn compiled(service_type: &str) -> Option<TypeDescription> {
-    fn d<S: Service>() -> (&'static str, fn() -> TypeDescription) {
-        (S::TYPE_NAME, S::type_description)
-    }
-    let table = [
-        d::<example_interfaces::srv::AddTwoInts>(),
-        d::<std_srvs::srv::Empty>(),
-        d::<std_srvs::srv::Trigger>(),
-        d::<std_srvs::srv::SetBool>(),
-        d::<rcl_interfaces::srv::ListParameters>(),
-        d::<rcl_interfaces::srv::GetParameters>(),
-        d::<rcl_interfaces::srv::GetParameterTypes>(),
-        d::<rcl_interfaces::srv::SetParameters>(),
-        d::<rcl_interfaces::srv::SetParametersAtomically>(),
-        d::<rcl_interfaces::srv::DescribeParameters>(),
-        d::<type_description_interfaces::srv::GetTypeDescription>(),
-    ];
-    table
-        .iter()
-        .find(|(name, _)| *name == service_type)
-        .map(|(_, f)| f())
-}
 
 /// One type hash to ask a node about.
 struct Candidate {
@@ -102,7 +39,7 @@ pub fn fetch(
     service: &str,
     service_type: &str,
     timeout: Duration,
-) -> Result<ServiceTypeInfo, String> {
+) -> Result<ServiceType, String> {
     let servers: Vec<_> = graph
         .read(|c| c.servers_info_by_service(service, false))
         .unwrap_or_default()
@@ -196,7 +133,7 @@ pub fn fetch(
                     continue;
                 }
                 got.push(r.type_description);
-                if let Ok(info) = ServiceTypeInfo::from_descriptions(service_type, &got) {
+                if let Ok(info) = ServiceType::from_descriptions(service_type, &got) {
                     return Ok(info);
                 }
             }

@@ -1,0 +1,230 @@
+//! [`ServiceType`]: a service type known at run time — its request and response descriptions and
+//! the schema built from them — with requests filled from YAML or JSON and responses decoded, as
+//! [`DynamicServiceClient`](../horus_ros_services/struct.DynamicServiceClient.html) calls with
+//! them.
+
+use horus_ros_msgs::description::{REQUEST_SUFFIX, RESPONSE_SUFFIX};
+use horus_ros_msgs::{example_interfaces, rcl_interfaces, std_srvs, type_description_interfaces};
+use horus_ros_msgs::{Service, TypeDescription, TypeHash};
+
+use crate::{cdr, json, repr, sub_description, yaml, Schema, SchemaError, Value};
+
+/// A service type known at run time (`pkg/srv/Name`).
+#[derive(Clone, Debug)]
+pub struct ServiceType {
+    name: String,
+    schema: Schema,
+    request: TypeDescription,
+    response: TypeDescription,
+}
+
+impl ServiceType {
+    /// `service_type` from descriptions that contain its request and response types (and what
+    /// they use): e.g. what a node's `~/get_type_description` returned.
+    pub fn from_descriptions(
+        service_type: &str,
+        descriptions: &[TypeDescription],
+    ) -> Result<Self, SchemaError> {
+        let req_name = format!("{service_type}{REQUEST_SUFFIX}");
+        let resp_name = format!("{service_type}{RESPONSE_SUFFIX}");
+        let find = |name: &str| {
+            descriptions
+                .iter()
+                .find_map(|d| sub_description(d, name).ok())
+                .ok_or_else(|| SchemaError(format!("the type description lacks type '{name}'")))
+        };
+        let request = find(&req_name)?;
+        let response = find(&resp_name)?;
+        let mut schema = Schema::from_description(&request)?;
+        schema.add(&response)?;
+        schema.check(&req_name)?;
+        schema.check(&resp_name)?;
+        Ok(Self {
+            name: service_type.to_owned(),
+            schema,
+            request,
+            response,
+        })
+    }
+
+    /// A service type compiled into horus-ros-msgs (`None` for any other).
+    pub fn compiled(service_type: &str) -> Option<Self> {
+        let description = compiled_description(service_type)?;
+        Self::from_descriptions(service_type, &[description]).ok()
+    }
+
+    /// The service type's name (`pkg/srv/Name`).
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// The structs of the request and response.
+    pub fn schema(&self) -> &Schema {
+        &self.schema
+    }
+
+    /// The request type's name (`pkg/srv/Name_Request`).
+    pub fn request_type(&self) -> String {
+        format!("{}{REQUEST_SUFFIX}", self.name)
+    }
+
+    /// The response type's name (`pkg/srv/Name_Response`).
+    pub fn response_type(&self) -> String {
+        format!("{}{RESPONSE_SUFFIX}", self.name)
+    }
+
+    /// The request type's full description.
+    pub fn request_description(&self) -> &TypeDescription {
+        &self.request
+    }
+
+    /// The response type's full description.
+    pub fn response_description(&self) -> &TypeDescription {
+        &self.response
+    }
+
+    /// The RIHS01 hashes of the request and response types.
+    pub fn part_hashes(&self) -> (TypeHash, TypeHash) {
+        (
+            self.request.compute_type_hash(),
+            self.response.compute_type_hash(),
+        )
+    }
+
+    /// A request filled from ros2cli's YAML (`service call`'s values: `'{a: 1, b: 2}'`).
+    pub fn request_from_yaml(&self, text: &str) -> Result<Value, String> {
+        yaml::fill_from_yaml(&self.schema, &self.request_type(), text)
+    }
+
+    /// A request filled from a JSON object of its fields (checked as YAML values are).
+    pub fn request_from_json(&self, value: &serde_json::Value) -> Result<Value, String> {
+        json::fill_from_json(&self.schema, &self.request_type(), value)
+    }
+
+    /// The request's CDR body (little-endian, no encapsulation header).
+    pub fn encode_request(&self, request: &Value) -> Result<Vec<u8>, String> {
+        cdr::encode(&self.schema, &self.request_type(), request)
+    }
+
+    /// A response decoded from its CDR body.
+    pub fn decode_response(&self, body: &[u8], big_endian: bool) -> Result<Value, String> {
+        cdr::decode(&self.schema, &self.response_type(), body, big_endian)
+    }
+
+    /// A response as a JSON object of its fields.
+    pub fn response_to_json(&self, response: &Value) -> serde_json::Value {
+        json::to_json(&self.schema, &self.response_type(), response)
+    }
+
+    /// A request as Python's `repr` shows it (what `service call` prints).
+    pub fn request_repr(&self, request: &Value) -> String {
+        repr::repr(&self.schema, &self.request_type(), request)
+    }
+
+    /// A response as Python's `repr` shows it.
+    pub fn response_repr(&self, response: &Value) -> String {
+        repr::repr(&self.schema, &self.response_type(), response)
+    }
+}
+
+/// The description of a service type compiled into horus-ros-msgs.
+pub fn compiled_description(service_type: &str) -> Option<TypeDescription> {
+    fn d<S: Service>() -> (&'static str, fn() -> TypeDescription) {
+        (S::TYPE_NAME, S::type_description)
+    }
+    let table = [
+        d::<example_interfaces::srv::AddTwoInts>(),
+        d::<std_srvs::srv::Empty>(),
+        d::<std_srvs::srv::Trigger>(),
+        d::<std_srvs::srv::SetBool>(),
+        d::<rcl_interfaces::srv::ListParameters>(),
+        d::<rcl_interfaces::srv::GetParameters>(),
+        d::<rcl_interfaces::srv::GetParameterTypes>(),
+        d::<rcl_interfaces::srv::SetParameters>(),
+        d::<rcl_interfaces::srv::SetParametersAtomically>(),
+        d::<rcl_interfaces::srv::DescribeParameters>(),
+        d::<type_description_interfaces::srv::GetTypeDescription>(),
+    ];
+    table
+        .iter()
+        .find(|(name, _)| *name == service_type)
+        .map(|(_, f)| f())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use horus_ros_msgs::Message;
+
+    #[test]
+    fn a_compiled_service_type_is_filled_from_yaml_or_json_and_answers_in_json() {
+        let ty = ServiceType::compiled("example_interfaces/srv/AddTwoInts").expect("compiled");
+        let from_yaml = ty.request_from_yaml("{a: 2, b: 3}").expect("yaml");
+        let from_json = ty
+            .request_from_json(&serde_json::json!({"a": 2, "b": 3}))
+            .expect("json");
+        assert_eq!(from_yaml, from_json);
+        let body = ty.encode_request(&from_json).expect("encode");
+        let compiled =
+            horus_ros_msgs::cdr::to_cdr_body(&example_interfaces::srv::AddTwoIntsRequest {
+                a: 2,
+                b: 3,
+            })
+            .expect("compiled encode");
+        assert_eq!(body, compiled);
+        let reply =
+            horus_ros_msgs::cdr::to_cdr_body(&example_interfaces::srv::AddTwoIntsResponse {
+                sum: 5,
+            })
+            .expect("compiled encode");
+        let response = ty.decode_response(&reply, false).expect("decode");
+        assert_eq!(
+            ty.response_to_json(&response),
+            serde_json::json!({"sum": 5})
+        );
+        assert_eq!(
+            ty.response_repr(&response),
+            "example_interfaces.srv.AddTwoInts_Response(sum=5)"
+        );
+        assert_eq!(
+            ty.part_hashes(),
+            (
+                example_interfaces::srv::AddTwoIntsRequest::type_hash(),
+                example_interfaces::srv::AddTwoIntsResponse::type_hash()
+            )
+        );
+    }
+
+    #[test]
+    fn bad_values_are_refused_with_the_field_named() {
+        let ty = ServiceType::compiled("example_interfaces/srv/AddTwoInts").expect("compiled");
+        let e = ty
+            .request_from_json(&serde_json::json!({"c": 1}))
+            .expect_err("no such field");
+        assert!(e.contains('c'), "{e}");
+        let e = ty
+            .request_from_json(&serde_json::json!({"a": "two"}))
+            .expect_err("wrong type");
+        assert!(e.contains('a'), "{e}");
+        assert!(ty.request_from_yaml("{a: [").is_err());
+        assert!(ServiceType::compiled("foo/srv/Nope").is_none());
+    }
+
+    #[test]
+    fn nested_requests_survive_json() {
+        let ty = ServiceType::compiled("rcl_interfaces/srv/SetParameters").expect("compiled");
+        let json = serde_json::json!({"parameters": [
+            {"name": "speed", "value": {"type": 3, "double_value": 1.5}},
+            {"name": "names", "value": {"type": 9, "string_array_value": ["a", "b"]}}
+        ]});
+        let request = ty.request_from_json(&json).expect("json");
+        let again = json::to_json(ty.schema(), &ty.request_type(), &request);
+        assert_eq!(again["parameters"][0]["name"], "speed");
+        assert_eq!(again["parameters"][0]["value"]["double_value"], 1.5);
+        assert_eq!(
+            again["parameters"][1]["value"]["string_array_value"][1],
+            "b"
+        );
+        assert_eq!(ty.request_from_json(&again).expect("round trip"), request);
+    }
+}
