@@ -225,6 +225,19 @@ impl Server {
         }
     }
 
+    /// Logs that a `what` (request or reply) of `client` was dropped because its parked
+    /// replies are at their bound.
+    fn warn_overflow(&self, client: Gid, what: &str) {
+        self.warn_peer(
+            client,
+            WarningKind::Overflow,
+            format_args!(
+                "{what} dropped: the replies parked for this client (its reply reader is not \
+                 matched) are at their bound"
+            ),
+        );
+    }
+
     /// The fully-qualified service name.
     pub fn service(&self) -> &ServiceName {
         &self.service
@@ -327,14 +340,7 @@ impl Server {
             && !lock(&self.park).admits(client)
             && !self.recipient_matched(route.recipient())
         {
-            self.warn_peer(
-                client,
-                WarningKind::Overflow,
-                format_args!(
-                    "request dropped: the replies parked for this client (its reply reader is \
-                     not matched) are at their bound"
-                ),
-            );
+            self.warn_overflow(client, "request");
             return None;
         }
         Some(Request {
@@ -441,14 +447,7 @@ impl Server {
         } else {
             let (client, bytes) = (response.client, response.body.len());
             if park.park(client, response, bytes).is_err() {
-                self.warn_peer(
-                    client,
-                    WarningKind::Overflow,
-                    format_args!(
-                        "reply dropped: the replies parked for this client (its reply reader is \
-                         not matched) are at their bound"
-                    ),
-                );
+                self.warn_overflow(client, "reply");
             }
         }
         self.parked.store(park.len(), Ordering::SeqCst);
