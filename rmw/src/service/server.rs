@@ -266,7 +266,7 @@ impl Server {
 
     /// Reads a request's correlation data in its client's convention; `None` (logged) if it is
     /// malformed or cannot be answered.
-    pub fn request_from(&self, sample: RawSample) -> Option<Request> {
+    fn request_from(&self, sample: RawSample) -> Option<Request> {
         let vendor = self.peers.vendor_of(sample.id.writer);
         let flavour = match WireFlavour::choose(self.backend, vendor, self.flavour) {
             Ok(flavour) => flavour,
