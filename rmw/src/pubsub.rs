@@ -14,7 +14,7 @@ use crate::discovery::DiscoveredEndpoint;
 use crate::entities::EndpointSide;
 use crate::names::{ExpandError, TopicName};
 use crate::node::{Node, Registration};
-use crate::qos::{EndpointKind, Qos, QosError};
+use crate::qos::{DdsQos, EndpointKind, Qos, QosError};
 use crate::Gid;
 
 /// Why an endpoint could not be created.
@@ -74,7 +74,7 @@ fn resolve_topic(
     name: &str,
     qos: &Qos,
     kind: EndpointKind,
-) -> Result<(TopicName, rustdds::QosPolicies), EndpointError> {
+) -> Result<(TopicName, DdsQos), EndpointError> {
     let dds_qos = qos
         .to_dds(kind)
         .map_err(|source| EndpointError::InvalidQos {
@@ -208,12 +208,13 @@ impl Node {
         };
         let (writer, gid) = match &self.context().inner().dds {
             Dds::RustDds(p) => {
-                let dds_topic = rustdds_topic::<M>(p, &dds_name, &dds_qos)?;
+                let policies = crate::dds::qos::to_rustdds(&dds_qos);
+                let dds_topic = rustdds_topic::<M>(p, &dds_name, &policies)?;
                 let writer = p
                     .publisher
                     .create_datawriter_no_key::<M, CDRSerializerAdapter<M>>(
                         &dds_topic,
-                        Some(dds_qos),
+                        Some(policies),
                     )
                     .map_err(|e| fail(e.to_string()))?;
                 let gid = gid_from_guid(writer.guid());
@@ -259,12 +260,13 @@ impl Node {
         };
         let (reader, gid, waker) = match &self.context().inner().dds {
             Dds::RustDds(p) => {
-                let dds_topic = rustdds_topic::<M>(p, &dds_name, &dds_qos)?;
+                let policies = crate::dds::qos::to_rustdds(&dds_qos);
+                let dds_topic = rustdds_topic::<M>(p, &dds_name, &policies)?;
                 let mut reader = p
                     .subscriber
                     .create_datareader_no_key::<M, CDRDeserializerAdapter<M>>(
                         &dds_topic,
-                        Some(dds_qos),
+                        Some(policies),
                     )
                     .map_err(|e| fail(e.to_string()))?;
                 let gid = gid_from_guid(reader.guid());

@@ -313,10 +313,11 @@ impl Node {
                 })?;
         let (writer, gid) = match &self.context().inner().dds {
             Dds::RustDds(p) => {
-                let topic = create_topic(p, spec, &dds_qos)?;
+                let policies = crate::dds::qos::to_rustdds(&dds_qos);
+                let topic = create_topic(p, spec, &policies)?;
                 let writer = p
                     .publisher
-                    .create_datawriter_no_key::<RawPayload, RawAdapter>(&topic, Some(dds_qos))
+                    .create_datawriter_no_key::<RawPayload, RawAdapter>(&topic, Some(policies))
                     .map_err(|e| dds_error("writer", spec)(e.to_string()))?;
                 let gid = gid_from_guid(writer.guid());
                 (WriterImpl::RustDds(writer), gid)
@@ -383,10 +384,11 @@ impl Node {
                 })?;
         let (reader, gid, waker) = match &self.context().inner().dds {
             Dds::RustDds(p) => {
-                let topic = create_topic(p, spec, &dds_qos)?;
+                let policies = crate::dds::qos::to_rustdds(&dds_qos);
+                let topic = create_topic(p, spec, &policies)?;
                 let mut reader = p
                     .subscriber
-                    .create_datareader_no_key::<RawPayload, RawAdapter>(&topic, Some(dds_qos))
+                    .create_datareader_no_key::<RawPayload, RawAdapter>(&topic, Some(policies))
                     .map_err(|e| dds_error("reader", spec)(e.to_string()))?;
                 let gid = gid_from_guid(reader.guid());
                 let fail = |e: std::io::Error| dds_error("poll", spec)(e.to_string());

@@ -10,7 +10,7 @@ use horus_ros_msgs::rmw_dds_common::Gid;
 use horus_ros_rmw_cyclone as cyc;
 
 use super::{gid, qos, CycloneParticipant, LocalEndpoints};
-use crate::qos::EndpointKind;
+use crate::qos::{DdsQos, EndpointKind};
 
 /// The blob topic `topic_name` of type `type_name` (each endpoint gets its own topic entity;
 /// Cyclone shares what lies behind same-named ones).
@@ -40,12 +40,12 @@ pub(crate) struct RawWriter {
 }
 
 impl RawWriter {
-    /// Creates a writer of `topic_name`/`type_name` with these policies and USER_DATA.
+    /// Creates a writer of `topic_name`/`type_name` with this QoS and USER_DATA.
     pub(crate) fn create(
         p: &CycloneParticipant,
         topic_name: &str,
         type_name: &str,
-        policies: &rustdds::QosPolicies,
+        policies: &DdsQos,
         user_data: &[u8],
     ) -> Result<(Self, Gid), String> {
         let fail = |e: cyc::Error| e.to_string();
@@ -133,12 +133,12 @@ pub(crate) struct RawReader {
 }
 
 impl RawReader {
-    /// Creates a reader of `topic_name`/`type_name` with these policies and USER_DATA.
+    /// Creates a reader of `topic_name`/`type_name` with this QoS and USER_DATA.
     pub(crate) fn create(
         p: &CycloneParticipant,
         topic_name: &str,
         type_name: &str,
-        policies: &rustdds::QosPolicies,
+        policies: &DdsQos,
         user_data: &[u8],
         responses_of: Option<u64>,
     ) -> Result<(Self, Gid), String> {

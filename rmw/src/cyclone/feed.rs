@@ -413,7 +413,7 @@ impl CycloneDiscoveryFeed {
             TypeHash::ZERO
         });
         let qos = match &e.qos {
-            Some(q) => qos::discovered(q, kind),
+            Some(q) => qos::discovered(q),
             None => crate::qos::Qos::unknown(),
         };
         Some(DiscoveryEvent::EndpointDiscovered(DiscoveredEndpoint {

@@ -1,100 +1,73 @@
-//! QoS between our profiles and the binding layer's `EndpointQos`, through the rustdds policies
-//! our profiles already map to (one mapping for both backends: see `qos/dds.rs`).
+//! [`DdsQos`] as the binding layer's `EndpointQos`, and back (what Cyclone's built-in topics
+//! report of a remote endpoint).
 
 use std::time::Duration;
 
 use horus_ros_rmw_cyclone::{self as cyc, EndpointQos};
-use rustdds::policy;
 
-use crate::qos::{EndpointKind, Qos};
+use crate::qos::{DdsDurability, DdsHistory, DdsLiveliness, DdsQos, DdsReliability, Qos};
 
-/// The Cyclone QoS for a writer or reader created with these rustdds policies (which
-/// `Qos::to_dds` always fills: history, reliability, durability, liveliness).
-pub(crate) fn endpoint_qos(p: &rustdds::QosPolicies) -> EndpointQos {
+/// The Cyclone QoS for a writer or reader with `qos`. Cyclone has no TRANSIENT, PERSISTENT or
+/// MANUAL_BY_PARTICIPANT here (ROS maps to none of them): they become TRANSIENT_LOCAL and
+/// AUTOMATIC.
+pub(crate) fn endpoint_qos(qos: &DdsQos) -> EndpointQos {
     let mut q = EndpointQos::default();
-    match p.reliability() {
-        Some(policy::Reliability::BestEffort) => q.reliability = cyc::Reliability::BestEffort,
-        Some(policy::Reliability::Reliable { max_blocking_time }) => {
+    match qos.reliability {
+        DdsReliability::BestEffort => q.reliability = cyc::Reliability::BestEffort,
+        DdsReliability::Reliable { max_blocking_time } => {
             q.reliability = cyc::Reliability::Reliable;
-            q.max_blocking_time = duration(max_blocking_time).unwrap_or(Duration::MAX);
+            q.max_blocking_time = max_blocking_time;
         }
-        None => {}
     }
-    q.durability = match p.durability() {
-        Some(policy::Durability::TransientLocal) => cyc::Durability::TransientLocal,
-        _ => cyc::Durability::Volatile,
-    };
-    q.history = match p.history() {
-        Some(policy::History::KeepAll) => cyc::History::KeepAll,
-        Some(policy::History::KeepLast { depth }) => {
-            cyc::History::KeepLast(u32::try_from(depth.max(1)).unwrap_or(u32::MAX))
+    q.durability = match qos.durability {
+        DdsDurability::Volatile => cyc::Durability::Volatile,
+        DdsDurability::TransientLocal | DdsDurability::Transient | DdsDurability::Persistent => {
+            cyc::Durability::TransientLocal
         }
+    };
+    q.history = match qos.history {
+        Some(DdsHistory::KeepAll) => cyc::History::KeepAll,
+        Some(DdsHistory::KeepLast(depth)) => cyc::History::KeepLast(depth.max(1)),
         None => cyc::History::KeepLast(1),
     };
-    q.deadline = p.deadline().and_then(|d| duration(d.0));
-    q.lifespan = p.lifespan().and_then(|l| duration(l.duration));
-    match p.liveliness() {
-        Some(policy::Liveliness::ManualByTopic { lease_duration }) => {
-            q.liveliness = cyc::Liveliness::ManualByTopic;
-            q.liveliness_lease = duration(lease_duration);
-        }
-        Some(
-            policy::Liveliness::Automatic { lease_duration }
-            | policy::Liveliness::ManualByParticipant { lease_duration },
-        ) => {
-            q.liveliness = cyc::Liveliness::Automatic;
-            q.liveliness_lease = duration(lease_duration);
-        }
-        None => {}
-    }
+    q.deadline = qos.deadline;
+    q.lifespan = qos.lifespan;
+    q.liveliness = match qos.liveliness {
+        DdsLiveliness::ManualByTopic => cyc::Liveliness::ManualByTopic,
+        DdsLiveliness::Automatic | DdsLiveliness::ManualByParticipant => cyc::Liveliness::Automatic,
+    };
+    q.liveliness_lease = qos.liveliness_lease;
     q
 }
 
-/// A finite DDS duration; `None` for infinite.
-fn duration(d: rustdds::Duration) -> Option<Duration> {
-    if d == rustdds::Duration::INFINITE {
-        return None;
-    }
-    Some(Duration::from_nanos(
-        u64::try_from(d.to_nanoseconds()).unwrap_or(0),
-    ))
-}
-
-fn dds_duration(d: Option<Duration>) -> rustdds::Duration {
-    match d {
-        None => rustdds::Duration::INFINITE,
-        Some(d) => rustdds::Duration::from_nanos(i64::try_from(d.as_nanos()).unwrap_or(i64::MAX)),
+/// What Cyclone reports of an endpoint: history is not carried by discovery, so it is none.
+fn dds_qos(q: &EndpointQos) -> DdsQos {
+    DdsQos {
+        reliability: match q.reliability {
+            cyc::Reliability::BestEffort => DdsReliability::BestEffort,
+            cyc::Reliability::Reliable => DdsReliability::Reliable {
+                max_blocking_time: q.max_blocking_time,
+            },
+        },
+        durability: match q.durability {
+            cyc::Durability::Volatile => DdsDurability::Volatile,
+            cyc::Durability::TransientLocal => DdsDurability::TransientLocal,
+        },
+        history: None,
+        deadline: q.deadline,
+        lifespan: q.lifespan,
+        liveliness: match q.liveliness {
+            cyc::Liveliness::Automatic => DdsLiveliness::Automatic,
+            cyc::Liveliness::ManualByTopic => DdsLiveliness::ManualByTopic,
+        },
+        liveliness_lease: q.liveliness_lease,
     }
 }
 
 /// The ROS view of a discovered endpoint's QoS, as for the rustdds backend: history is not
 /// carried by discovery, so it is UNKNOWN (see `Qos::from_dds`).
-pub(crate) fn discovered(q: &EndpointQos, kind: EndpointKind) -> Qos {
-    let reliability = match q.reliability {
-        cyc::Reliability::BestEffort => policy::Reliability::BestEffort,
-        cyc::Reliability::Reliable => policy::Reliability::Reliable {
-            max_blocking_time: dds_duration(Some(q.max_blocking_time)),
-        },
-    };
-    let durability = match q.durability {
-        cyc::Durability::Volatile => policy::Durability::Volatile,
-        cyc::Durability::TransientLocal => policy::Durability::TransientLocal,
-    };
-    let lease_duration = dds_duration(q.liveliness_lease);
-    let liveliness = match q.liveliness {
-        cyc::Liveliness::Automatic => policy::Liveliness::Automatic { lease_duration },
-        cyc::Liveliness::ManualByTopic => policy::Liveliness::ManualByTopic { lease_duration },
-    };
-    let policies = rustdds::QosPolicyBuilder::new()
-        .reliability(reliability)
-        .durability(durability)
-        .liveliness(liveliness)
-        .deadline(policy::Deadline(dds_duration(q.deadline)))
-        .lifespan(policy::Lifespan {
-            duration: dds_duration(q.lifespan),
-        })
-        .build();
-    Qos::from_dds(&policies, kind)
+pub(crate) fn discovered(q: &EndpointQos) -> Qos {
+    Qos::from_dds(&dds_qos(q))
 }
 
 /// `ros_discovery_info`'s QoS: RELIABLE, TRANSIENT_LOCAL, KEEP_LAST `depth` (0: KEEP_ALL).
@@ -115,7 +88,7 @@ pub(crate) fn discovery_info(depth: u32) -> EndpointQos {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::qos::{DurabilityPolicy, HistoryPolicy, ReliabilityPolicy};
+    use crate::qos::{DurabilityPolicy, EndpointKind, HistoryPolicy, ReliabilityPolicy};
 
     #[test]
     fn profiles_map_and_come_back() {
@@ -131,7 +104,14 @@ mod tests {
         assert_eq!(q.history, cyc::History::KeepLast(7));
         assert_eq!(q.deadline, Some(Duration::from_millis(250)));
         assert_eq!(q.lifespan, None);
-        let back = discovered(&q, EndpointKind::Writer);
+        assert_eq!(
+            dds_qos(&q),
+            DdsQos {
+                history: None,
+                ..dds
+            }
+        );
+        let back = discovered(&q);
         assert_eq!(back.reliability, ReliabilityPolicy::BestEffort);
         assert_eq!(back.durability, DurabilityPolicy::TransientLocal);
         assert_eq!(back.history, HistoryPolicy::Unknown);
@@ -145,5 +125,9 @@ mod tests {
         );
         assert_eq!(all.history, cyc::History::KeepAll);
         assert_eq!(all.reliability, cyc::Reliability::Reliable);
+        assert_eq!(
+            all.max_blocking_time,
+            crate::qos::RELIABLE_MAX_BLOCKING_TIME
+        );
     }
 }

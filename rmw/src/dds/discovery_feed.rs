@@ -436,7 +436,7 @@ fn endpoint_from_parts(
         kind,
         dds_topic_name: topic_name,
         dds_type_name: type_name,
-        qos: Qos::from_dds(qos, kind),
+        qos: Qos::from_dds(&super::qos::from_rustdds(qos, kind)),
         type_hash,
         user_data,
     }

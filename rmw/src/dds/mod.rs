@@ -4,6 +4,7 @@
 pub(crate) mod discovery_feed;
 pub(crate) mod discovery_info;
 pub(crate) mod participant;
+pub(crate) mod qos;
 pub(crate) mod raw;
 
 use std::sync::{Mutex, MutexGuard};

@@ -57,8 +57,8 @@ mod tests {
         // reports history UNKNOWN and DDS's infinite durations).
         let dds = Qos::default_profile()
             .to_dds(EndpointKind::Writer)
-            .unwrap_or_default();
-        let mut remote = Qos::from_dds(&dds, EndpointKind::Writer);
+            .expect("valid profile");
+        let mut remote = Qos::from_dds(&dds);
         remote.history = HistoryPolicy::Unknown;
         remote.depth = 0;
         assert_eq!(

@@ -1,9 +1,11 @@
-//! Mapping between [`Qos`] and rustdds [`QosPolicies`].
+//! [`DdsQos`]: an endpoint's DDS QoS in no DDS implementation's types, and the mapping between it
+//! and [`Qos`]. Each backend maps [`DdsQos`] to its own types (rustdds: `dds/qos.rs`; Cyclone DDS:
+//! `cyclone/qos.rs`).
 //!
 //! # ROS profile → DDS
 //! As rmw_cyclonedds_cpp `create_readwrite_qos` (`src/rmw_node.cpp`, jazzy), which gives every
 //! SYSTEM_DEFAULT a fixed value instead of leaving it to the DDS implementation:
-//! - history: KEEP_LAST / SYSTEM_DEFAULT → `KeepLast { depth }`, depth 0
+//! - history: KEEP_LAST / SYSTEM_DEFAULT → `KeepLast(depth)`, depth 0
 //!   (`RMW_QOS_POLICY_DEPTH_SYSTEM_DEFAULT`) → 1; KEEP_ALL → `KeepAll`;
 //! - reliability: RELIABLE / SYSTEM_DEFAULT → `Reliable` (max blocking time
 //!   [`RELIABLE_MAX_BLOCKING_TIME`]), BEST_EFFORT → `BestEffort`;
@@ -28,20 +30,16 @@
 //! # DDS → ROS profile
 //! As rmw_fastrtps_shared_cpp `rtps_qos_to_rmw_qos` / `dds_qos_to_rmw_qos` (`qos.hpp`) and
 //! rmw_cyclonedds `dds_qos_to_rmw_qos`, starting from `rmw_qos_profile_unknown` like their
-//! discovery listeners do. SEDP does not carry history, so a discovered endpoint (rustdds
-//! `DiscoveredWriterData::qos()` has no history) gives history UNKNOWN, depth 0, as rmw_fastrtps
-//! reports it; a local endpoint's policies carry history and give it back. A policy absent from
-//! the policies takes its DDS default (DDS 1.4 §2.2.3): reliability RELIABLE for a writer and
-//! BEST_EFFORT for a reader, durability VOLATILE, deadline / lifespan / lease infinite, liveliness
-//! AUTOMATIC. DDS TRANSIENT and PERSISTENT durability and MANUAL_BY_PARTICIPANT liveliness become
-//! UNKNOWN; negative durations become infinite (rmw `rmw_time_from_nsec`).
+//! discovery listeners do. SEDP does not carry history, so a discovered endpoint's [`DdsQos`]
+//! has none and gives history UNKNOWN, depth 0, as rmw_fastrtps reports it; a local endpoint's
+//! carries history and gives it back. (A policy absent from what discovery carried takes its DDS
+//! default, DDS 1.4 §2.2.3, when a backend reads it into a [`DdsQos`]: reliability RELIABLE for
+//! a writer and BEST_EFFORT for a reader, durability VOLATILE, deadline / lifespan / lease
+//! infinite, liveliness AUTOMATIC; negative durations become infinite, rmw
+//! `rmw_time_from_nsec`.) DDS TRANSIENT and PERSISTENT durability and MANUAL_BY_PARTICIPANT
+//! liveliness become UNKNOWN.
 
 use std::time::Duration;
-
-use rustdds::{
-    policy::{Durability, History, Liveliness, Reliability},
-    QosPolicies, QosPolicyBuilder,
-};
 
 use super::{
     DurabilityPolicy, HistoryPolicy, LivelinessPolicy, Qos, QosDuration, QosError,
@@ -53,7 +51,9 @@ use super::{
 /// writer's history is full.
 pub const RELIABLE_MAX_BLOCKING_TIME: Duration = Duration::from_millis(100);
 
-const NANOS_PER_SEC: i64 = 1_000_000_000;
+/// The longest finite DDS duration: `INT_MAX` s + 999999999 ns (rmw_dds_common
+/// `clamp_rmw_time_to_dds_time`).
+pub const MAX_DDS_DURATION: Duration = Duration::new(i32::MAX as u64, 999_999_999);
 
 /// Which kind of DDS endpoint a QoS belongs to (DDS defaults and BEST_AVAILABLE rules differ).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
@@ -64,136 +64,200 @@ pub enum EndpointKind {
     Reader,
 }
 
-/// A specified rmw duration as a DDS duration; `None` for unspecified.
-fn to_dds_duration(d: QosDuration) -> Option<rustdds::Duration> {
-    if d.is_default() {
+/// DDS RELIABILITY.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum DdsReliability {
+    /// Samples may be lost.
+    BestEffort,
+    /// Samples are repaired until acknowledged; a write blocks at most `max_blocking_time` on a
+    /// full history.
+    Reliable {
+        /// How long a write may block.
+        max_blocking_time: Duration,
+    },
+}
+
+/// DDS DURABILITY.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum DdsDurability {
+    /// Late joiners get nothing from before they matched.
+    Volatile,
+    /// The writer keeps its history for late joiners.
+    TransientLocal,
+    /// DDS TRANSIENT (no ROS equivalent).
+    Transient,
+    /// DDS PERSISTENT (no ROS equivalent).
+    Persistent,
+}
+
+/// DDS HISTORY.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum DdsHistory {
+    /// Keep the last `n` samples (at most `i32::MAX`, as DDS counts them).
+    KeepLast(u32),
+    /// Keep every sample (bounded by resource limits).
+    KeepAll,
+}
+
+/// DDS LIVELINESS kind.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum DdsLiveliness {
+    /// Asserted by the DDS implementation.
+    Automatic,
+    /// Asserted by the participant (no ROS equivalent).
+    ManualByParticipant,
+    /// Asserted by each write on the topic.
+    ManualByTopic,
+}
+
+/// An endpoint's DDS QoS, as a backend sets it on an entity or reads it from discovery.
+/// Durations are `None` when infinite.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct DdsQos {
+    /// RELIABILITY.
+    pub reliability: DdsReliability,
+    /// DURABILITY.
+    pub durability: DdsDurability,
+    /// HISTORY; `None` when discovery did not carry it (SEDP never does).
+    pub history: Option<DdsHistory>,
+    /// DEADLINE period.
+    pub deadline: Option<Duration>,
+    /// LIFESPAN duration.
+    pub lifespan: Option<Duration>,
+    /// LIVELINESS kind.
+    pub liveliness: DdsLiveliness,
+    /// LIVELINESS lease duration.
+    pub liveliness_lease: Option<Duration>,
+}
+
+impl DdsQos {
+    /// The DDS defaults (DDS 1.4 §2.2.3) for an endpoint of `kind` whose discovery data carried
+    /// no policy: RELIABLE for a writer and BEST_EFFORT for a reader, VOLATILE, AUTOMATIC,
+    /// infinite durations, no history.
+    pub fn dds_defaults(kind: EndpointKind) -> Self {
+        Self {
+            reliability: match kind {
+                EndpointKind::Writer => DdsReliability::Reliable {
+                    max_blocking_time: RELIABLE_MAX_BLOCKING_TIME,
+                },
+                EndpointKind::Reader => DdsReliability::BestEffort,
+            },
+            durability: DdsDurability::Volatile,
+            history: None,
+            deadline: None,
+            lifespan: None,
+            liveliness: DdsLiveliness::Automatic,
+            liveliness_lease: None,
+        }
+    }
+}
+
+/// A specified rmw duration as a DDS duration (`None`: infinite; unspecified is infinite too),
+/// clamped to [`MAX_DDS_DURATION`].
+fn dds_duration(d: QosDuration) -> Option<Duration> {
+    if d.is_default() || d.is_infinite() || d.is_best_available() {
         return None;
     }
-    if d.is_infinite() {
-        return Some(rustdds::Duration::INFINITE);
-    }
-    // rmw_dds_common clamp_rmw_time_to_dds_time: at most INT_MAX s + (10^9 - 1) ns.
-    let max = i64::from(i32::MAX) * NANOS_PER_SEC + (NANOS_PER_SEC - 1);
-    Some(rustdds::Duration::from_nanos(d.total_nanos().min(max)))
+    let nanos = Duration::from_nanos(u64::try_from(d.total_nanos()).unwrap_or(0));
+    Some(nanos.min(MAX_DDS_DURATION))
 }
 
 /// A DDS duration as an rmw duration (rmw_cyclonedds `dds_duration_to_rmw`).
-fn from_dds_duration(d: rustdds::Duration) -> QosDuration {
-    if d == rustdds::Duration::INFINITE {
-        return QosDuration::Infinite;
+fn qos_duration(d: Option<Duration>) -> QosDuration {
+    match d {
+        None => QosDuration::Infinite,
+        Some(d) => QosDuration::from_nanos(i64::try_from(d.as_nanos()).unwrap_or(i64::MAX)),
     }
-    // RTPS durations count 2^-32 s; rustdds's to_nanoseconds rounds down, so a value made by
-    // from_nanos(n) can come back as n - 1. Take the n that maps back to exactly `d`.
-    let nanos = d.to_nanoseconds();
-    let nanos = match nanos.checked_add(1) {
-        Some(up) if rustdds::Duration::from_nanos(up) == d => up,
-        _ => nanos,
-    };
-    QosDuration::from_nanos(nanos)
 }
 
 impl Qos {
-    /// The rustdds QoS policies for a DDS endpoint of `kind` with this profile (see the module
-    /// documentation for the mapping).
-    pub fn to_dds(&self, kind: EndpointKind) -> Result<QosPolicies, QosError> {
+    /// The DDS QoS of an endpoint of `kind` with this profile (see the module documentation for
+    /// the mapping).
+    pub fn to_dds(&self, kind: EndpointKind) -> Result<DdsQos, QosError> {
         let qos = match kind {
             EndpointKind::Writer => self.resolve_best_available_for_publisher(&[]),
             EndpointKind::Reader => self.resolve_best_available_for_subscription(&[]),
         };
-        let mut builder = QosPolicyBuilder::new()
-            .history(qos.dds_history()?)
-            .reliability(qos.dds_reliability()?)
-            .durability(qos.dds_durability()?)
-            .liveliness(qos.dds_liveliness()?);
-        if let Some(d) = to_dds_duration(qos.deadline) {
-            builder = builder.deadline(rustdds::policy::Deadline(d));
-        }
-        if let Some(duration) = to_dds_duration(qos.lifespan) {
-            builder = builder.lifespan(rustdds::policy::Lifespan { duration });
-        }
-        Ok(builder.build())
+        // In the order rmw_cyclonedds' `create_readwrite_qos` sets them: history first.
+        let history = Some(qos.dds_history()?);
+        Ok(DdsQos {
+            history,
+            reliability: qos.dds_reliability()?,
+            durability: qos.dds_durability()?,
+            deadline: dds_duration(qos.deadline),
+            lifespan: dds_duration(qos.lifespan),
+            liveliness: qos.dds_liveliness()?,
+            liveliness_lease: dds_duration(qos.liveliness_lease_duration),
+        })
     }
 
-    /// The ROS view of a DDS endpoint's QoS policies: a discovered endpoint's (history then
-    /// UNKNOWN) or a local one's (see the module documentation).
-    pub fn from_dds(policies: &QosPolicies, kind: EndpointKind) -> Qos {
+    /// The ROS view of an endpoint's DDS QoS: a discovered endpoint's (history then UNKNOWN) or
+    /// a local one's (see the module documentation).
+    pub fn from_dds(dds: &DdsQos) -> Qos {
         let mut qos = Qos::unknown();
-        (qos.history, qos.depth) = match policies.history() {
+        (qos.history, qos.depth) = match dds.history {
             None => (HistoryPolicy::Unknown, 0),
-            Some(History::KeepLast { depth }) => {
+            Some(DdsHistory::KeepLast(depth)) => {
                 (HistoryPolicy::KeepLast, usize::try_from(depth).unwrap_or(0))
             }
             // rmw_cyclonedds reports KEEP_ALL with depth 0.
-            Some(History::KeepAll) => (HistoryPolicy::KeepAll, 0),
+            Some(DdsHistory::KeepAll) => (HistoryPolicy::KeepAll, 0),
         };
-        qos.reliability = match (policies.reliability(), kind) {
-            (Some(Reliability::Reliable { .. }), _) | (None, EndpointKind::Writer) => {
-                ReliabilityPolicy::Reliable
-            }
-            (Some(Reliability::BestEffort), _) | (None, EndpointKind::Reader) => {
-                ReliabilityPolicy::BestEffort
-            }
+        qos.reliability = match dds.reliability {
+            DdsReliability::Reliable { .. } => ReliabilityPolicy::Reliable,
+            DdsReliability::BestEffort => ReliabilityPolicy::BestEffort,
         };
-        qos.durability = match policies.durability() {
-            None | Some(Durability::Volatile) => DurabilityPolicy::Volatile,
-            Some(Durability::TransientLocal) => DurabilityPolicy::TransientLocal,
-            Some(Durability::Transient | Durability::Persistent) => DurabilityPolicy::Unknown,
+        qos.durability = match dds.durability {
+            DdsDurability::Volatile => DurabilityPolicy::Volatile,
+            DdsDurability::TransientLocal => DurabilityPolicy::TransientLocal,
+            DdsDurability::Transient | DdsDurability::Persistent => DurabilityPolicy::Unknown,
         };
-        qos.deadline = policies
-            .deadline()
-            .map_or(QosDuration::Infinite, |d| from_dds_duration(d.0));
-        qos.lifespan = policies
-            .lifespan()
-            .map_or(QosDuration::Infinite, |l| from_dds_duration(l.duration));
-        (qos.liveliness, qos.liveliness_lease_duration) = match policies.liveliness() {
-            None => (LivelinessPolicy::Automatic, QosDuration::Infinite),
-            Some(l) => {
-                let kind = match l {
-                    Liveliness::Automatic { .. } => LivelinessPolicy::Automatic,
-                    Liveliness::ManualByTopic { .. } => LivelinessPolicy::ManualByTopic,
-                    Liveliness::ManualByParticipant { .. } => LivelinessPolicy::Unknown,
-                };
-                (kind, from_dds_duration(l.duration()))
-            }
+        qos.deadline = qos_duration(dds.deadline);
+        qos.lifespan = qos_duration(dds.lifespan);
+        qos.liveliness = match dds.liveliness {
+            DdsLiveliness::Automatic => LivelinessPolicy::Automatic,
+            DdsLiveliness::ManualByTopic => LivelinessPolicy::ManualByTopic,
+            DdsLiveliness::ManualByParticipant => LivelinessPolicy::Unknown,
         };
+        qos.liveliness_lease_duration = qos_duration(dds.liveliness_lease);
         qos
     }
 
-    fn dds_history(&self) -> Result<History, QosError> {
+    fn dds_history(&self) -> Result<DdsHistory, QosError> {
         match self.history {
             HistoryPolicy::KeepLast | HistoryPolicy::SystemDefault => {
                 let depth = i32::try_from(self.depth.max(1))
                     .map_err(|_| QosError::DepthTooLarge(self.depth))?;
-                Ok(History::KeepLast { depth })
+                Ok(DdsHistory::KeepLast(depth.unsigned_abs()))
             }
-            HistoryPolicy::KeepAll => Ok(History::KeepAll),
+            HistoryPolicy::KeepAll => Ok(DdsHistory::KeepAll),
             HistoryPolicy::Unknown => Err(QosError::UnknownPolicy { policy: "history" }),
         }
     }
 
-    fn dds_reliability(&self) -> Result<Reliability, QosError> {
+    fn dds_reliability(&self) -> Result<DdsReliability, QosError> {
         match self.reliability {
             ReliabilityPolicy::Reliable
             | ReliabilityPolicy::SystemDefault
             // Unreachable after resolution; RELIABLE is what both resolutions pick alone.
-            | ReliabilityPolicy::BestAvailable => Ok(Reliability::Reliable {
-                max_blocking_time: RELIABLE_MAX_BLOCKING_TIME.into(),
+            | ReliabilityPolicy::BestAvailable => Ok(DdsReliability::Reliable {
+                max_blocking_time: RELIABLE_MAX_BLOCKING_TIME,
             }),
-            ReliabilityPolicy::BestEffort => Ok(Reliability::BestEffort),
+            ReliabilityPolicy::BestEffort => Ok(DdsReliability::BestEffort),
             ReliabilityPolicy::Unknown => Err(QosError::UnknownPolicy {
                 policy: "reliability",
             }),
         }
     }
 
-    fn dds_durability(&self) -> Result<Durability, QosError> {
+    fn dds_durability(&self) -> Result<DdsDurability, QosError> {
         match self.durability {
             DurabilityPolicy::Volatile | DurabilityPolicy::SystemDefault => {
-                Ok(Durability::Volatile)
+                Ok(DdsDurability::Volatile)
             }
             // BEST_AVAILABLE is unreachable after resolution.
             DurabilityPolicy::TransientLocal | DurabilityPolicy::BestAvailable => {
-                Ok(Durability::TransientLocal)
+                Ok(DdsDurability::TransientLocal)
             }
             DurabilityPolicy::Unknown => Err(QosError::UnknownPolicy {
                 policy: "durability",
@@ -201,22 +265,29 @@ impl Qos {
         }
     }
 
-    fn dds_liveliness(&self) -> Result<Liveliness, QosError> {
-        let lease_duration = if self.liveliness_lease_duration.is_best_available() {
-            // Unreachable after resolution.
-            rustdds::Duration::INFINITE
-        } else {
-            to_dds_duration(self.liveliness_lease_duration).unwrap_or(rustdds::Duration::INFINITE)
-        };
+    fn dds_liveliness(&self) -> Result<DdsLiveliness, QosError> {
         match self.liveliness {
             // BEST_AVAILABLE is unreachable after resolution.
             LivelinessPolicy::Automatic
             | LivelinessPolicy::SystemDefault
-            | LivelinessPolicy::BestAvailable => Ok(Liveliness::Automatic { lease_duration }),
-            LivelinessPolicy::ManualByTopic => Ok(Liveliness::ManualByTopic { lease_duration }),
+            | LivelinessPolicy::BestAvailable => Ok(DdsLiveliness::Automatic),
+            LivelinessPolicy::ManualByTopic => Ok(DdsLiveliness::ManualByTopic),
             LivelinessPolicy::Unknown => Err(QosError::UnknownPolicy {
                 policy: "liveliness",
             }),
+        }
+    }
+
+    /// The profile an endpoint created with `self` really has, as rmw reports its own endpoints
+    /// (`dds_qos_to_rmw_qos` of the created entity): system defaults and default durations
+    /// resolved to what DDS applies (e.g. AUTOMATIC liveliness, infinite durations).
+    pub fn effective(&self, kind: EndpointKind) -> Qos {
+        match self.to_dds(kind) {
+            Ok(dds) => Qos {
+                avoid_ros_namespace_conventions: self.avoid_ros_namespace_conventions,
+                ..Qos::from_dds(&dds)
+            },
+            Err(_) => *self,
         }
     }
 }
@@ -225,29 +296,7 @@ impl Qos {
 mod tests {
     use super::*;
 
-    /// What SEDP carries of a local endpoint's policies: no history, no resource limits
-    /// (rustdds `sedp_messages.rs` `qos()`).
-    fn as_discovered(p: &QosPolicies) -> QosPolicies {
-        let mut b = QosPolicyBuilder::new();
-        if let Some(x) = p.durability() {
-            b = b.durability(x);
-        }
-        if let Some(x) = p.deadline() {
-            b = b.deadline(x);
-        }
-        if let Some(x) = p.liveliness() {
-            b = b.liveliness(x);
-        }
-        if let Some(x) = p.reliability() {
-            b = b.reliability(x);
-        }
-        if let Some(x) = p.lifespan() {
-            b = b.lifespan(x);
-        }
-        b.build()
-    }
-
-    fn to_dds(q: &Qos, kind: EndpointKind) -> QosPolicies {
+    fn to_dds(q: &Qos, kind: EndpointKind) -> DdsQos {
         match q.to_dds(kind) {
             Ok(p) => p,
             Err(e) => panic!("{q:?} did not convert: {e}"),
@@ -257,41 +306,34 @@ mod tests {
     #[test]
     fn default_profile_to_dds() {
         let p = to_dds(&Qos::default_profile(), EndpointKind::Writer);
-        assert_eq!(p.history(), Some(History::KeepLast { depth: 10 }));
+        assert_eq!(p.history, Some(DdsHistory::KeepLast(10)));
         assert_eq!(
-            p.reliability(),
-            Some(Reliability::Reliable {
-                max_blocking_time: RELIABLE_MAX_BLOCKING_TIME.into()
-            })
+            p.reliability,
+            DdsReliability::Reliable {
+                max_blocking_time: RELIABLE_MAX_BLOCKING_TIME
+            }
         );
-        assert_eq!(p.durability(), Some(Durability::Volatile));
-        assert_eq!(
-            p.liveliness(),
-            Some(Liveliness::Automatic {
-                lease_duration: rustdds::Duration::INFINITE
-            })
-        );
-        assert_eq!(p.deadline(), None);
-        assert_eq!(p.lifespan(), None);
+        assert_eq!(p.durability, DdsDurability::Volatile);
+        assert_eq!(p.liveliness, DdsLiveliness::Automatic);
+        assert_eq!(p.liveliness_lease, None);
+        assert_eq!(p.deadline, None);
+        assert_eq!(p.lifespan, None);
     }
 
     #[test]
     fn system_default_maps_like_rmw_cyclonedds() {
         for kind in [EndpointKind::Writer, EndpointKind::Reader] {
             let p = to_dds(&Qos::system_default(), kind);
-            assert_eq!(p.history(), Some(History::KeepLast { depth: 1 }));
-            assert!(p.is_reliable());
-            assert!(p.is_volatile());
-            assert!(matches!(p.liveliness(), Some(Liveliness::Automatic { .. })));
+            assert_eq!(p.history, Some(DdsHistory::KeepLast(1)));
+            assert!(matches!(p.reliability, DdsReliability::Reliable { .. }));
+            assert_eq!(p.durability, DdsDurability::Volatile);
+            assert_eq!(p.liveliness, DdsLiveliness::Automatic);
         }
     }
 
     #[test]
     fn best_available_resolved_as_with_no_endpoints() {
-        let w = Qos::from_dds(
-            &to_dds(&Qos::best_available(), EndpointKind::Writer),
-            EndpointKind::Writer,
-        );
+        let w = Qos::from_dds(&to_dds(&Qos::best_available(), EndpointKind::Writer));
         assert_eq!(
             (w.reliability, w.durability, w.liveliness),
             (
@@ -300,10 +342,7 @@ mod tests {
                 LivelinessPolicy::Automatic
             )
         );
-        let r = Qos::from_dds(
-            &to_dds(&Qos::best_available(), EndpointKind::Reader),
-            EndpointKind::Reader,
-        );
+        let r = Qos::from_dds(&to_dds(&Qos::best_available(), EndpointKind::Reader));
         assert_eq!(r.liveliness, LivelinessPolicy::ManualByTopic);
         assert_eq!(r.deadline, QosDuration::Infinite);
     }
@@ -352,7 +391,7 @@ mod tests {
                 Qos::action_status_default(),
                 custom,
             ] {
-                let back = Qos::from_dds(&to_dds(&q, kind), kind);
+                let back = Qos::from_dds(&to_dds(&q, kind));
                 let expected = Qos {
                     depth: if q.history == HistoryPolicy::KeepAll {
                         0
@@ -388,18 +427,20 @@ mod tests {
 
     #[test]
     fn discovered_endpoint_has_unknown_history() {
-        let local = to_dds(&Qos::default_profile(), EndpointKind::Writer);
-        let remote = Qos::from_dds(&as_discovered(&local), EndpointKind::Writer);
+        let discovered = DdsQos {
+            history: None,
+            ..to_dds(&Qos::default_profile(), EndpointKind::Writer)
+        };
+        let remote = Qos::from_dds(&discovered);
         assert_eq!((remote.history, remote.depth), (HistoryPolicy::Unknown, 0));
         assert_eq!(remote.reliability, ReliabilityPolicy::Reliable);
         assert_eq!(remote.durability, DurabilityPolicy::Volatile);
     }
 
     #[test]
-    fn absent_policies_take_dds_defaults_per_kind() {
-        let empty = QosPolicies::qos_none();
-        let w = Qos::from_dds(&empty, EndpointKind::Writer);
-        let r = Qos::from_dds(&empty, EndpointKind::Reader);
+    fn dds_defaults_per_kind() {
+        let w = Qos::from_dds(&DdsQos::dds_defaults(EndpointKind::Writer));
+        let r = Qos::from_dds(&DdsQos::dds_defaults(EndpointKind::Reader));
         assert_eq!(w.reliability, ReliabilityPolicy::Reliable);
         assert_eq!(r.reliability, ReliabilityPolicy::BestEffort);
         for q in [w, r] {
@@ -414,73 +455,30 @@ mod tests {
 
     #[test]
     fn non_ros_dds_policies_become_unknown() {
-        let p = QosPolicyBuilder::new()
-            .durability(Durability::Persistent)
-            .liveliness(Liveliness::ManualByParticipant {
-                lease_duration: rustdds::Duration::from_secs(2),
-            })
-            .deadline(rustdds::policy::Deadline(
-                rustdds::Duration::from_frac_seconds(-1.0),
-            ))
-            .build();
-        let q = Qos::from_dds(&p, EndpointKind::Reader);
+        let q = Qos::from_dds(&DdsQos {
+            durability: DdsDurability::Persistent,
+            liveliness: DdsLiveliness::ManualByParticipant,
+            liveliness_lease: Some(Duration::from_secs(2)),
+            ..DdsQos::dds_defaults(EndpointKind::Reader)
+        });
         assert_eq!(q.durability, DurabilityPolicy::Unknown);
         assert_eq!(q.liveliness, LivelinessPolicy::Unknown);
         assert_eq!(q.liveliness_lease_duration.to_rmw_time(), (2, 0));
-        assert!(q.deadline.is_infinite());
     }
 
     #[test]
-    fn durations_round_trip_exactly() {
-        for nanos in [
-            1,
-            2,
-            999,
-            1_000_000,
-            100_000_000,
-            123_456_789,
-            999_999_999,
-            1_000_000_001,
-            86_400_000_000_007,
-            i64::from(i32::MAX) * NANOS_PER_SEC + 999_999_999,
-        ] {
-            let d = QosDuration::from_nanos(nanos);
-            let dds = to_dds_duration(d).map(from_dds_duration);
-            assert_eq!(dds, Some(d), "{nanos} ns");
-        }
+    fn durations_are_clamped_to_dds_range() {
+        assert_eq!(dds_duration(QosDuration::Infinite), None);
+        assert_eq!(dds_duration(QosDuration::Default), None);
         assert_eq!(
-            to_dds_duration(QosDuration::Infinite),
-            Some(rustdds::Duration::INFINITE)
+            dds_duration(QosDuration::from_nanos(123_456_789)),
+            Some(Duration::from_nanos(123_456_789))
         );
-        assert_eq!(to_dds_duration(QosDuration::Default), None);
-        // Beyond DDS's range: clamped to INT_MAX s + 999999999 ns.
-        let clamped =
-            to_dds_duration(QosDuration::from_rmw_time(3_000_000_000, 0)).map(from_dds_duration);
         assert_eq!(
-            clamped,
-            Some(QosDuration::from_rmw_time(2_147_483_647, 999_999_999))
+            qos_duration(dds_duration(QosDuration::from_rmw_time(3_000_000_000, 0))),
+            QosDuration::from_rmw_time(2_147_483_647, 999_999_999)
         );
     }
-}
-
-impl Qos {
-    /// The profile an endpoint created with `self` really has, as rmw reports its own endpoints
-    /// (`dds_qos_to_rmw_qos` of the created entity): system defaults and default durations
-    /// resolved to what DDS applies (e.g. AUTOMATIC liveliness, infinite durations).
-    pub fn effective(&self, kind: EndpointKind) -> Qos {
-        match self.to_dds(kind) {
-            Ok(policies) => Qos {
-                avoid_ros_namespace_conventions: self.avoid_ros_namespace_conventions,
-                ..Qos::from_dds(&policies, kind)
-            },
-            Err(_) => *self,
-        }
-    }
-}
-
-#[cfg(test)]
-mod effective_tests {
-    use super::*;
 
     #[test]
     fn system_defaults_resolve_to_what_dds_applies() {

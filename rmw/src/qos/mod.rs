@@ -1,4 +1,4 @@
-//! ROS 2 QoS profiles (`rmw_qos_profile_t`) and their mapping to and from rustdds QoS.
+//! ROS 2 QoS profiles (`rmw_qos_profile_t`) and their mapping to and from DDS QoS ([`DdsQos`]).
 //!
 //! Follows ROS 2 Jazzy:
 //! - profile layout and policy enums: rmw `include/rmw/types.h`, `include/rmw/time.h`;
@@ -22,7 +22,10 @@ mod profile;
 mod profiles;
 
 pub use compatibility::{check_compatible, QosCompatibility};
-pub use dds::{EndpointKind, RELIABLE_MAX_BLOCKING_TIME};
+pub use dds::{
+    DdsDurability, DdsHistory, DdsLiveliness, DdsQos, DdsReliability, EndpointKind,
+    MAX_DDS_DURATION, RELIABLE_MAX_BLOCKING_TIME,
+};
 pub use duration::QosDuration;
 pub use error::QosError;
 pub use policy::{DurabilityPolicy, HistoryPolicy, LivelinessPolicy, ReliabilityPolicy};
