@@ -9,6 +9,8 @@ use std::time::{Duration, Instant};
 
 use horus_ros_services::prelude::*;
 
+mod common;
+
 const DOMAIN: u32 = 225;
 const WAIT: Duration = Duration::from_secs(30);
 
@@ -20,14 +22,7 @@ struct Running {
 
 impl Running {
     fn start(name: &str) -> Self {
-        let exe = std::env::current_exe().expect("current exe");
-        let dir = exe
-            .parent()
-            .and_then(|deps| deps.parent())
-            .expect("target/<profile>");
-        let path = dir.join("examples").join(name);
-        assert!(path.exists(), "{} not built", path.display());
-        let mut child = Command::new(path)
+        let mut child = Command::new(common::example_path(name))
             .env("ROS_DOMAIN_ID", DOMAIN.to_string())
             .stdout(Stdio::piped())
             .stderr(Stdio::inherit())

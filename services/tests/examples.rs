@@ -1,0 +1,115 @@
+//! Runs the crate's examples as the programs they are (separate processes, inside the test
+//! network namespace) and checks what they print and how they exit. `async_node` has a test of
+//! its own (`async_example.rs`).
+
+use std::process::{Command, Output, Stdio};
+use std::sync::mpsc;
+use std::time::Duration;
+
+mod common;
+
+/// The longest an example may run.
+const LIMIT: Duration = Duration::from_secs(60);
+
+/// Runs example `name` with `args` on `domain` to its end (killed after [`LIMIT`]); its
+/// output, stdout and stderr together.
+fn run(name: &str, args: &[&str], domain: u32) -> (Output, String) {
+    let child = Command::new(common::example_path(name))
+        .args(args)
+        .env("ROS_DOMAIN_ID", domain.to_string())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap_or_else(|e| panic!("spawn {name}: {e}"));
+    let pid = child.id();
+    let (tx, rx) = mpsc::channel();
+    std::thread::spawn(move || {
+        let _ = tx.send(child.wait_with_output());
+    });
+    let output = match rx.recv_timeout(LIMIT) {
+        Ok(output) => output.unwrap_or_else(|e| panic!("{name}: {e}")),
+        Err(_) => {
+            // Ends the waiting thread too.
+            let _ = Command::new("kill").arg(pid.to_string()).status();
+            panic!("{name} still running after {LIMIT:?}");
+        }
+    };
+    let text = format!(
+        "{}{}",
+        String::from_utf8_lossy(&output.stdout),
+        String::from_utf8_lossy(&output.stderr)
+    );
+    (output, text)
+}
+
+fn assert_ran(name: &str, output: &Output, text: &str, lines: &[&str]) {
+    assert!(
+        output.status.success(),
+        "{name} exited {}: {text}",
+        output.status
+    );
+    for line in lines {
+        assert!(text.contains(line), "{name} did not print {line:?}: {text}");
+    }
+}
+
+#[test]
+fn the_add_two_ints_client_gets_its_sum_from_the_add_two_ints_server() {
+    let server = std::thread::spawn(|| run("add_two_ints_server", &["--count", "1"], 226));
+    let (output, text) = run("add_two_ints_client", &["40", "2"], 226);
+    assert_ran(
+        "add_two_ints_client",
+        &output,
+        &text,
+        &["Result of add_two_ints: 42"],
+    );
+    let (output, text) = server.join().expect("server thread");
+    assert_ran("add_two_ints_server", &output, &text, &["a: 40 b: 2"]);
+}
+
+#[test]
+fn get_joint_limits_answers_and_reports_the_failed_joint() {
+    let (output, text) = run("get_joint_limits", &[], 227);
+    assert_ran(
+        "get_joint_limits",
+        &output,
+        &text,
+        &[
+            "Elbow limits: [0.00, 2.61] rad",
+            "Gripper: the server said: Unknown joint: gripper",
+        ],
+    );
+}
+
+#[test]
+fn get_map_region_shows_each_outcome() {
+    let (output, text) = run("get_map_region", &[], 228);
+    assert_ran(
+        "get_map_region",
+        &output,
+        &text,
+        &[
+            "Map: 200x200 pixels",
+            "ServiceFailed after",
+            "Resolution must be positive",
+            "/archived_map: No server available",
+            "served 3 requests, 3 failed",
+        ],
+    );
+}
+
+#[test]
+fn async_client_loop_never_blocks_its_ticks() {
+    let (output, text) = run("async_client_loop", &[], 229);
+    assert_ran(
+        "async_client_loop",
+        &output,
+        &text,
+        &[
+            "expired",
+            "none blocked by a call",
+            "awaited: 10 + 20 = 30, then 30 + 12 = 42",
+            "wait(): 5 + 8 = 13",
+        ],
+    );
+}
