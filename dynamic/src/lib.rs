@@ -461,6 +461,32 @@ mod tests {
         }
     }
 
+    #[test]
+    fn char_values_fit_their_eight_or_sixteen_bits() {
+        // A `char` default beyond 8 bits once filled a value the encoder refused (found by
+        // fuzzing): such a default is not used.
+        let mut c = field("c", FieldType::FIELD_TYPE_CHAR, 0, "");
+        c.default_value = "\u{100}".to_owned();
+        let w = field("w", FieldType::FIELD_TYPE_WCHAR, 0, "");
+        let d = description(vec![("p/msg/C".to_owned(), vec![c, w])]);
+        let schema = Schema::from_description(&d).expect("schema");
+        let value = schema.default_value("p/msg/C").expect("default");
+        assert_eq!(
+            value,
+            Value::Struct(vec![
+                Value::Str("\0".to_owned()),
+                Value::Str("\0".to_owned())
+            ])
+        );
+        assert!(cdr::encode(&schema, "p/msg/C", &value).is_ok());
+        let filled = yaml::fill_from_yaml(&schema, "p/msg/C", "{c: 'é', w: '€'}").expect("fits");
+        let body = cdr::encode(&schema, "p/msg/C", &filled).expect("encodes");
+        assert_eq!(cdr::decode(&schema, "p/msg/C", &body, false), Ok(filled));
+        assert!(yaml::fill_from_yaml(&schema, "p/msg/C", "{c: '€'}").is_err());
+        assert!(yaml::fill_from_yaml(&schema, "p/msg/C", "{w: '😀'}").is_err());
+        assert!(yaml::fill_from_yaml(&schema, "p/msg/C", "{c: 300}").is_err());
+    }
+
     /// A description of `types` (name, fields), the first being the main one.
     fn description(types: Vec<(String, Vec<Field>)>) -> TypeDescription {
         let mut all = types

@@ -315,16 +315,25 @@ fn convert_elem(schema: &Schema, e: &Elem, y: &Yaml) -> Result<Value, ElemError>
             }
             Ok(Value::Str(s))
         }
-        Elem::Char | Elem::WChar => match y {
-            Yaml::String(s) if s.chars().count() == 1 => Ok(Value::Str(s.clone())),
-            Yaml::Integer(i) => u32::try_from(*i)
-                .ok()
-                .filter(|c| *c < if *e == Elem::Char { 256 } else { 65536 })
-                .and_then(char::from_u32)
+        Elem::Char | Elem::WChar => {
+            // One character that CDR can carry: 8 bits for `char`, one UTF-16 unit for `wchar`
+            // (as one character string or as its code).
+            let limit = if *e == Elem::Char { 256 } else { 65536 };
+            let c = match y {
+                Yaml::String(s) => {
+                    let mut chars = s.chars();
+                    match (chars.next(), chars.next()) {
+                        (Some(c), None) => Some(c),
+                        _ => None,
+                    }
+                }
+                Yaml::Integer(i) => u32::try_from(*i).ok().and_then(char::from_u32),
+                _ => None,
+            };
+            c.filter(|c| u32::from(*c) < limit)
                 .map(|c| Value::Str(c.to_string()))
-                .ok_or(ElemError::Type),
-            _ => Err(ElemError::Type),
-        },
+                .ok_or(ElemError::Type)
+        }
         Elem::Byte => match y {
             Yaml::Integer(i) => u8::try_from(*i)
                 .map(Value::Byte)
