@@ -13,6 +13,9 @@ use crate::{cdr, json, repr, sub_description, yaml, Schema, SchemaError, Value};
 #[derive(Clone, Debug)]
 pub struct ServiceType {
     name: String,
+    /// `pkg/srv/Name_Request` and `pkg/srv/Name_Response`, made once.
+    request_type: String,
+    response_type: String,
     schema: Schema,
     request: TypeDescription,
     response: TypeDescription,
@@ -41,6 +44,8 @@ impl ServiceType {
         schema.check(&resp_name)?;
         Ok(Self {
             name: service_type.to_owned(),
+            request_type: req_name,
+            response_type: resp_name,
             schema,
             request,
             response,
@@ -64,13 +69,13 @@ impl ServiceType {
     }
 
     /// The request type's name (`pkg/srv/Name_Request`).
-    pub fn request_type(&self) -> String {
-        format!("{}{REQUEST_SUFFIX}", self.name)
+    pub fn request_type(&self) -> &str {
+        &self.request_type
     }
 
     /// The response type's name (`pkg/srv/Name_Response`).
-    pub fn response_type(&self) -> String {
-        format!("{}{RESPONSE_SUFFIX}", self.name)
+    pub fn response_type(&self) -> &str {
+        &self.response_type
     }
 
     /// The request type's full description.
@@ -93,37 +98,37 @@ impl ServiceType {
 
     /// A request filled from ros2cli's YAML (`service call`'s values: `'{a: 1, b: 2}'`).
     pub fn request_from_yaml(&self, text: &str) -> Result<Value, String> {
-        yaml::fill_from_yaml(&self.schema, &self.request_type(), text)
+        yaml::fill_from_yaml(&self.schema, &self.request_type, text)
     }
 
     /// A request filled from a JSON object of its fields (checked as YAML values are).
     pub fn request_from_json(&self, value: &serde_json::Value) -> Result<Value, String> {
-        json::fill_from_json(&self.schema, &self.request_type(), value)
+        json::fill_from_json(&self.schema, &self.request_type, value)
     }
 
     /// The request's CDR body (little-endian, no encapsulation header).
     pub fn encode_request(&self, request: &Value) -> Result<Vec<u8>, String> {
-        cdr::encode(&self.schema, &self.request_type(), request)
+        cdr::encode(&self.schema, &self.request_type, request)
     }
 
     /// A response decoded from its CDR body.
     pub fn decode_response(&self, body: &[u8], big_endian: bool) -> Result<Value, String> {
-        cdr::decode(&self.schema, &self.response_type(), body, big_endian)
+        cdr::decode(&self.schema, &self.response_type, body, big_endian)
     }
 
     /// A response as a JSON object of its fields.
     pub fn response_to_json(&self, response: &Value) -> serde_json::Value {
-        json::to_json(&self.schema, &self.response_type(), response)
+        json::to_json(&self.schema, &self.response_type, response)
     }
 
     /// A request as Python's `repr` shows it (what `service call` prints).
     pub fn request_repr(&self, request: &Value) -> String {
-        repr::repr(&self.schema, &self.request_type(), request)
+        repr::repr(&self.schema, &self.request_type, request)
     }
 
     /// A response as Python's `repr` shows it.
     pub fn response_repr(&self, response: &Value) -> String {
-        repr::repr(&self.schema, &self.response_type(), response)
+        repr::repr(&self.schema, &self.response_type, response)
     }
 }
 
@@ -218,7 +223,7 @@ mod tests {
             {"name": "names", "value": {"type": 9, "string_array_value": ["a", "b"]}}
         ]});
         let request = ty.request_from_json(&json).expect("json");
-        let again = json::to_json(ty.schema(), &ty.request_type(), &request);
+        let again = json::to_json(ty.schema(), ty.request_type(), &request);
         assert_eq!(again["parameters"][0]["name"], "speed");
         assert_eq!(again["parameters"][0]["value"]["double_value"], 1.5);
         assert_eq!(

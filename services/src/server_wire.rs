@@ -6,7 +6,7 @@
 use std::ops::Deref;
 use std::sync::Arc;
 
-use horus_ros_graph::{Graph, GraphView, GraphWatcher};
+use horus_ros_graph::{GraphView, GraphWatcher};
 use horus_ros_rmw::names::ServiceName;
 use horus_ros_rmw::service::{Server, WireFlavour};
 use horus_ros_rmw::{Gid, RawReaderWaker};
@@ -58,17 +58,13 @@ impl ServerWire {
             server: Arc::clone(&server),
             waker,
         });
-        watch_graph(&runtime.graph, &watch);
+        let weak: std::sync::Weak<dyn GraphWatcher> = Arc::downgrade(&watch) as _;
+        runtime.graph.watch(weak);
         Self {
             server,
             _watch: watch,
         }
     }
-}
-
-fn watch_graph(graph: &Graph, watch: &Arc<ParkWatch>) {
-    let weak: std::sync::Weak<dyn GraphWatcher> = Arc::downgrade(watch) as _;
-    graph.watch(weak);
 }
 
 impl Deref for ServerWire {

@@ -146,13 +146,7 @@ mod tests {
 
     #[test]
     fn profiles_survive_rustdds_and_sedp() {
-        let custom = Qos::sensor_data()
-            .keep_all()
-            .transient_local()
-            .with_deadline(Duration::from_millis(100))
-            .with_lifespan(Duration::new(3, 123_456_789))
-            .with_liveliness(LivelinessPolicy::ManualByTopic)
-            .with_liveliness_lease_duration(Duration::from_nanos(1));
+        let custom = crate::qos::unusual_profile();
         for kind in [EndpointKind::Writer, EndpointKind::Reader] {
             for q in [Qos::default_profile(), Qos::services_default(), custom] {
                 let dds = q.to_dds(kind).expect("valid profile");

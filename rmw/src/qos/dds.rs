@@ -292,6 +292,18 @@ impl Qos {
     }
 }
 
+/// A profile with every policy away from its default (for the mapping tests of both backends).
+#[cfg(test)]
+pub(crate) fn unusual_profile() -> Qos {
+    Qos::sensor_data()
+        .keep_all()
+        .transient_local()
+        .with_deadline(Duration::from_millis(100))
+        .with_lifespan(Duration::new(3, 123_456_789))
+        .with_liveliness(LivelinessPolicy::ManualByTopic)
+        .with_liveliness_lease_duration(Duration::from_nanos(1))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -373,13 +385,7 @@ mod tests {
     #[test]
     fn round_trip_local_endpoint() {
         // Unspecified durations come back as DDS's infinite, as ROS reports them.
-        let custom = Qos::sensor_data()
-            .keep_all()
-            .transient_local()
-            .with_deadline(Duration::from_millis(100))
-            .with_lifespan(Duration::new(3, 123_456_789))
-            .with_liveliness(LivelinessPolicy::ManualByTopic)
-            .with_liveliness_lease_duration(Duration::from_nanos(1));
+        let custom = unusual_profile();
         for kind in [EndpointKind::Writer, EndpointKind::Reader] {
             for q in [
                 Qos::default_profile(),

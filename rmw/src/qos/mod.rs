@@ -22,6 +22,8 @@ mod profile;
 mod profiles;
 
 pub use compatibility::{check_compatible, QosCompatibility};
+#[cfg(test)]
+pub(crate) use dds::unusual_profile;
 pub use dds::{
     DdsDurability, DdsHistory, DdsLiveliness, DdsQos, DdsReliability, EndpointKind,
     MAX_DDS_DURATION, RELIABLE_MAX_BLOCKING_TIME,

@@ -175,16 +175,21 @@ impl DynamicServiceClient {
             name,
             service_type.name(),
             DynamicPart {
-                dds_type_name: dds_type_name(&service_type.request_type()),
+                dds_type_name: dds_type_name(service_type.request_type()),
                 type_hash: request_hash,
             },
             DynamicPart {
-                dds_type_name: dds_type_name(&service_type.response_type()),
+                dds_type_name: dds_type_name(service_type.response_type()),
                 type_hash: response_hash,
             },
         );
         builder.schema = Some(Arc::new(service_type));
         builder
+    }
+
+    /// The run-time service type, for a call with values.
+    fn schema(&self) -> Result<Arc<ServiceType>, DynamicCallError> {
+        self.schema.clone().ok_or(DynamicCallError::NoSchema)
     }
 
     /// The run-time service type, when the client was built with [`for_type`](Self::for_type).
@@ -226,7 +231,7 @@ impl DynamicServiceClient {
         request: &Value,
         timeout: Duration,
     ) -> Result<Value, DynamicCallError> {
-        let schema = Arc::clone(self.schema.as_ref().ok_or(DynamicCallError::NoSchema)?);
+        let schema = self.schema()?;
         let body = schema
             .encode_request(request)
             .map_err(invalid_request(&schema))?;
@@ -246,7 +251,7 @@ impl DynamicServiceClient {
         request: &str,
         timeout: Duration,
     ) -> Result<Value, DynamicCallError> {
-        let schema = Arc::clone(self.schema.as_ref().ok_or(DynamicCallError::NoSchema)?);
+        let schema = self.schema()?;
         let request = schema
             .request_from_yaml(request)
             .map_err(invalid_request(&schema))?;
@@ -260,7 +265,7 @@ impl DynamicServiceClient {
         request: &serde_json::Value,
         timeout: Duration,
     ) -> Result<serde_json::Value, DynamicCallError> {
-        let schema = Arc::clone(self.schema.as_ref().ok_or(DynamicCallError::NoSchema)?);
+        let schema = self.schema()?;
         let request = schema
             .request_from_json(request)
             .map_err(invalid_request(&schema))?;
