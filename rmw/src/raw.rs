@@ -9,22 +9,14 @@
 use std::time::Duration;
 
 use horus_ros_msgs::TypeHash;
-use rustdds::mio1 as mio;
-use rustdds::no_key::{DataReader, DataWriter};
-use rustdds::{RTPSEntity, SampleIdentity, SequenceNumber, TopicKind, WriteOptionsBuilder};
 
 use crate::context::Dds;
-use crate::dds::raw::{RawAdapter, RawPayload};
-use crate::dds::{gid_from_guid, guid_from_gid, RustddsParticipant};
 use crate::discovery::DiscoveredEndpoint;
 use crate::entities::EndpointSide;
 use crate::node::{Node, Registration};
 use crate::pubsub::{EndpointError, PublishError, TakeError};
 use crate::qos::{EndpointKind, Qos};
 use crate::Gid;
-
-const DATA: mio::Token = mio::Token(0);
-const WAKE: mio::Token = mio::Token(1);
 
 /// A sample's identity: the GID of the writer that wrote it and its sequence number there
 /// (`rmw_request_id_t` / DDS `SampleIdentity`).
@@ -39,20 +31,6 @@ pub struct SampleId {
 impl SampleId {
     /// RTPS `SEQUENCENUMBER_UNKNOWN` ({-1, 0}).
     pub const UNKNOWN_SEQUENCE_NUMBER: i64 = -(1 << 32);
-
-    fn from_dds(s: SampleIdentity) -> Self {
-        Self {
-            writer: gid_from_guid(s.writer_guid),
-            sequence_number: s.sequence_number.into(),
-        }
-    }
-
-    fn to_dds(self) -> SampleIdentity {
-        SampleIdentity {
-            writer_guid: guid_from_gid(self.writer),
-            sequence_number: SequenceNumber::new(self.sequence_number),
-        }
-    }
 }
 
 /// A sample taken from a [`RawReader`].
@@ -136,26 +114,6 @@ impl ServiceEndpointId {
     }
 }
 
-fn create_topic(
-    participant: &RustddsParticipant,
-    spec: &RawEndpointSpec,
-    dds_qos: &rustdds::QosPolicies,
-) -> Result<rustdds::Topic, EndpointError> {
-    participant
-        .participant
-        .create_topic(
-            spec.dds_topic_name.clone(),
-            spec.dds_type_name.clone(),
-            dds_qos,
-            TopicKind::NoKey,
-        )
-        .map_err(|e| EndpointError::Dds {
-            kind: "topic",
-            topic: spec.dds_topic_name.clone(),
-            reason: e.to_string(),
-        })
-}
-
 fn describe(
     node: &Node,
     spec: &RawEndpointSpec,
@@ -179,19 +137,6 @@ fn describe(
     }
 }
 
-/// Waits on `poll` until it signals or `timeout` passes (no limit: `None`); returns whether it
-/// signalled.
-pub(crate) fn wait_on(poll: &mut mio::Poll, timeout: Option<Duration>) -> bool {
-    let mut events = mio::Events::with_capacity(4);
-    match poll.poll(&mut events, timeout) {
-        Ok(()) => !events.is_empty(),
-        Err(e) => {
-            tracing::debug!("poll failed: {e}");
-            false
-        }
-    }
-}
-
 /// Writes raw CDR bodies, optionally with a `related_sample_identity`.
 pub struct RawWriter {
     // Dropped first: withdrawn from ros_discovery_info before the writer is deleted.
@@ -203,7 +148,7 @@ pub struct RawWriter {
 // One per entity, used in place: boxing the larger variant would buy nothing.
 #[allow(clippy::large_enum_variant)]
 enum WriterImpl {
-    RustDds(DataWriter<RawPayload, RawAdapter>),
+    RustDds(crate::dds::endpoints::RawWriter),
     #[cfg(feature = "cyclone")]
     Cyclone(crate::cyclone::endpoints::RawWriter),
 }
@@ -235,7 +180,7 @@ pub struct RawReaderWaker(pub(crate) WakerImpl);
 
 #[derive(Clone)]
 pub(crate) enum WakerImpl {
-    RustDds(std::sync::Arc<mio::Waker>),
+    RustDds(crate::dds::waiter::Waker),
     #[cfg(feature = "cyclone")]
     Cyclone(horus_ros_rmw_cyclone::GuardCondition),
 }
@@ -247,17 +192,6 @@ impl std::fmt::Debug for RawReaderWaker {
 }
 
 impl RawReaderWaker {
-    /// A waker registered on a rustdds reader's poll (see [`Subscription`](crate::Subscription)).
-    pub(crate) fn rustdds(waker: mio::Waker) -> Self {
-        Self(WakerImpl::RustDds(std::sync::Arc::new(waker)))
-    }
-
-    /// A waker triggering a Cyclone reader's guard condition.
-    #[cfg(feature = "cyclone")]
-    pub(crate) fn cyclone(guard: horus_ros_rmw_cyclone::GuardCondition) -> Self {
-        Self(WakerImpl::Cyclone(guard))
-    }
-
     /// Wakes the reader's waiting thread (or makes its next wait return at once).
     pub fn wake(&self) {
         let result = match &self.0 {
@@ -274,10 +208,7 @@ impl RawReaderWaker {
 // One per entity, used in place: boxing the larger variant would buy nothing.
 #[allow(clippy::large_enum_variant)]
 pub(crate) enum ReaderImpl {
-    RustDds {
-        poll: mio::Poll,
-        reader: DataReader<RawPayload, RawAdapter>,
-    },
+    RustDds(crate::dds::endpoints::RawReader),
     #[cfg(feature = "cyclone")]
     Cyclone(crate::cyclone::endpoints::RawReader),
 }
@@ -313,13 +244,13 @@ impl Node {
                 })?;
         let (writer, gid) = match &self.context().inner().dds {
             Dds::RustDds(p) => {
-                let policies = crate::dds::qos::to_rustdds(&dds_qos);
-                let topic = create_topic(p, spec, &policies)?;
-                let writer = p
-                    .publisher
-                    .create_datawriter_no_key::<RawPayload, RawAdapter>(&topic, Some(policies))
-                    .map_err(|e| dds_error("writer", spec)(e.to_string()))?;
-                let gid = gid_from_guid(writer.guid());
+                let (writer, gid) = crate::dds::endpoints::RawWriter::create(
+                    p,
+                    &spec.dds_topic_name,
+                    &spec.dds_type_name,
+                    &dds_qos,
+                )
+                .map_err(dds_error("writer", spec))?;
                 (WriterImpl::RustDds(writer), gid)
             }
             #[cfg(feature = "cyclone")]
@@ -384,23 +315,14 @@ impl Node {
                 })?;
         let (reader, gid, waker) = match &self.context().inner().dds {
             Dds::RustDds(p) => {
-                let policies = crate::dds::qos::to_rustdds(&dds_qos);
-                let topic = create_topic(p, spec, &policies)?;
-                let mut reader = p
-                    .subscriber
-                    .create_datareader_no_key::<RawPayload, RawAdapter>(&topic, Some(policies))
-                    .map_err(|e| dds_error("reader", spec)(e.to_string()))?;
-                let gid = gid_from_guid(reader.guid());
-                let fail = |e: std::io::Error| dds_error("poll", spec)(e.to_string());
-                let poll = mio::Poll::new().map_err(fail)?;
-                // rustdds' mio 1 sources are drained by take/try_recv, so edge-triggered waking
-                // works (its mio 0.6 readiness fires only once: it is never drained).
-                poll.registry()
-                    .register(&mut reader, DATA, mio::Interest::READABLE)
-                    .map_err(fail)?;
-                let waker = mio::Waker::new(poll.registry(), WAKE).map_err(fail)?;
-                let waker = WakerImpl::RustDds(std::sync::Arc::new(waker));
-                (ReaderImpl::RustDds { poll, reader }, gid, waker)
+                let (reader, gid, waker) = crate::dds::endpoints::RawReader::create(
+                    p,
+                    &spec.dds_topic_name,
+                    &spec.dds_type_name,
+                    &dds_qos,
+                )
+                .map_err(dds_error("reader", spec))?;
+                (ReaderImpl::RustDds(reader), gid, WakerImpl::RustDds(waker))
             }
             #[cfg(feature = "cyclone")]
             Dds::Cyclone(p) => {
@@ -439,6 +361,18 @@ impl RawWriter {
         self.registration.gid()
     }
 
+    /// Waits until every matched reliable reader acknowledged what was written, at most
+    /// `timeout`; returns whether they all did. On the Cyclone backend it returns at once:
+    /// Cyclone DDS delivers unacknowledged samples of a deleted writer itself (its writer
+    /// linger duration).
+    pub fn wait_for_acknowledgments(&self, timeout: Duration) -> bool {
+        match &self.writer {
+            WriterImpl::RustDds(writer) => writer.wait_for_acknowledgments(timeout),
+            #[cfg(feature = "cyclone")]
+            WriterImpl::Cyclone(_) => true,
+        }
+    }
+
     /// Writes `body` (a CDR_LE body) and returns the sample's identity. With `related`, the sample
     /// carries it as `related_sample_identity` (under both PIDs 0x0083 and 0x800f); with `only_to`,
     /// it is sent to that one matched reader only.
@@ -457,25 +391,7 @@ impl RawWriter {
             reason,
         };
         match &self.writer {
-            WriterImpl::RustDds(writer) => {
-                let mut options = WriteOptionsBuilder::new();
-                if let Some(r) = related {
-                    options = options.related_sample_identity(r.to_dds());
-                }
-                if let Some(reader) = only_to {
-                    options = options.to_single_reader(guid_from_gid(reader));
-                }
-                writer
-                    .write_with_options(
-                        RawPayload {
-                            big_endian: false,
-                            body,
-                        },
-                        options.build(),
-                    )
-                    .map(SampleId::from_dds)
-                    .map_err(|e| fail(e.to_string()))
-            }
+            WriterImpl::RustDds(writer) => writer.write(body, related, only_to).map_err(fail),
             #[cfg(feature = "cyclone")]
             WriterImpl::Cyclone(writer) => {
                 if related.is_some() {
@@ -513,23 +429,7 @@ impl RawReader {
             reason,
         };
         match &mut self.reader {
-            ReaderImpl::RustDds { reader, .. } => match reader.take_next_sample() {
-                Ok(Some(sample)) => {
-                    let info = sample.sample_info();
-                    let id = SampleId::from_dds(info.sample_identity());
-                    let related = info.related_sample_identity().map(SampleId::from_dds);
-                    let payload = sample.into_value();
-                    Ok(Some(RawSample {
-                        body: payload.body,
-                        big_endian: payload.big_endian,
-                        id,
-                        related,
-                        publication_handle: None,
-                    }))
-                }
-                Ok(None) => Ok(None),
-                Err(e) => Err(fail(e.to_string())),
-            },
+            ReaderImpl::RustDds(reader) => reader.take().map_err(fail),
             #[cfg(feature = "cyclone")]
             ReaderImpl::Cyclone(reader) => match reader.take() {
                 Ok(Some(sample)) => Ok(Some(RawSample {
@@ -559,7 +459,7 @@ impl RawReader {
     pub fn wait(&mut self, timeout: impl Into<Option<Duration>>) -> bool {
         let timeout = timeout.into();
         match &mut self.reader {
-            ReaderImpl::RustDds { poll, .. } => wait_on(poll, timeout),
+            ReaderImpl::RustDds(reader) => reader.wait(timeout),
             #[cfg(feature = "cyclone")]
             ReaderImpl::Cyclone(reader) => reader.wait(timeout),
         }

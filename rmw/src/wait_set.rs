@@ -5,10 +5,9 @@
 //! detaches it. The set's [`waker`](WaitSet::waker) ends the current or next wait from any
 //! thread.
 
-use std::sync::{Arc, Mutex};
+#[cfg(feature = "cyclone")]
+use std::sync::Arc;
 use std::time::Duration;
-
-use rustdds::mio1 as mio;
 
 use crate::raw::{ReaderImpl, WakerImpl};
 use crate::{Backend, Context, RawReader, RawReaderWaker};
@@ -39,11 +38,7 @@ pub struct WaitSet {
 }
 
 enum Imp {
-    RustDds {
-        poll: Mutex<(mio::Poll, mio::Events)>,
-        /// Registers readers while another thread waits in `poll`.
-        registry: mio::Registry,
-    },
+    RustDds(crate::dds::waiter::Waiter),
     #[cfg(feature = "cyclone")]
     Cyclone {
         waiter: Arc<horus_ros_rmw_cyclone::Waiter>,
@@ -80,16 +75,11 @@ impl WaitSet {
         let fail = |e: &dyn std::fmt::Display| WaitSetError::Dds(e.to_string());
         match context.backend() {
             Backend::RustDds => {
-                let poll = mio::Poll::new().map_err(|e| fail(&e))?;
-                let registry = poll.registry().try_clone().map_err(|e| fail(&e))?;
-                let waker =
-                    mio::Waker::new(poll.registry(), mio::Token(WAKE)).map_err(|e| fail(&e))?;
+                let (waiter, waker) =
+                    crate::dds::waiter::Waiter::new(WAKE).map_err(|e| fail(&e))?;
                 Ok(Self {
-                    imp: Imp::RustDds {
-                        poll: Mutex::new((poll, mio::Events::with_capacity(64))),
-                        registry,
-                    },
-                    waker: RawReaderWaker(WakerImpl::RustDds(Arc::new(waker))),
+                    imp: Imp::RustDds(waiter),
+                    waker: RawReaderWaker(WakerImpl::RustDds(waker)),
                 })
             }
             #[cfg(feature = "cyclone")]
@@ -118,13 +108,8 @@ impl WaitSet {
         }
         let fail = |e: &dyn std::fmt::Display| WaitSetError::Dds(e.to_string());
         match (&self.imp, &mut reader.reader) {
-            (Imp::RustDds { registry, .. }, ReaderImpl::RustDds { poll, reader: dds }) => {
-                // A mio source is registered with one poll at a time: move it from the reader's.
-                poll.registry().deregister(dds).map_err(|e| fail(&e))?;
-                registry
-                    .register(dds, mio::Token(key), mio::Interest::READABLE)
-                    .map_err(|e| fail(&e))?;
-                Ok(())
+            (Imp::RustDds(waiter), ReaderImpl::RustDds(dds)) => {
+                dds.attach_to(waiter, key).map_err(|e| fail(&e))
             }
             #[cfg(feature = "cyclone")]
             (Imp::Cyclone { waiter, .. }, ReaderImpl::Cyclone(cyclone)) => {
@@ -153,22 +138,7 @@ impl WaitSet {
         ready.clear();
         let timeout = timeout.into();
         match &self.imp {
-            Imp::RustDds { poll, .. } => {
-                let mut guard = poll.lock().unwrap_or_else(|p| p.into_inner());
-                let (poll, events) = &mut *guard;
-                if let Err(e) = poll.poll(events, timeout) {
-                    tracing::debug!("wait set: poll failed: {e}");
-                    return false;
-                }
-                let mut signalled = false;
-                for event in events.iter() {
-                    signalled = true;
-                    if event.token().0 != WAKE {
-                        ready.push(event.token().0);
-                    }
-                }
-                signalled
-            }
+            Imp::RustDds(waiter) => waiter.wait(timeout, ready),
             #[cfg(feature = "cyclone")]
             Imp::Cyclone { waiter, guard } => match waiter.wait_for(timeout) {
                 Ok(triggered) => {

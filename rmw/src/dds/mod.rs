@@ -3,9 +3,11 @@
 
 pub(crate) mod discovery_feed;
 pub(crate) mod discovery_info;
+pub(crate) mod endpoints;
 pub(crate) mod participant;
 pub(crate) mod qos;
 pub(crate) mod raw;
+pub(crate) mod waiter;
 
 use std::sync::{Mutex, MutexGuard};
 

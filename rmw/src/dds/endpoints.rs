@@ -1,0 +1,182 @@
+//! Raw CDR writers and readers: the rustdds side of `RawWriter`/`RawReader` and so of the typed
+//! publishers and subscriptions (the Cyclone side is `cyclone/endpoints.rs`).
+
+use std::time::Duration;
+
+use horus_ros_msgs::rmw_dds_common::Gid;
+use rustdds::mio1 as mio;
+use rustdds::no_key::{DataReader, DataWriter};
+use rustdds::{RTPSEntity, SampleIdentity, SequenceNumber, TopicKind, WriteOptionsBuilder};
+
+use super::raw::{RawAdapter, RawPayload};
+use super::waiter::{wait_on, Waiter, Waker};
+use super::{gid_from_guid, guid_from_gid, qos, RustddsParticipant};
+use crate::qos::DdsQos;
+use crate::raw::{RawSample, SampleId};
+
+/// Poll token of a reader's data.
+const DATA: usize = 0;
+/// Poll token of a reader's waker.
+const WAKE: usize = 1;
+
+fn sample_id(s: SampleIdentity) -> SampleId {
+    SampleId {
+        writer: gid_from_guid(s.writer_guid),
+        sequence_number: s.sequence_number.into(),
+    }
+}
+
+fn sample_identity(id: SampleId) -> SampleIdentity {
+    SampleIdentity {
+        writer_guid: guid_from_gid(id.writer),
+        sequence_number: SequenceNumber::new(id.sequence_number),
+    }
+}
+
+/// The topic `topic_name` of type `type_name` (raw bodies: rustdds only moves bytes).
+fn topic(
+    p: &RustddsParticipant,
+    topic_name: &str,
+    type_name: &str,
+    policies: &rustdds::QosPolicies,
+) -> Result<rustdds::Topic, String> {
+    p.participant
+        .create_topic(
+            topic_name.to_owned(),
+            type_name.to_owned(),
+            policies,
+            TopicKind::NoKey,
+        )
+        .map_err(|e| format!("topic: {e}"))
+}
+
+/// A raw writer.
+pub(crate) struct RawWriter {
+    writer: DataWriter<RawPayload, RawAdapter>,
+}
+
+impl RawWriter {
+    /// Creates a writer of `topic_name`/`type_name` with this QoS (rustdds cannot send endpoint
+    /// USER_DATA).
+    pub(crate) fn create(
+        p: &RustddsParticipant,
+        topic_name: &str,
+        type_name: &str,
+        policies: &DdsQos,
+    ) -> Result<(Self, Gid), String> {
+        let policies = qos::to_rustdds(policies);
+        let topic = topic(p, topic_name, type_name, &policies)?;
+        let writer = p
+            .publisher
+            .create_datawriter_no_key::<RawPayload, RawAdapter>(&topic, Some(policies))
+            .map_err(|e| e.to_string())?;
+        let gid = gid_from_guid(writer.guid());
+        Ok((Self { writer }, gid))
+    }
+
+    /// Writes a CDR_LE body, with `related` as its `related_sample_identity` (rustdds sends it
+    /// under both PIDs 0x0083 and 0x800f) and to the one matched reader `only_to` if given;
+    /// returns the sample's identity.
+    pub(crate) fn write(
+        &self,
+        body: Vec<u8>,
+        related: Option<SampleId>,
+        only_to: Option<Gid>,
+    ) -> Result<SampleId, String> {
+        let mut options = WriteOptionsBuilder::new();
+        if let Some(r) = related {
+            options = options.related_sample_identity(sample_identity(r));
+        }
+        if let Some(reader) = only_to {
+            options = options.to_single_reader(guid_from_gid(reader));
+        }
+        self.writer
+            .write_with_options(
+                RawPayload {
+                    big_endian: false,
+                    body,
+                },
+                options.build(),
+            )
+            .map(sample_id)
+            .map_err(|e| e.to_string())
+    }
+
+    /// Waits until every matched reliable reader acknowledged what was written, at most
+    /// `timeout`; returns whether they all did.
+    pub(crate) fn wait_for_acknowledgments(&self, timeout: Duration) -> bool {
+        self.writer
+            .wait_for_acknowledgments(timeout)
+            .unwrap_or(false)
+    }
+}
+
+/// A raw reader with its own poll (edge-triggered on data).
+pub(crate) struct RawReader {
+    poll: mio::Poll,
+    reader: DataReader<RawPayload, RawAdapter>,
+}
+
+impl RawReader {
+    /// Creates a reader of `topic_name`/`type_name` with this QoS, and the waker of its
+    /// [`wait`](Self::wait).
+    pub(crate) fn create(
+        p: &RustddsParticipant,
+        topic_name: &str,
+        type_name: &str,
+        policies: &DdsQos,
+    ) -> Result<(Self, Gid, Waker), String> {
+        let policies = qos::to_rustdds(policies);
+        let topic = topic(p, topic_name, type_name, &policies)?;
+        let mut reader = p
+            .subscriber
+            .create_datareader_no_key::<RawPayload, RawAdapter>(&topic, Some(policies))
+            .map_err(|e| e.to_string())?;
+        let gid = gid_from_guid(reader.guid());
+        let fail = |e: std::io::Error| format!("poll: {e}");
+        let poll = mio::Poll::new().map_err(fail)?;
+        poll.registry()
+            .register(&mut reader, mio::Token(DATA), mio::Interest::READABLE)
+            .map_err(fail)?;
+        let waker = Waker::new(&poll, WAKE).map_err(fail)?;
+        Ok((Self { poll, reader }, gid, waker))
+    }
+
+    /// Takes the next sample, if any; one rustdds could not decode is consumed and reported as
+    /// an error.
+    pub(crate) fn take(&mut self) -> Result<Option<RawSample>, String> {
+        let Some(sample) = self.reader.take_next_sample().map_err(|e| e.to_string())? else {
+            return Ok(None);
+        };
+        let info = sample.sample_info();
+        let id = sample_id(info.sample_identity());
+        let related = info.related_sample_identity().map(sample_id);
+        let payload = sample.into_value();
+        Ok(Some(RawSample {
+            body: payload.body,
+            big_endian: payload.big_endian,
+            id,
+            related,
+            publication_handle: None,
+        }))
+    }
+
+    /// Moves this reader's data from its own poll to `waiter`'s, under `token` (a mio source is
+    /// registered with one poll at a time; rustdds' poll forgets it when the reader is gone).
+    pub(crate) fn attach_to(&mut self, waiter: &Waiter, token: usize) -> Result<(), String> {
+        let fail = |e: std::io::Error| e.to_string();
+        self.poll
+            .registry()
+            .deregister(&mut self.reader)
+            .map_err(fail)?;
+        waiter
+            .registry
+            .register(&mut self.reader, mio::Token(token), mio::Interest::READABLE)
+            .map_err(fail)
+    }
+
+    /// Waits until data may be there or the waker was woken, at most `timeout`.
+    pub(crate) fn wait(&mut self, timeout: Option<Duration>) -> bool {
+        wait_on(&mut self.poll, timeout)
+    }
+}
