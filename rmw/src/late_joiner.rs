@@ -19,14 +19,29 @@
 //! delivered yet, announced anew whenever such a writer is discovered, and dropped once every
 //! awaited participant has been heard. This type is the bookkeeping; each backend owns the
 //! reader itself.
+//!
+//! The new reader can still lose that race: the DDS layer may announce it (SEDP) before it has
+//! matched the writer, and a loaded machine widens the gap. The writer's heartbeat to it is then
+//! dropped too, and the sample waits for the next periodic one. So while a participant stays
+//! awaited the reader is renewed again, after [`FIRST_RETRY`] and then twice as long each time,
+//! at most [`MAX_RETRIES`] times; past that the periodic heartbeats deliver (each retry costs
+//! one reader and its SEDP announcement).
 
 use std::collections::BTreeSet;
+use std::time::{Duration, Instant};
 
 use crate::{Gid, VendorId};
 
 /// Most participants awaited at once: past this, more are not tracked (their samples still
 /// come, at the writer's next heartbeat), so a flood of discovered writers cannot grow us.
 pub(crate) const MAX_AWAITED: usize = 1024;
+
+/// How long a new reader is given before it is renewed again (a handshake takes a round trip).
+pub(crate) const FIRST_RETRY: Duration = Duration::from_secs(1);
+
+/// Most renewals of a reader that was not answered, before the periodic heartbeats are left to
+/// deliver: 1 + 2 + 4 + 8 + 16 s.
+pub(crate) const MAX_RETRIES: u32 = 5;
 
 /// Participants (by GUID prefix) whose `ros_discovery_info` writer is known but whose sample
 /// has not arrived, and whether the current late-joiner reader was announced after all of them.
@@ -37,6 +52,10 @@ pub(crate) struct LateJoinerReader {
     heard: BTreeSet<[u8; 12]>,
     /// Whether a writer was discovered after the current reader (if any) was announced.
     stale: bool,
+    /// When the current reader is renewed if some participant is still awaited.
+    retry_at: Option<Instant>,
+    /// Renewals since the last writer was discovered.
+    retries: u32,
 }
 
 /// What the backend should do with its late-joiner reader.
@@ -93,11 +112,13 @@ impl LateJoinerReader {
         self.heard.remove(&prefix);
     }
 
-    /// What to do with the reader now (`has_reader`: whether one exists); call after a batch
-    /// of events, so that a burst of discoveries renews the reader once.
-    pub(crate) fn action(&mut self, has_reader: bool) -> Action {
+    /// What to do with the reader at `now` (`has_reader`: whether one exists); call after a
+    /// batch of events, so that a burst of discoveries renews the reader once, and at
+    /// [`retry_at`](Self::retry_at).
+    pub(crate) fn action(&mut self, has_reader: bool, now: Instant) -> Action {
         if self.awaited.is_empty() {
             self.stale = false;
+            self.retry_at = None;
             return if has_reader {
                 Action::Drop
             } else {
@@ -106,9 +127,38 @@ impl LateJoinerReader {
         }
         if self.stale || !has_reader {
             self.stale = false;
+            self.retries = 0;
+            self.retry_at = now.checked_add(FIRST_RETRY);
             return Action::Renew;
         }
-        Action::Keep
+        match self.retry_at {
+            Some(at) if now >= at => {
+                self.retries += 1;
+                self.retry_at = if self.retries < MAX_RETRIES {
+                    now.checked_add(FIRST_RETRY.saturating_mul(1 << self.retries))
+                } else {
+                    None
+                };
+                Action::Renew
+            }
+            _ => Action::Keep,
+        }
+    }
+
+    /// When [`action`](Self::action) will renew the reader if nothing else happens first.
+    #[cfg(test)]
+    pub(crate) fn retry_at(&self) -> Option<Instant> {
+        self.retry_at
+    }
+
+    /// How long a feed waiting at `now` at most `left` (`None`: no limit) may wait before it
+    /// must call [`action`](Self::action) again (when the reader's retry is due).
+    pub(crate) fn wait_limit(&self, left: Option<Duration>, now: Instant) -> Option<Duration> {
+        let retry = self.retry_at.map(|at| at.saturating_duration_since(now));
+        match (left, retry) {
+            (Some(left), Some(retry)) => Some(left.min(retry)),
+            (left, retry) => left.or(retry),
+        }
     }
 
     /// How many participants are awaited.
@@ -120,9 +170,15 @@ impl LateJoinerReader {
 
 #[cfg(test)]
 mod tests {
-    use super::{Action, LateJoinerReader, MAX_AWAITED};
+    use std::time::Instant;
+
+    use super::{Action, LateJoinerReader, FIRST_RETRY, MAX_AWAITED, MAX_RETRIES};
     use crate::Gid;
     use crate::VendorId;
+
+    fn now() -> Instant {
+        Instant::now()
+    }
 
     fn participant(n: u8) -> Gid {
         let mut b = [0u8; 16];
@@ -141,34 +197,42 @@ mod tests {
     #[test]
     fn a_discovered_writer_renews_the_reader_until_its_sample_arrives() {
         let mut l = LateJoinerReader::default();
-        assert_eq!(l.action(false), Action::Keep, "nothing awaited");
+        assert_eq!(l.action(false, now()), Action::Keep, "nothing awaited");
         l.writer_discovered(writer_of(1));
-        assert_eq!(l.action(false), Action::Renew);
-        assert_eq!(l.action(true), Action::Keep, "the new reader covers it");
+        assert_eq!(l.action(false, now()), Action::Renew);
+        assert_eq!(
+            l.action(true, now()),
+            Action::Keep,
+            "the new reader covers it"
+        );
         l.writer_discovered(writer_of(2));
         assert_eq!(
-            l.action(true),
+            l.action(true, now()),
             Action::Renew,
             "a reader announced before writer 2 was known may miss its heartbeat"
         );
         l.heard(participant(1));
         assert_eq!(
-            l.action(true),
+            l.action(true, now()),
             Action::Keep,
             "participant 2 is still awaited"
         );
         l.heard(participant(2));
-        assert_eq!(l.action(true), Action::Drop);
-        assert_eq!(l.action(false), Action::Keep);
+        assert_eq!(l.action(true, now()), Action::Drop);
+        assert_eq!(l.action(false, now()), Action::Keep);
     }
 
     #[test]
     fn a_writer_reported_again_renews_nothing() {
         let mut l = LateJoinerReader::default();
         l.writer_discovered(writer_of(1));
-        assert_eq!(l.action(false), Action::Renew);
+        assert_eq!(l.action(false, now()), Action::Renew);
         l.writer_discovered(writer_of(1));
-        assert_eq!(l.action(true), Action::Keep, "an update of a known writer");
+        assert_eq!(
+            l.action(true, now()),
+            Action::Keep,
+            "an update of a known writer"
+        );
     }
 
     #[test]
@@ -176,15 +240,15 @@ mod tests {
         let mut l = LateJoinerReader::default();
         l.heard(participant(1));
         l.writer_discovered(writer_of(1));
-        assert_eq!(l.action(false), Action::Keep, "already heard");
+        assert_eq!(l.action(false, now()), Action::Keep, "already heard");
         l.writer_discovered(writer_of(2));
-        assert_eq!(l.action(false), Action::Renew);
+        assert_eq!(l.action(false, now()), Action::Renew);
         l.participant_lost(participant(2));
-        assert_eq!(l.action(true), Action::Drop);
+        assert_eq!(l.action(true, now()), Action::Drop);
         // A participant that left and came back (same prefix) is awaited again.
         l.participant_lost(participant(1));
         l.writer_discovered(writer_of(1));
-        assert_eq!(l.action(false), Action::Renew);
+        assert_eq!(l.action(false, now()), Action::Renew);
     }
 
     #[test]
@@ -193,8 +257,8 @@ mod tests {
         for n in 0..=255u8 {
             l.writer_discovered(writer_of(n));
         }
-        assert_eq!(l.action(false), Action::Renew);
-        assert_eq!(l.action(true), Action::Keep);
+        assert_eq!(l.action(false, now()), Action::Renew);
+        assert_eq!(l.action(true, now()), Action::Keep);
         let mut b = [0u8; 16];
         for i in 0..(MAX_AWAITED as u32 + 10) {
             b[..4].copy_from_slice(&i.to_be_bytes());
@@ -213,9 +277,48 @@ mod tests {
         state.participant_discovered(fast, VendorId::FAST_DDS);
         state.writer_discovered(cyclone);
         assert_eq!(state.awaited(), 0);
-        assert_eq!(state.action(false), Action::Keep);
+        assert_eq!(state.action(false, now()), Action::Keep);
         state.writer_discovered(fast);
         assert_eq!(state.awaited(), 1);
-        assert_eq!(state.action(false), Action::Renew);
+        assert_eq!(state.action(false, now()), Action::Renew);
+    }
+
+    #[test]
+    fn an_unanswered_reader_is_renewed_with_backoff_then_left_to_the_heartbeats() {
+        let mut l = LateJoinerReader::default();
+        let t0 = Instant::now();
+        l.writer_discovered(writer_of(1));
+        assert_eq!(l.action(false, t0), Action::Renew);
+        assert_eq!(l.retry_at(), Some(t0 + FIRST_RETRY));
+        assert_eq!(
+            l.wait_limit(None, t0),
+            Some(FIRST_RETRY),
+            "the feed wakes for it"
+        );
+        let short = FIRST_RETRY / 4;
+        assert_eq!(l.wait_limit(Some(short), t0), Some(short));
+        assert_eq!(l.action(true, t0 + FIRST_RETRY / 2), Action::Keep);
+        let mut at = t0 + FIRST_RETRY;
+        let mut wait = FIRST_RETRY;
+        for retry in 1..=MAX_RETRIES {
+            assert_eq!(l.action(true, at), Action::Renew, "retry {retry}");
+            wait *= 2;
+            if retry < MAX_RETRIES {
+                assert_eq!(l.retry_at(), Some(at + wait), "retry {retry}");
+                at += wait;
+            }
+        }
+        assert_eq!(l.retry_at(), None, "no more retries");
+        assert_eq!(l.action(true, at + wait * 10), Action::Keep);
+        // A writer discovered later starts a new schedule.
+        l.writer_discovered(writer_of(2));
+        let later = at + wait * 10;
+        assert_eq!(l.action(true, later), Action::Renew);
+        assert_eq!(l.retry_at(), Some(later + FIRST_RETRY));
+        // Once every awaited participant is heard, nothing is scheduled.
+        l.heard(participant(1));
+        l.heard(participant(2));
+        assert_eq!(l.action(true, later), Action::Drop);
+        assert_eq!(l.retry_at(), None);
     }
 }

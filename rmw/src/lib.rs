@@ -18,6 +18,7 @@ mod cyclone;
 mod dds;
 pub mod discovery;
 mod entities;
+mod feed_wait;
 #[doc(hidden)]
 pub mod fuzzing;
 pub mod gid;

@@ -16,6 +16,7 @@ use super::{gid, qos, CycloneParticipant, LocalEndpoints};
 use crate::context::DiscoveryFeedError;
 use crate::dds::discovery_info::{TOPIC_NAME, TYPE_NAME};
 use crate::discovery::{DiscoveredEndpoint, DiscoveredParticipant, DiscoveryEvent, VendorId};
+use crate::feed_wait::FeedSource;
 use crate::late_joiner::{Action, LateJoinerReader};
 use crate::local_sink::{LocalSink, Wake};
 use crate::qos::EndpointKind;
@@ -183,34 +184,9 @@ impl CycloneDiscoveryFeed {
         Arc::clone(&self.guard) as Arc<dyn Wake>
     }
 
-    /// The next event, waiting for one at most `timeout` (`None`: until one comes or the feed
-    /// is woken). A wake-up with nothing to report returns `None`.
+    /// The next event, waiting for one at most `timeout` (see [`crate::feed_wait`]).
     pub(crate) fn next_timeout(&mut self, timeout: Option<Duration>) -> Option<DiscoveryEvent> {
-        let deadline = timeout.and_then(|t| Instant::now().checked_add(t));
-        let mut woken = false;
-        loop {
-            if let Some(event) = self.try_next() {
-                return Some(event);
-            }
-            let left = match deadline {
-                Some(d) => match d.checked_duration_since(Instant::now()) {
-                    Some(left) if !left.is_zero() => Some(left),
-                    _ => return None,
-                },
-                None if woken => return None,
-                None => None,
-            };
-            match self.waiter.wait_for(left) {
-                Ok(triggered) => {
-                    woken = true;
-                    self.drain(Some(&triggered));
-                }
-                Err(e) => {
-                    tracing::warn!("waiting for discovery events failed: {e}");
-                    return None;
-                }
-            }
-        }
+        crate::feed_wait::next_timeout(self, timeout)
     }
 
     /// Moves everything waiting into `pending`; `triggered` says which statuses fired (all
@@ -463,7 +439,10 @@ impl CycloneDiscoveryFeed {
 
     /// Announces, renews or drops the late-joiner reader as [`LateJoinerReader`] says.
     fn update_late_joiner(&mut self) {
-        match self.late_joiner_state.action(self.late_joiner.is_some()) {
+        match self
+            .late_joiner_state
+            .action(self.late_joiner.is_some(), Instant::now())
+        {
             Action::Keep => {}
             Action::Drop => self.drop_late_joiner(),
             Action::Renew => {
@@ -498,5 +477,21 @@ impl CycloneDiscoveryFeed {
             let samples = Self::take_info(&old, self.own_gid, &mut self.late_joiner_state);
             self.pending.extend(samples);
         }
+    }
+}
+
+impl FeedSource for CycloneDiscoveryFeed {
+    fn try_next(&mut self) -> Option<DiscoveryEvent> {
+        CycloneDiscoveryFeed::try_next(self)
+    }
+
+    fn late_joiner(&self) -> &LateJoinerReader {
+        &self.late_joiner_state
+    }
+
+    fn wait(&mut self, limit: Option<Duration>) -> std::io::Result<bool> {
+        let triggered = self.waiter.wait_for(limit).map_err(std::io::Error::other)?;
+        self.drain(Some(&triggered));
+        Ok(!triggered.is_empty())
     }
 }

@@ -18,6 +18,7 @@ use rustdds::{
 
 use super::gid_from_guid;
 use crate::discovery::{DiscoveredEndpoint, DiscoveredParticipant, DiscoveryEvent, VendorId};
+use crate::feed_wait::FeedSource;
 use crate::late_joiner::{Action, LateJoinerReader};
 use crate::local_sink::{LocalSink, Wake};
 use crate::qos::{EndpointKind, Qos};
@@ -96,6 +97,8 @@ pub(crate) struct DdsDiscoveryFeed {
     local: mpsc::Receiver<DiscoveryEvent>,
     own_gid: Gid,
     pending: VecDeque<DiscoveryEvent>,
+    /// What the last poll reported (only whether anything did matters: all is drained).
+    events: mio::Events,
 }
 
 impl DdsDiscoveryFeed {
@@ -137,6 +140,7 @@ impl DdsDiscoveryFeed {
             local,
             own_gid,
             pending: initial.into(),
+            events: mio::Events::with_capacity(8),
         };
         Ok((feed, sink))
     }
@@ -164,34 +168,9 @@ impl DdsDiscoveryFeed {
         Arc::clone(&self.status.waker) as Arc<dyn Wake>
     }
 
-    /// The next event, waiting for one at most `timeout` (`None`: until one comes or the feed
-    /// is woken). A wake-up with nothing to report returns `None`.
+    /// The next event, waiting for one at most `timeout` (see [`crate::feed_wait`]).
     pub(crate) fn next_timeout(&mut self, timeout: Option<Duration>) -> Option<DiscoveryEvent> {
-        let deadline = timeout.and_then(|t| Instant::now().checked_add(t));
-        let mut events = mio::Events::with_capacity(8);
-        let mut woken = false;
-        loop {
-            if let Some(event) = self.try_next() {
-                return Some(event);
-            }
-            let left = match deadline {
-                Some(d) => match d.checked_duration_since(Instant::now()) {
-                    Some(left) if !left.is_zero() => Some(left),
-                    _ => return None,
-                },
-                None if woken => return None,
-                None => None,
-            };
-            events.clear();
-            match self.status.poll.poll(&mut events, left) {
-                Ok(()) => woken = true,
-                Err(e) if e.kind() == std::io::ErrorKind::Interrupted => {}
-                Err(e) => {
-                    tracing::warn!("waiting for discovery events failed: {e}");
-                    return None;
-                }
-            }
-        }
+        crate::feed_wait::next_timeout(self, timeout)
     }
 
     /// Moves everything waiting into `pending` (wake-ups are edge-triggered: all is drained).
@@ -263,7 +242,10 @@ impl DdsDiscoveryFeed {
 
     /// Announces, renews or drops the late-joiner reader as [`LateJoinerReader`] says.
     fn update_late_joiner(&mut self) {
-        match self.late_joiner_state.action(self.late_joiner.is_some()) {
+        match self
+            .late_joiner_state
+            .action(self.late_joiner.is_some(), Instant::now())
+        {
             Action::Keep => {}
             Action::Drop => {
                 if let Some(mut old) = self.late_joiner.take() {
@@ -370,6 +352,22 @@ impl DdsDiscoveryFeed {
             }
         };
         (gid.prefix() != self.own_gid.prefix()).then_some(event)
+    }
+}
+
+impl FeedSource for DdsDiscoveryFeed {
+    fn try_next(&mut self) -> Option<DiscoveryEvent> {
+        DdsDiscoveryFeed::try_next(self)
+    }
+
+    fn late_joiner(&self) -> &LateJoinerReader {
+        &self.late_joiner_state
+    }
+
+    fn wait(&mut self, limit: Option<Duration>) -> std::io::Result<bool> {
+        self.events.clear();
+        self.status.poll.poll(&mut self.events, limit)?;
+        Ok(!self.events.is_empty())
     }
 }
 
