@@ -321,26 +321,27 @@ fn answers_equal_direct_discovery() {
         let mut direct_args = vec!["--no-daemon"];
         direct_args.extend_from_slice(args);
         // Direct discovery may need a few tries to see everything; the daemon's answer must then
-        // be the same.
+        // be the same. The direct runs' own participants come and go in the daemon's graph: one
+        // that has not announced its nodes yet (or is leaving) makes the daemon's answer honestly
+        // incomplete (one line on stderr), so that too is tried again until the deadline.
         let deadline = Instant::now() + SETTLE;
         loop {
             let daemon = horus(D, args);
             let direct = horus(D, &direct_args);
             assert_eq!(daemon.code, Some(0), "{args:?}: {daemon:?}");
-            assert_eq!(daemon.stderr, "", "{args:?}: {daemon:?}");
-            if daemon.stdout == direct.stdout {
+            if daemon.stderr.is_empty() && daemon.stdout == direct.stdout {
                 assert!(!daemon.stdout.is_empty(), "{args:?}");
                 break;
             }
             assert!(
                 Instant::now() < deadline,
-                "`horus-ros {}` differs through the daemon\n--- daemon:\n{}\n--- direct:\n{}\n{}",
+                "`horus-ros {}` differs through the daemon\n--- daemon:\n{}{}\n--- direct:\n{}\n{}",
                 args.join(" "),
                 daemon.stdout,
+                daemon.stderr,
                 direct.stdout,
                 direct.stderr
             );
-            std::thread::sleep(Duration::from_millis(100));
         }
     }
     // The domain is the daemon's.
