@@ -449,3 +449,88 @@ fn an_async_server_needs_a_runtime_or_a_handle_to_one() {
     );
     assert_eq!(server.served_count(), 1);
 }
+
+/// `<service>_Event` of `AddTwoInts` (rcl's service event message), as the test decodes it.
+#[derive(Debug, serde::Deserialize)]
+struct AddTwoIntsEvent {
+    info: horus_ros_msgs::service_msgs::msg::ServiceEventInfo,
+    request: Vec<AddTwoIntsRequest>,
+    response: Vec<AddTwoIntsResponse>,
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn an_async_server_publishes_introspection_events_like_a_blocking_one() {
+    use horus_ros_msgs::service_msgs::msg::ServiceEventInfo;
+    use horus_ros_rmw::qos::Qos;
+    use horus_ros_rmw::RawEndpointSpec;
+    use horus_ros_services::{IntrospectionState, SERVICE_EVENT_TOPIC_POSTFIX};
+
+    let n = node(214, "introspected");
+    let server = ServiceServerBuilder::<AddTwoInts>::new()
+        .node(&n)
+        .name("/introspected")
+        .introspection(IntrospectionState::Contents, Qos::services_default())
+        .on_request_async(|req| async move { Ok(AddTwoIntsResponse { sum: req.a + req.b }) })
+        .build()
+        .expect("async server");
+    assert_eq!(server.introspection_state(), IntrospectionState::Contents);
+    let publisher = server.introspection_gid().expect("an event publisher");
+
+    // The events' topic as `ros2 service echo` reads it.
+    let mut reader = n
+        .create_raw_reader(&RawEndpointSpec {
+            dds_topic_name: format!("rt/introspected{SERVICE_EVENT_TOPIC_POSTFIX}"),
+            dds_type_name: horus_ros_msgs::dds_type_name("example_interfaces/srv/AddTwoInts_Event"),
+            type_hash: AddTwoInts::event_type_hash(),
+            qos: Qos::services_default(),
+            service_id: None,
+        })
+        .expect("event reader");
+    let client = async_client(&n, "/introspected");
+    assert!(client.wait_for_service_async(10 * SECOND).await);
+    // Volatile events: the call is made once the event publisher has matched the reader.
+    let graph = horus_ros_graph::Graph::shared(n.context()).expect("graph");
+    assert!(
+        graph.wait_for_match(publisher, reader.gid(), 10 * SECOND),
+        "the event publisher never matched the reader"
+    );
+    let reply = client
+        .call(AddTwoIntsRequest { a: 20, b: 22 }, 10 * SECOND)
+        .await;
+    assert_eq!(reply, Ok(AddTwoIntsResponse { sum: 42 }));
+
+    let mut events = Vec::new();
+    let deadline = std::time::Instant::now() + 10 * SECOND;
+    while events.len() < 2 {
+        let left = deadline.saturating_duration_since(std::time::Instant::now());
+        assert!(!left.is_zero(), "events by now: {events:?}");
+        reader.wait(left);
+        while let Some(sample) = reader.take().expect("take") {
+            let event: AddTwoIntsEvent = if sample.big_endian {
+                horus_ros_msgs::cdr::from_cdr_body::<_, byteorder::BigEndian>(&sample.body)
+            } else {
+                horus_ros_msgs::cdr::from_cdr_body::<_, byteorder::LittleEndian>(&sample.body)
+            }
+            .expect("an AddTwoInts_Event");
+            events.push(event);
+        }
+    }
+    let [received, sent] = &events[..] else {
+        panic!("two events expected: {events:?}");
+    };
+    assert_eq!(received.info.event_type, ServiceEventInfo::REQUEST_RECEIVED);
+    assert_eq!(received.request, vec![AddTwoIntsRequest { a: 20, b: 22 }]);
+    assert!(received.response.is_empty());
+    assert_eq!(sent.info.event_type, ServiceEventInfo::RESPONSE_SENT);
+    assert_eq!(sent.response, vec![AddTwoIntsResponse { sum: 42 }]);
+    assert!(sent.request.is_empty());
+    assert_eq!(received.info.client_gid, sent.info.client_gid);
+    assert_eq!(received.info.sequence_number, sent.info.sequence_number);
+    assert_ne!(received.info.client_gid, [0; 16]);
+
+    // OFF removes the publisher, as on a blocking server.
+    server
+        .configure_introspection(IntrospectionState::Off, &Qos::services_default())
+        .expect("off");
+    assert_eq!(server.introspection_gid(), None);
+}

@@ -298,6 +298,11 @@ impl<S: Service> AsyncServiceServer<S> {
         self.introspection.state()
     }
 
+    /// The GID of the `<service>/_service_event` publisher, while introspection is on.
+    pub fn introspection_gid(&self) -> Option<Gid> {
+        self.introspection.publisher_gid()
+    }
+
     /// Stops taking requests (handlers running finish); the endpoints leave the graph when the
     /// server is dropped.
     pub fn stop(&self) {
