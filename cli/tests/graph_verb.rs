@@ -5,7 +5,7 @@
 //! Every test joins its own domain (131-139), so they run in parallel; run them inside the
 //! private network namespace (`scripts/test`, or `scripts/isolated cargo test …`).
 
-use std::io::{BufRead, BufReader, Read};
+use std::io::{BufRead, BufReader};
 use std::path::PathBuf;
 use std::process::{Child, Command, Stdio};
 use std::sync::mpsc::{self, Receiver};
@@ -16,6 +16,7 @@ use horus_ros_msgs::Message;
 use horus_ros_rmw::qos::Qos;
 use horus_ros_rmw::{Context, Gid};
 use horus_ros_services::prelude::*;
+use horus_ros_test_support::{wait_exit, wait_with_output};
 use serde_json::Value;
 
 /// The longest wait for anything to appear.
@@ -112,40 +113,19 @@ fn run_command(mut command: Command) -> Run {
         .stderr(Stdio::piped())
         .spawn()
         .expect("start horus-ros");
-    let stdout = read_all(child.stdout.take().expect("stdout"));
-    let stderr = read_all(child.stderr.take().expect("stderr"));
-    let code = wait_bounded(&mut child, WAIT);
+    let out = wait_with_output(&mut child, WAIT).expect("wait for horus-ros");
     Run {
-        code,
-        stdout: stdout.recv().unwrap_or_default(),
-        stderr: stderr.recv().unwrap_or_default(),
+        code: out.code(),
+        stdout: out.stdout,
+        stderr: out.stderr,
     }
-}
-
-fn read_all(mut pipe: impl Read + Send + 'static) -> Receiver<String> {
-    let (tx, rx) = mpsc::channel();
-    std::thread::spawn(move || {
-        let mut text = String::new();
-        let _ = pipe.read_to_string(&mut text);
-        let _ = tx.send(text);
-    });
-    rx
 }
 
 /// Waits for `child` at most `limit` (then kills it): its exit code, `None` if killed.
 fn wait_bounded(child: &mut Child, limit: Duration) -> Option<i32> {
-    let deadline = Instant::now() + limit;
-    loop {
-        if let Some(status) = child.try_wait().expect("try_wait") {
-            return status.code();
-        }
-        if Instant::now() >= deadline {
-            let _ = child.kill();
-            let _ = child.wait();
-            return None;
-        }
-        std::thread::sleep(Duration::from_millis(10));
-    }
+    wait_exit(child, limit)
+        .expect("wait")
+        .and_then(|s| s.code())
 }
 
 /// Runs the CLI until its stdout is `expected` (discovery by a fresh process may need a few

@@ -89,33 +89,21 @@ fn build() -> Result<PathBuf, String> {
              libfastrtps-dev and libfastcdr-dev)"
         )
     })?;
-    let deadline = Instant::now() + BUILD_LIMIT;
-    loop {
-        match child.try_wait() {
-            Ok(Some(_)) => break,
-            Ok(None) if Instant::now() >= deadline => {
-                let _ = child.kill();
-                let _ = child.wait();
-                let _ = std::fs::remove_file(&partial);
-                return Err(format!(
-                    "building the Fast DDS peer took over {BUILD_LIMIT:?}"
-                ));
-            }
-            Ok(None) => std::thread::sleep(Duration::from_millis(50)),
-            Err(e) => return Err(format!("waiting for the compiler: {e}")),
-        }
-    }
-    let output = child
-        .wait_with_output()
-        .map_err(|e| format!("reading the compiler's output: {e}"))?;
-    if !output.status.success() {
+    // Its output is read while it compiles (a long error report must not fill a pipe).
+    let output = horus_ros_test_support::wait_with_output(&mut child, BUILD_LIMIT)
+        .map_err(|e| format!("waiting for the compiler: {e}"))?;
+    let Some(status) = output.status else {
         let _ = std::fs::remove_file(&partial);
         return Err(format!(
-            "building the Fast DDS peer failed ({}): {}{} (scripts/setup installs \
+            "building the Fast DDS peer took over {BUILD_LIMIT:?}"
+        ));
+    };
+    if !status.success() {
+        let _ = std::fs::remove_file(&partial);
+        return Err(format!(
+            "building the Fast DDS peer failed ({status}): {}{} (scripts/setup installs \
              libfastrtps-dev and libfastcdr-dev)",
-            output.status,
-            String::from_utf8_lossy(&output.stdout),
-            String::from_utf8_lossy(&output.stderr)
+            output.stdout, output.stderr
         ));
     }
     std::fs::rename(&partial, &binary)
@@ -535,18 +523,8 @@ impl FastDdsPeer {
     }
 
     fn wait_exit(&mut self, limit: Duration) -> std::io::Result<Option<i32>> {
-        let deadline = Instant::now() + limit;
-        loop {
-            if let Some(status) = self.child.try_wait()? {
-                return Ok(status.code());
-            }
-            if Instant::now() >= deadline {
-                self.child.kill()?;
-                self.child.wait()?;
-                return Ok(None);
-            }
-            std::thread::sleep(Duration::from_millis(20));
-        }
+        let status = horus_ros_test_support::wait_exit(&mut self.child, limit)?;
+        Ok(status.and_then(|s| s.code()))
     }
 
     /// Waits at most `limit` for the peer to exit; kills it past that. Returns its exit code

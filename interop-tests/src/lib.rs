@@ -6,10 +6,9 @@
 
 pub mod fastdds;
 
-use std::io::Read;
 use std::path::PathBuf;
 use std::process::{Child, Command, Stdio};
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 /// The Python interpreter that has the `cyclonedds` package.
 pub fn python() -> PathBuf {
@@ -77,32 +76,14 @@ impl Peer {
         Some(line_reader(self.child.stdout.take()?))
     }
 
-    /// Waits for the peer to exit, at most `limit`; kills it past that.
+    /// Waits for the peer to exit, at most `limit` (woken by its exit); kills it past that. Its
+    /// output is read while it runs.
     pub fn wait(mut self, limit: Duration) -> std::io::Result<PeerOutput> {
-        let deadline = Instant::now() + limit;
-        let code = loop {
-            if let Some(status) = self.child.try_wait()? {
-                break status.code();
-            }
-            if Instant::now() >= deadline {
-                self.child.kill()?;
-                self.child.wait()?;
-                break None;
-            }
-            std::thread::sleep(Duration::from_millis(20));
-        };
-        let mut stdout = String::new();
-        let mut stderr = String::new();
-        if let Some(mut s) = self.child.stdout.take() {
-            s.read_to_string(&mut stdout)?;
-        }
-        if let Some(mut s) = self.child.stderr.take() {
-            s.read_to_string(&mut stderr)?;
-        }
+        let out = horus_ros_test_support::wait_with_output(&mut self.child, limit)?;
         Ok(PeerOutput {
-            code,
-            stdout,
-            stderr,
+            code: out.code(),
+            stdout: out.stdout,
+            stderr: out.stderr,
         })
     }
 }

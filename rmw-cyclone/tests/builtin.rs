@@ -60,7 +60,8 @@ fn user_data_and_qos_through_builtin_topics() {
     );
 
     let mut seen = Vec::new();
-    let found = poll(DISCOVERY, || {
+    let waiter = builtin_waiter(&[&parts, &pubs, &subs]);
+    let found = until(DISCOVERY, &waiter, || {
         collect(&[&parts, &pubs, &subs], &mut seen);
         let p = seen.iter().find_map(|s| match s {
             BuiltinSample::Participant(p) if p.guid == aguid => Some(p.clone()),
@@ -121,7 +122,8 @@ fn loss_shows_as_not_alive() {
         .expect("w");
     let (aguid, wguid) = (a.guid().expect("g"), w.entity().guid().expect("g"));
     let mut seen = Vec::new();
-    poll(DISCOVERY, || {
+    let waiter = builtin_waiter(&[&parts, &pubs]);
+    until(DISCOVERY, &waiter, || {
         collect(&[&pubs], &mut seen);
         seen.iter()
             .any(|s| matches!(s, BuiltinSample::Publication(e) if e.guid == wguid && e.alive))
@@ -130,7 +132,7 @@ fn loss_shows_as_not_alive() {
     .expect("writer discovered");
 
     drop(w);
-    let gone = poll(DISCOVERY, || {
+    let gone = until(DISCOVERY, &waiter, || {
         pubs.take()
             .expect("take")
             .into_iter()
@@ -144,7 +146,7 @@ fn loss_shows_as_not_alive() {
     assert!(gone.user_data.is_empty() && gone.qos.is_none());
 
     drop(a);
-    let gone = poll(DISCOVERY, || {
+    let gone = until(DISCOVERY, &waiter, || {
         parts
             .take()
             .expect("take")

@@ -30,19 +30,6 @@ fn pair(domain: u32, topic: &str, qos: &EndpointQos) -> (Participant, Participan
     (a, b, w, r)
 }
 
-/// Blocks (bounded) until `w` matched at least one reader, through a status condition.
-fn wait_matched(w: &Writer) {
-    let waiter = Waiter::new().expect("waiter");
-    waiter
-        .attach_status(&w.entity(), StatusMask::PUBLICATION_MATCHED, 1)
-        .expect("attach");
-    let end = Instant::now() + DISCOVERY;
-    while w.publication_matched().expect("status").0 == 0 {
-        assert!(Instant::now() < end, "writer never matched the reader");
-        waiter.wait(Duration::from_millis(200)).expect("wait");
-    }
-}
-
 #[test]
 fn raw_write_take_with_writer_guid_and_handle() {
     let qos = EndpointQos {
@@ -51,7 +38,7 @@ fn raw_write_take_with_writer_guid_and_handle() {
         ..Default::default()
     };
     let (_a, _b, w, r) = pair(141, "rt/rmwc/raw", &qos);
-    wait_matched(&w);
+    wait_matched(&w, DISCOVERY);
     let wguid = w.entity().guid().expect("guid");
     let wih = w.entity().instance_handle().expect("instance handle");
     assert_ne!(wih, 0);
@@ -105,7 +92,7 @@ fn raw_write_take_with_writer_guid_and_handle() {
 #[test]
 fn waiter_wakes_on_data_and_on_guard() {
     let (_a, _b, w, r) = pair(142, "rt/rmwc/wake", &EndpointQos::default());
-    wait_matched(&w);
+    wait_matched(&w, DISCOVERY);
     let guard = GuardCondition::new().expect("guard");
     let waiter = Waiter::new().expect("waiter");
     waiter.attach_reader(&r, 1).expect("attach reader");
@@ -161,13 +148,17 @@ fn waiter_wakes_on_data_and_on_guard() {
 #[test]
 fn matched_endpoints_with_user_data() {
     let (a, b, w, r) = pair(143, "rt/rmwc/matched", &EndpointQos::default());
-    wait_matched(&w);
+    wait_matched(&w, DISCOVERY);
     let subs = w.matched_subscriptions().expect("matched subs");
     assert_eq!(subs.len(), 1);
     assert_eq!(subs[0].guid, r.entity().guid().expect("guid"));
     assert_eq!(subs[0].participant_guid, b.guid().expect("guid"));
     assert_eq!(subs[0].user_data, b"typehash=reader;");
-    let pubs = poll(DISCOVERY, || {
+    let waiter = Waiter::new().expect("waiter");
+    waiter
+        .attach_status(&r.entity(), StatusMask::SUBSCRIPTION_MATCHED, 1)
+        .expect("attach");
+    let pubs = until(DISCOVERY, &waiter, || {
         let p = r.matched_publications().expect("matched pubs");
         (!p.is_empty()).then_some(p)
     })
@@ -189,8 +180,23 @@ fn matched_endpoints_with_user_data() {
             b"",
         )
         .expect("writer");
-    std::thread::sleep(Duration::from_millis(300));
-    assert!(w2.matched_subscriptions().expect("matched").is_empty());
+    // A best-effort reader of `b`, announced after `r`: once `w2` matched it, `b`'s
+    // announcement of `r` (sent before, in order on the same reliable SEDP writer) has been
+    // processed too, so a match with `r` would be there.
+    let r2 = b
+        .reader(
+            &b.blob_topic("rt/rmwc/matched", TIME_TYPE).expect("topic"),
+            &be,
+            b"",
+        )
+        .expect("best-effort reader");
+    wait_matched(&w2, DISCOVERY);
+    let subs = w2.matched_subscriptions().expect("matched");
+    assert_eq!(
+        subs.iter().map(|s| s.guid).collect::<Vec<_>>(),
+        vec![r2.entity().guid().expect("guid")],
+        "the best-effort writer matched the best-effort reader only"
+    );
     assert_eq!(r.matched_publications().expect("matched").len(), 1);
 }
 
@@ -265,8 +271,8 @@ fn a_filtered_topic_stores_only_what_its_filter_keeps_from_remote_and_local_writ
     let local = b
         .writer(&b.blob_topic(topic, ty).expect("topic"), &qos, b"")
         .expect("local writer");
-    wait_matched(&remote);
-    wait_matched(&local);
+    wait_matched(&remote, DISCOVERY);
+    wait_matched(&local, DISCOVERY);
     for seq in 0..10 {
         let w = if seq % 2 == 0 { &remote } else { &local };
         w.write(&with_header(1 + seq as u64 % 3, seq))

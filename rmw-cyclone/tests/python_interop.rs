@@ -96,12 +96,10 @@ fn python_cyclone_peer_sees_our_user_data_and_exchanges_cdr() {
         r.entity().guid().expect("g"),
     );
 
-    // Match the Python reader, then send five samples.
+    // Match the Python reader, then send five samples (the interpreter starts first: a wider
+    // bound than discovery alone).
     let end = Instant::now() + Duration::from_secs(20);
-    while w.matched_subscriptions().expect("matched").is_empty() {
-        assert!(Instant::now() < end, "the Python reader never matched");
-        std::thread::sleep(Duration::from_millis(50));
-    }
+    wait_matched(&w, end.saturating_duration_since(Instant::now()));
     for i in 0..5 {
         w.write(&time_cdr(1000 + i, 7 * i as u32)).expect("write");
     }
@@ -185,7 +183,8 @@ fn python_cyclone_peer_sees_our_user_data_and_exchanges_cdr() {
     );
 
     // And we see the Python participant's USER_DATA through our built-in reader.
-    let py = poll(DISCOVERY, || {
+    let waiter = builtin_waiter(&[&parts]);
+    let py = until(DISCOVERY, &waiter, || {
         parts
             .take()
             .expect("take")

@@ -132,15 +132,20 @@ pub struct Run {
     pub stdout: String,
     /// What it printed on stderr.
     pub stderr: String,
-    /// Its exit status.
+    /// Its exit code (`None`: killed by a signal, or at [`RUN_LIMIT`]).
     pub code: Option<i32>,
     /// Its process id (its hidden node is `_horus_ros_<pid>`).
     pub pid: u32,
 }
 
-/// Runs `horus-ros --domain-id <domain> <args…>` (inside the test's namespace).
+/// The longest a [`horus`] run may take before it is killed (its exit code is then `None`):
+/// far above any `--spin-time` or `--timeout` the tests give.
+pub const RUN_LIMIT: Duration = Duration::from_secs(120);
+
+/// Runs `horus-ros --domain-id <domain> <args…>` (inside the test's namespace), at most
+/// [`RUN_LIMIT`].
 pub fn horus(domain: u32, args: &[&str]) -> Run {
-    let child = Command::new(env!("CARGO_BIN_EXE_horus-ros"))
+    let mut child = Command::new(env!("CARGO_BIN_EXE_horus-ros"))
         .arg("--domain-id")
         .arg(domain.to_string())
         .args(args)
@@ -151,11 +156,12 @@ pub fn horus(domain: u32, args: &[&str]) -> Run {
         .spawn()
         .expect("start horus-ros");
     let pid = child.id();
-    let out = child.wait_with_output().expect("horus-ros output");
+    let out =
+        horus_ros_test_support::wait_with_output(&mut child, RUN_LIMIT).expect("horus-ros output");
     Run {
-        stdout: String::from_utf8_lossy(&out.stdout).into_owned(),
-        stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
-        code: out.status.code(),
+        code: out.code(),
+        stdout: out.stdout,
+        stderr: out.stderr,
         pid,
     }
 }

@@ -6,7 +6,7 @@
 use std::time::{Duration, Instant};
 
 use horus_ros_rmw_cyclone::config::{domain_config, DiscoveryRange};
-use horus_ros_rmw_cyclone::{Domain, Participant};
+use horus_ros_rmw_cyclone::{BuiltinReader, Domain, Participant, StatusMask, Waiter, Writer};
 
 /// Cyclone configuration: loopback only, with multicast (appended after our discovery
 /// fragment, the place where rmw_cyclonedds puts `CYCLONEDDS_URI`).
@@ -33,18 +33,41 @@ pub fn participant(domain: u32, user_data: &str) -> Participant {
     Participant::new(d, user_data.as_bytes()).expect("create participant")
 }
 
-/// Polls `f` until it returns `Some` or `timeout` passes.
-pub fn poll<T>(timeout: Duration, mut f: impl FnMut() -> Option<T>) -> Option<T> {
+/// Checks `f` at once and after each wake-up of `waiter` (attached to what `f` looks at: a
+/// reader's data, an entity's status), until it gives `Some` or `timeout` passes.
+pub fn until<T>(timeout: Duration, waiter: &Waiter, mut f: impl FnMut() -> Option<T>) -> Option<T> {
     let end = Instant::now() + timeout;
     loop {
         if let Some(v) = f() {
             return Some(v);
         }
-        if Instant::now() >= end {
+        let left = end.saturating_duration_since(Instant::now());
+        if left.is_zero() {
             return None;
         }
-        std::thread::sleep(Duration::from_millis(20));
+        waiter.wait(left).expect("wait");
     }
+}
+
+/// A waiter woken by data on each of `readers`.
+pub fn builtin_waiter(readers: &[&BuiltinReader]) -> Waiter {
+    let waiter = Waiter::new().expect("waiter");
+    for (token, reader) in readers.iter().enumerate() {
+        waiter.attach_builtin(reader, token + 1).expect("attach");
+    }
+    waiter
+}
+
+/// Blocks, at most `limit`, until `w` matched at least one reader, through a status condition.
+pub fn wait_matched(w: &Writer, limit: Duration) {
+    let waiter = Waiter::new().expect("waiter");
+    waiter
+        .attach_status(&w.entity(), StatusMask::PUBLICATION_MATCHED, 1)
+        .expect("attach");
+    let matched = until(limit, &waiter, || {
+        (w.publication_matched().expect("status").0 > 0).then_some(())
+    });
+    assert!(matched.is_some(), "writer never matched a reader");
 }
 
 /// CDR (little endian) of `builtin_interfaces/msg/Time { sec, nanosec }` with its header.
