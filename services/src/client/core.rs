@@ -147,6 +147,10 @@ pub(crate) struct ClientCore<C: Codec> {
     /// When the reply thread looks again without an event (`None`: never); locked after
     /// `calls.pending`, so a call whose deadline comes sooner wakes it (see `set_waker`).
     planned_wake: Mutex<Option<Instant>>,
+    /// The last [`Readiness::Ready`] and the graph generation it was found at: it holds until
+    /// the graph changes (servers, matches and vendors are graph changes; time only makes a
+    /// server ready), so calls in a quiet graph do not query it again.
+    ready: Mutex<Option<(u64, ReadyServer)>>,
 }
 
 fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
@@ -227,6 +231,7 @@ impl<C: Codec> ClientCore<C> {
             unsent_wakers: Mutex::new(Vec::new()),
             seen_generation: AtomicU64::new(u64::MAX),
             planned_wake: Mutex::new(None),
+            ready: Mutex::new(None),
         })
     }
 
@@ -350,6 +355,23 @@ impl<C: Codec> ClientCore<C> {
 
     /// [`ready_server`](Self::ready_server), or when to look again if none is usable.
     pub(crate) fn readiness(&self) -> Readiness {
+        // Read before the graph is: a change made while it is looked at makes the next call
+        // look again.
+        let generation = self.runtime.graph.generation();
+        if let Some((seen, ready)) = &*lock(&self.ready) {
+            if *seen == generation {
+                return Readiness::Ready(ready.clone());
+            }
+        }
+        let readiness = self.find_readiness();
+        if let Readiness::Ready(ready) = &readiness {
+            *lock(&self.ready) = Some((generation, ready.clone()));
+        }
+        readiness
+    }
+
+    /// [`readiness`](Self::readiness) as the graph has it now.
+    fn find_readiness(&self) -> Readiness {
         let graph = &self.runtime.graph;
         let servers = self.servers();
         let backend = self.runtime.node.context().backend();
