@@ -29,9 +29,7 @@ fn profile_dir() -> PathBuf {
 }
 
 fn example(name: &str) -> PathBuf {
-    let path = profile_dir().join("examples").join(name);
-    assert!(path.exists(), "{} not built", path.display());
-    path
+    horus_ros_test_support::built_example(name)
 }
 
 /// The `horus-ros` CLI of the same build (the CLI does not depend on this crate, so this one

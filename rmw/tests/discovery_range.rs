@@ -9,18 +9,7 @@ use std::process::{Command, Stdio};
 
 /// target/<profile>/examples/discovery_probe (`cargo test` builds the examples with the tests).
 fn probe() -> PathBuf {
-    let exe = std::env::current_exe().expect("current exe");
-    let profile_dir = exe
-        .parent()
-        .and_then(|deps| deps.parent())
-        .expect("target/<profile>");
-    let path = profile_dir.join("examples").join("discovery_probe");
-    assert!(
-        path.exists(),
-        "{} not built: run `cargo test -p horus-ros-rmw --features cyclone` first",
-        path.display()
-    );
-    path
+    horus_ros_test_support::built_example("discovery_probe")
 }
 
 /// Runs two probes (`a` looking for `b` and back) for `seconds` with `env` on top of a clean
