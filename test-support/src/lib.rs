@@ -1,7 +1,9 @@
-//! What the tests of several horus-ros crates share: waiting for a child process, bounded in
-//! time and woken by its exit (poll(2) on a pidfd), never by polling with sleeps; and reading
-//! its pipes while it runs, so that a chatty child cannot block on a full pipe; and running an
-//! example under valgrind's leak check.
+//! What the tests of several horus-ros crates share:
+//! - waiting for a child process, bounded in time and woken by its exit (poll(2) on a pidfd),
+//!   never by polling with sleeps, with its pipes read while it runs (a chatty child cannot
+//!   block on a full pipe);
+//! - finding the examples `cargo test` built;
+//! - running a program under valgrind's leak check ([`valgrind`]).
 
 pub mod valgrind;
 
