@@ -155,10 +155,7 @@ impl LateJoinerReader {
     /// must call [`action`](Self::action) again (when the reader's retry is due).
     pub(crate) fn wait_limit(&self, left: Option<Duration>, now: Instant) -> Option<Duration> {
         let retry = self.retry_at.map(|at| at.saturating_duration_since(now));
-        match (left, retry) {
-            (Some(left), Some(retry)) => Some(left.min(retry)),
-            (left, retry) => left.or(retry),
-        }
+        [left, retry].into_iter().flatten().min()
     }
 
     /// How many participants are awaited.
