@@ -5,20 +5,23 @@
 
 mod common;
 
-use std::process::Command;
+use std::process::{Command, Stdio};
+
+use common::RUN_LIMIT;
+use horus_ros_test_support::wait_with_output;
 
 /// Runs `horus-ros ARGS…` (no `--domain-id` of its own) and returns (exit code, stderr).
 fn run(args: &[&str]) -> (Option<i32>, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_horus-ros"))
+    let mut child = Command::new(env!("CARGO_BIN_EXE_horus-ros"))
         .args(args)
         .env_remove("ROS_DOMAIN_ID")
         .env("RUST_LOG", "error")
-        .output()
-        .expect("run horus-ros");
-    (
-        out.status.code(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("start horus-ros");
+    let out = wait_with_output(&mut child, RUN_LIMIT).expect("horus-ros output");
+    (out.code(), out.stderr)
 }
 
 #[test]
@@ -105,12 +108,16 @@ fn a_well_formed_but_unknown_service_type_says_so_at_once() {
 fn logs_written_to_a_pipe_are_plain_text() {
     // An unsupported RMW is reported through the error path; a warning from the library goes
     // through the log: ask for debug logs and read them from a pipe.
-    let out = Command::new(env!("CARGO_BIN_EXE_horus-ros"))
+    let mut child = Command::new(env!("CARGO_BIN_EXE_horus-ros"))
         .args(["--domain-id", "132", "--spin-time", "0.1", "node", "list"])
         .env("RUST_LOG", "debug")
-        .output()
-        .expect("run horus-ros");
-    let stderr = String::from_utf8_lossy(&out.stderr);
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("start horus-ros");
+    let stderr = wait_with_output(&mut child, RUN_LIMIT)
+        .expect("horus-ros output")
+        .stderr;
     assert!(stderr.contains("DEBUG"), "some debug log line: {stderr}");
     assert!(
         !stderr.contains('\u{1b}'),

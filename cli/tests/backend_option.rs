@@ -11,10 +11,11 @@ use std::collections::HashMap;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-use common::{cyclone_config, expect};
+use common::{cyclone_config, expect, RUN_LIMIT};
 use horus_ros_msgs::example_interfaces::srv::AddTwoInts;
 use horus_ros_rmw::{Backend, Context, DiscoveryEvent, VendorId};
 use horus_ros_services::{ServiceClient, ServiceServerBuilder};
+use horus_ros_test_support::{wait_with_output, Output};
 
 const D: u32 = 136;
 /// The domain of the overrides of an unsupported RMW_IMPLEMENTATION.
@@ -45,10 +46,18 @@ fn horus_command(args: &[&str], env_backend: Option<&str>, rmw: Option<&str>) ->
 
 /// Runs `horus-ros args…` with `HORUS_ROS_BACKEND` set to `env_backend` (or removed) and no
 /// RMW_IMPLEMENTATION, without joining any domain when clap refuses the arguments.
-fn horus_with_env(args: &[&str], env_backend: Option<&str>) -> std::process::Output {
-    horus_command(args, env_backend, None)
-        .output()
-        .expect("run horus-ros")
+fn horus_with_env(args: &[&str], env_backend: Option<&str>) -> Output {
+    output(horus_command(args, env_backend, None))
+}
+
+/// Runs `command` with its output piped, at most [`RUN_LIMIT`].
+fn output(mut command: Command) -> Output {
+    let mut child = command
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("start horus-ros");
+    wait_with_output(&mut child, RUN_LIMIT).expect("horus-ros output")
 }
 
 #[test]
@@ -94,8 +103,8 @@ fn backend_cyclone_lists_services() {
 #[test]
 fn unknown_backend_is_a_usage_error() {
     let out = horus_with_env(&["--backend", "fastdds", "service", "list"], None);
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    let stderr = &out.stderr;
+    assert_eq!(out.code(), Some(2), "{stderr}");
     assert!(out.stdout.is_empty());
     assert!(
         stderr.contains("invalid value 'fastdds' for '--backend <BACKEND>'")
@@ -104,8 +113,8 @@ fn unknown_backend_is_a_usage_error() {
     );
     // The same from the environment variable it defaults to.
     let out = horus_with_env(&["service", "list"], Some("fastdds"));
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    let stderr = &out.stderr;
+    assert_eq!(out.code(), Some(2), "{stderr}");
     assert!(
         stderr.contains("invalid value 'fastdds' for '--backend <BACKEND>'"),
         "{stderr}"
@@ -115,8 +124,8 @@ fn unknown_backend_is_a_usage_error() {
 #[test]
 fn help_shows_the_backend_option() {
     let out = horus_with_env(&["--help"], None);
-    let help = String::from_utf8_lossy(&out.stdout);
-    assert!(out.status.success(), "{help}");
+    let help = &out.stdout;
+    assert_eq!(out.code(), Some(0), "{help}");
     assert!(help.contains("--backend <BACKEND>"), "{help}");
     assert!(help.contains("[env: HORUS_ROS_BACKEND"), "{help}");
     // No default of its own: unset, the environment chooses (HORUS_ROS_BACKEND, RMW_IMPLEMENTATION).
@@ -154,23 +163,20 @@ fn unsupported_rmw_implementation_is_a_clear_error() {
         "rmw_cyclonedds",
         "RMW_FASTRTPS_CPP",
     ] {
-        let out = horus_command(&["node", "list"], None, Some(rmw))
-            .output()
-            .expect("run horus-ros");
-        let stderr = String::from_utf8_lossy(&out.stderr);
-        assert_eq!(out.status.code(), Some(1), "{rmw}: {stderr}");
+        let out = output(horus_command(&["node", "list"], None, Some(rmw)));
+        let stderr = &out.stderr;
+        assert_eq!(out.code(), Some(1), "{rmw}: {stderr}");
         assert!(out.stdout.is_empty(), "{rmw}");
-        assert_eq!(stderr, unsupported_rmw_message(rmw), "{rmw}");
+        assert_eq!(out.stderr, unsupported_rmw_message(rmw), "{rmw}");
     }
     // An empty HORUS_ROS_BACKEND is unset: RMW_IMPLEMENTATION still decides.
-    let out = horus_command(&["node", "list"], Some(""), Some("rmw_zenoh_cpp"))
-        .output()
-        .expect("run horus-ros");
-    assert_eq!(out.status.code(), Some(1));
-    assert_eq!(
-        String::from_utf8_lossy(&out.stderr),
-        unsupported_rmw_message("rmw_zenoh_cpp")
-    );
+    let out = output(horus_command(
+        &["node", "list"],
+        Some(""),
+        Some("rmw_zenoh_cpp"),
+    ));
+    assert_eq!(out.code(), Some(1));
+    assert_eq!(out.stderr, unsupported_rmw_message("rmw_zenoh_cpp"));
     // HORUS_ROS_BACKEND and --backend override it: the command joins the domain and lists
     // its own hidden node.
     for (args, env_backend) in [
@@ -181,18 +187,19 @@ fn unsupported_rmw_implementation_is_a_clear_error() {
     ] {
         let mut command = horus_command(args, env_backend, Some("rmw_zenoh_cpp"));
         command.args(["--domain-id", &D_OVERRIDE.to_string(), "--spin-time", "0.2"]);
-        let child = command
+        let mut child = command
             .stdout(Stdio::piped())
             .stderr(Stdio::piped())
             .spawn()
             .expect("start horus-ros");
         let pid = child.id();
-        let out = child.wait_with_output().expect("horus-ros output");
-        let stdout = String::from_utf8_lossy(&out.stdout);
-        assert!(
-            out.status.success(),
+        let out = wait_with_output(&mut child, RUN_LIMIT).expect("horus-ros output");
+        let stdout = &out.stdout;
+        assert_eq!(
+            out.code(),
+            Some(0),
             "{args:?} {env_backend:?}: {}",
-            String::from_utf8_lossy(&out.stderr)
+            out.stderr
         );
         assert!(
             stdout.lines().any(|l| l == format!("/_horus_ros_{pid}")),

@@ -15,13 +15,14 @@ use std::sync::mpsc::{self, Receiver};
 use std::sync::Once;
 use std::time::{Duration, Instant};
 
-use common::{expect, horus, Peer, Run, LINGER, SETTLE};
+use common::{expect, horus, Peer, Run, LINGER, RUN_LIMIT, SETTLE};
 use horus_ros_msgs::builtin_interfaces::msg::Time;
 use horus_ros_msgs::example_interfaces::srv::AddTwoInts;
 use horus_ros_msgs::Message;
 use horus_ros_rmw::qos::Qos;
 use horus_ros_rmw::Context;
 use horus_ros_services::ServiceServerBuilder;
+use horus_ros_test_support::wait_with_output;
 use interop_tests::fastdds::FastDdsPeer;
 use nix::sys::signal::{kill, Signal};
 use nix::sys::wait::{waitpid, WaitStatus};
@@ -158,13 +159,13 @@ fn horus_env(domain: u32, env: &[(&str, &str)], args: &[&str]) -> Run {
     for (k, v) in env {
         command.env(k, v);
     }
-    let child = command.spawn().expect("start horus-ros");
+    let mut child = command.spawn().expect("start horus-ros");
     let pid = child.id();
-    let out = child.wait_with_output().expect("horus-ros output");
+    let out = wait_with_output(&mut child, RUN_LIMIT).expect("horus-ros output");
     Run {
-        stdout: String::from_utf8_lossy(&out.stdout).into_owned(),
-        stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
-        code: out.status.code(),
+        code: out.code(),
+        stdout: out.stdout,
+        stderr: out.stderr,
         pid,
     }
 }

@@ -10,7 +10,8 @@ mod common;
 use std::process::{Command, Stdio};
 use std::time::Duration;
 
-use common::horus;
+use common::{horus, RUN_LIMIT};
+use horus_ros_test_support::wait_exit;
 
 const D: u32 = 137;
 
@@ -63,8 +64,9 @@ fn a_suspended_and_resumed_process_stays_on_the_graph() {
     let seen_after = listed(&node);
 
     signal(watch.id(), "-TERM");
-    let status = watch.wait().expect("wait for graph --watch");
+    let status = wait_exit(&mut watch, RUN_LIMIT).expect("wait for graph --watch");
     assert!(seen_before, "{node} never appeared");
     assert!(seen_after, "{node} left the graph after SIGSTOP/SIGCONT");
+    let status = status.expect("graph --watch still running long after SIGTERM: killed");
     assert!(status.success(), "graph --watch ended with {status}");
 }

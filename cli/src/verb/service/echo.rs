@@ -15,14 +15,16 @@
 //! message is derived from the request and response as rosidl does.
 
 use std::io::Write;
+use std::sync::Arc;
 use std::time::Duration;
 
+use horus_ros_graph::{GraphView, GraphWatcher};
 use horus_ros_msgs::dds_type_name;
 use horus_ros_msgs::description::{service_event_description, EVENT_SUFFIX};
 use horus_ros_msgs::service_msgs::msg::ServiceEventInfo;
 use horus_ros_rmw::names::{ServiceName, TopicName};
 use horus_ros_rmw::qos::Qos;
-use horus_ros_rmw::RawEndpointSpec;
+use horus_ros_rmw::{RawEndpointSpec, RawReaderWaker};
 use horus_ros_services::SERVICE_EVENT_TOPIC_POSTFIX;
 use serde_json::{json, Value as Json};
 
@@ -129,10 +131,18 @@ pub fn run(global: &Global, args: &EchoArgs) -> Result<(), CliError> {
         no_str: args.no_str,
     };
     let stdout = std::io::stdout();
-    let mut warned = false;
+    // Until the warning is printed, the graph wakes the reader when the event topic has no
+    // publishers left; watching from before the first check, so no change falls in between.
+    let wake: Arc<dyn GraphWatcher> = Arc::new(NoPublishersWake {
+        topic: topic.as_str().to_owned(),
+        reader: reader.waker(),
+    });
+    session.graph.watch(Arc::downgrade(&wake));
+    let mut until_warned = Some(wake);
     let mut printed = 0u64;
     loop {
-        if !warned && session.graph.read(|c| c.count_publishers(topic.as_str())) < 1 {
+        if until_warned.is_some() && session.graph.read(|c| c.count_publishers(topic.as_str())) < 1
+        {
             let mut out = stdout.lock();
             let _ = writeln!(
                 out,
@@ -140,10 +150,11 @@ pub fn run(global: &Global, args: &EchoArgs) -> Result<(), CliError> {
                  or server enabled?"
             );
             let _ = out.flush();
-            warned = true;
+            // Said once: the graph keeps the watcher weakly, so dropping it ends its wake-ups.
+            until_warned = None;
         }
-        // Woken by data; the interval only bounds how late the publisher check above runs.
-        reader.wait(Duration::from_millis(200));
+        // Woken by data, or by the watcher above: no time limit, no periodic wake-up.
+        reader.wait(None);
         loop {
             let sample = match reader.take() {
                 Ok(Some(s)) => s,
@@ -182,6 +193,22 @@ pub fn run(global: &Global, args: &EchoArgs) -> Result<(), CliError> {
             if args.count.is_some_and(|n| printed >= n) {
                 return Ok(());
             }
+        }
+    }
+}
+
+/// Wakes `service echo`'s reader at a graph change after which nothing publishes on the event
+/// topic, for the loop to print its warning then (as ros2cli checks before each spin).
+struct NoPublishersWake {
+    /// The event topic, as the graph names it.
+    topic: String,
+    reader: RawReaderWaker,
+}
+
+impl GraphWatcher for NoPublishersWake {
+    fn graph_changed(&self, graph: &GraphView<'_>) {
+        if graph.read(|c| c.count_publishers(&self.topic)) < 1 {
+            self.reader.wake();
         }
     }
 }
