@@ -71,7 +71,7 @@ pub mod ros {
     pub use horus_ros_rmw::{Context, Node as RosNode};
     pub use horus_ros_services::{
         AsyncServiceClient, NodeServices, PendingResponse, ServiceClient, ServiceServer,
-        ServiceServerBuilder,
+        ServiceServerBuilder, SetupError,
     };
 }
 

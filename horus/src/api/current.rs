@@ -23,18 +23,22 @@
 //! }
 //! ```
 
-use std::sync::mpsc;
+use std::sync::mpsc::{self, TrySendError};
+use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
 use horus_ros_msgs::rcl_interfaces::msg::{ParameterType, ParameterValue};
 use horus_ros_msgs::Service;
 use horus_ros_rmw::Node as RosNode;
-use horus_ros_services::{AsyncServiceClient, ServiceClient, ServiceServer, ServiceServerBuilder};
+use horus_ros_services::{
+    AsyncServiceClient, AsyncServiceServer, ServiceClient, ServiceServerBuilder, SetupError,
+};
+use tokio::sync::oneshot;
 
 use crate::api::runtime::current;
 
 /// Why something of the current node could not be reached or created.
-#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[derive(Debug, Clone, thiserror::Error)]
 pub enum CurrentNodeError {
     /// Not called from a scheduled node's `init`, `tick` or `shutdown`.
     #[error("not called from a scheduled node (init, tick or shutdown)")]
@@ -42,9 +46,15 @@ pub enum CurrentNodeError {
     /// The node's scheduler runs without ROS.
     #[error("node '{0}' has no ROS side (its scheduler runs without ROS)")]
     NoRos(String),
-    /// The service server or client could not be created.
-    #[error("{0}")]
-    Setup(String),
+    /// The service server or client could not be created (the cause is the error's source).
+    #[error("could not create the service server or client")]
+    Setup(#[source] Arc<SetupError>),
+}
+
+impl From<SetupError> for CurrentNodeError {
+    fn from(error: SetupError) -> Self {
+        Self::Setup(Arc::new(error))
+    }
 }
 
 /// The HORUS name of the node running on this thread.
@@ -117,41 +127,92 @@ pub fn client<S: Service>(name: &str) -> Result<AsyncServiceClient<S>, CurrentNo
         .node(&node)
         .name(name)
         .build_async()
-        .map_err(|e| CurrentNodeError::Setup(e.to_string()))
+        .map_err(CurrentNodeError::from)
 }
 
-/// How long a request waits for a tick to answer it before the server gives up on it.
+/// How long a request waits for a tick to answer it before the server gives up on it (with an
+/// error reply) when served with [`serve`].
 pub const SERVE_TIMEOUT: Duration = Duration::from_secs(10);
 
+/// The most requests of one [`ServiceQueue`] waiting for a tick at once; beyond, requests wait
+/// in the DDS reader until earlier ones are answered or time out.
+pub const SERVE_MAX_IN_FLIGHT: usize = 64;
+
 /// Serves service `name` under the current node; requests are answered from `tick` (see
-/// [`ServiceQueue`]).
+/// [`ServiceQueue`]) within [`SERVE_TIMEOUT`].
 pub fn serve<S: Service>(name: &str) -> Result<ServiceQueue<S>, CurrentNodeError> {
+    serve_with_timeout(name, SERVE_TIMEOUT)
+}
+
+/// [`serve`], with requests that no tick answered within `timeout` given an error reply (a
+/// horus-ros client gets `ServiceFailed`; a ROS 2 client, which has no error reply, times out).
+pub fn serve_with_timeout<S: Service>(
+    name: &str,
+    timeout: Duration,
+) -> Result<ServiceQueue<S>, CurrentNodeError> {
     let node = ros_node()?;
-    let (tx, rx) = mpsc::channel::<PendingRequest<S>>();
+    let handle = serve_runtime().map_err(SetupError::Thread)?;
+    // Bounded: a request the node has not taken yet, or one whose wait ended untaken.
+    let (tx, rx) = mpsc::sync_channel::<PendingRequest<S>>(SERVE_MAX_IN_FLIGHT);
     let server = ServiceServerBuilder::<S>::new()
         .node(&node)
         .name(name)
-        .on_request(move |request| {
-            let (reply, response) = mpsc::sync_channel(1);
-            tx.send(PendingRequest { request, reply })
-                .map_err(|_| "the serving node has stopped".to_owned())?;
-            response
-                .recv_timeout(SERVE_TIMEOUT)
-                .map_err(|_| "the serving node did not answer".to_owned())
+        .on_request_async(move |request| {
+            // The server's thread only hands the request over; its answer is awaited on the
+            // serve runtime, so other requests go on being served meanwhile.
+            let (reply, answer) = oneshot::channel();
+            let queued = match tx.try_send(PendingRequest { request, reply }) {
+                Ok(()) => Ok(()),
+                Err(TrySendError::Full(_)) => Err("the serving node has too many requests waiting"),
+                Err(TrySendError::Disconnected(_)) => Err("the serving node has stopped"),
+            };
+            async move {
+                queued.map_err(str::to_owned)?;
+                match tokio::time::timeout(timeout, answer).await {
+                    Ok(Ok(response)) => Ok(response),
+                    Ok(Err(_)) => Err("the serving node dropped the request unanswered".to_owned()),
+                    Err(_) => Err(format!(
+                        "the serving node did not answer within {} ms",
+                        timeout.as_millis()
+                    )),
+                }
+            }
         })
-        .build()
-        .map_err(|e| CurrentNodeError::Setup(e.to_string()))?;
+        .runtime(handle)
+        .max_in_flight(SERVE_MAX_IN_FLIGHT)
+        .build()?;
     Ok(ServiceQueue {
         _server: server,
         requests: rx,
     })
 }
 
-/// A service served from `tick`: the server's thread hands each request over and waits for the
-/// node's answer; `tick` takes requests with [`try_recv`](Self::try_recv) (never blocks) and
-/// answers them with [`PendingRequest::respond`].
+/// The runtime the answers of [`serve`]d requests are awaited on: one thread for the process,
+/// started at the first `serve`, woken by answers and timers only.
+fn serve_runtime() -> std::io::Result<tokio::runtime::Handle> {
+    static HANDLE: Mutex<Option<tokio::runtime::Handle>> = Mutex::new(None);
+    let mut slot = HANDLE.lock().unwrap_or_else(|p| p.into_inner());
+    if let Some(handle) = &*slot {
+        return Ok(handle.clone());
+    }
+    let runtime = tokio::runtime::Builder::new_current_thread()
+        .enable_time()
+        .build()?;
+    let handle = runtime.handle().clone();
+    std::thread::Builder::new()
+        .name("horus-serve".to_owned())
+        .spawn(move || runtime.block_on(std::future::pending::<()>()))?;
+    *slot = Some(handle.clone());
+    Ok(handle)
+}
+
+/// A service served from `tick`: the server's thread hands each request over and never waits
+/// for the answer; `tick` takes requests with [`try_recv`](Self::try_recv) (never blocks) and
+/// answers them with [`PendingRequest::respond`]. At most [`SERVE_MAX_IN_FLIGHT`] requests wait
+/// for a tick at once, each until its timeout ([`SERVE_TIMEOUT`] unless
+/// [`serve_with_timeout`] says otherwise), after which its client gets an error reply.
 pub struct ServiceQueue<S: Service> {
-    _server: ServiceServer<S>,
+    _server: AsyncServiceServer<S>,
     requests: mpsc::Receiver<PendingRequest<S>>,
 }
 
@@ -164,16 +225,22 @@ impl<S: Service> std::fmt::Debug for ServiceQueue<S> {
 }
 
 impl<S: Service> ServiceQueue<S> {
-    /// The next request waiting for an answer, if any.
+    /// The next request waiting for an answer, if any (requests whose wait already ended, by
+    /// timeout, are skipped).
     pub fn try_recv(&self) -> Option<PendingRequest<S>> {
-        self.requests.try_recv().ok()
+        loop {
+            let pending = self.requests.try_recv().ok()?;
+            if !pending.reply.is_closed() {
+                return Some(pending);
+            }
+        }
     }
 }
 
 /// A request waiting for the node's answer.
 pub struct PendingRequest<S: Service> {
     request: S::Request,
-    reply: mpsc::SyncSender<S::Response>,
+    reply: oneshot::Sender<S::Response>,
 }
 
 impl<S: Service> PendingRequest<S> {
@@ -182,8 +249,8 @@ impl<S: Service> PendingRequest<S> {
         &self.request
     }
 
-    /// Sends the response.
+    /// Sends the response (dropped if the request has timed out meanwhile).
     pub fn respond(self, response: S::Response) {
-        let _ = self.reply.try_send(response);
+        let _ = self.reply.send(response);
     }
 }

@@ -1,6 +1,6 @@
 //! [`Topic<T>`]: a HORUS topic on a ROS 2 topic.
 
-use std::sync::{Mutex, OnceLock};
+use std::sync::{Condvar, Mutex, MutexGuard, OnceLock};
 use std::time::{Duration, Instant};
 
 use horus_ros_msgs::Message;
@@ -59,12 +59,55 @@ pub struct Topic<T: Message> {
     ros_name: String,
     qos: Qos,
     state: Mutex<State<T>>,
+    /// Signalled when a waiting receiver puts the subscription back ([`Lent`]).
+    returned: Condvar,
 }
 
 struct State<T: Message> {
     publisher: Option<Publisher<T>>,
+    /// `None` before the reader is created, and while a receiver waits on it (`lent`).
     subscription: Option<Subscription<T>>,
+    /// Whether a receiver has taken the subscription out to wait on it without the lock.
+    lent: bool,
+    /// The fully-qualified topic of the subscription, once created.
+    subscription_topic: Option<String>,
+    /// Whether a send or subscribe failure was logged.
     reported: bool,
+    /// Samples skipped because they could not be taken (malformed).
+    skipped: u64,
+}
+
+/// What one attempt to take a message gave.
+enum Taken<T> {
+    Message(T),
+    /// Nothing is queued.
+    Empty,
+    /// [`MAX_SKIPPED_PER_TAKE`] samples in a row could not be taken: more may be queued.
+    Busy,
+    /// Another thread is waiting on the subscription.
+    Lent,
+    /// The subscription could not be created.
+    Failed(TopicError),
+}
+
+/// Most samples skipped (malformed) in one take before the lock is let go.
+const MAX_SKIPPED_PER_TAKE: usize = 256;
+
+/// The subscription of a [`Topic`] taken out of its state by the thread waiting on it; put back
+/// (and the other receivers woken) when dropped, also on unwind.
+struct Lent<'t, T: Message> {
+    topic: &'t Topic<T>,
+    subscription: Option<Subscription<T>>,
+}
+
+impl<T: Message> Drop for Lent<'_, T> {
+    fn drop(&mut self) {
+        let mut state = self.topic.lock();
+        state.subscription = self.subscription.take();
+        state.lent = false;
+        drop(state);
+        self.topic.returned.notify_all();
+    }
 }
 
 impl<T: Message> std::fmt::Debug for Topic<T> {
@@ -97,8 +140,12 @@ impl<T: Message> Topic<T> {
             state: Mutex::new(State {
                 publisher: None,
                 subscription: None,
+                lent: false,
+                subscription_topic: None,
                 reported: false,
+                skipped: 0,
             }),
+            returned: Condvar::new(),
         })
     }
 
@@ -119,15 +166,15 @@ impl<T: Message> Topic<T> {
             .publisher
             .as_ref()
             .map(|p| p.topic_name().to_string())
-            .or_else(|| {
-                state
-                    .subscription
-                    .as_ref()
-                    .map(|s| s.topic_name().to_string())
-            })
+            .or_else(|| state.subscription_topic.clone())
     }
 
-    fn lock(&self) -> std::sync::MutexGuard<'_, State<T>> {
+    /// How many received samples could not be taken (malformed) and were skipped.
+    pub fn skipped_samples(&self) -> u64 {
+        self.lock().skipped
+    }
+
+    fn lock(&self) -> MutexGuard<'_, State<T>> {
         self.state.lock().unwrap_or_else(|p| p.into_inner())
     }
 
@@ -176,85 +223,166 @@ impl<T: Message> Topic<T> {
         self.ensure_subscription(&mut state).map(|_| ())
     }
 
+    /// The subscription, created if there is none yet; `None` while a receiver waits on it.
     fn ensure_subscription<'s>(
         &self,
         state: &'s mut State<T>,
-    ) -> Result<&'s mut Subscription<T>, TopicError> {
+    ) -> Result<Option<&'s mut Subscription<T>>, TopicError> {
+        if state.lent {
+            return Ok(None);
+        }
         if state.subscription.is_none() {
             let node = self.ros_node()?;
             let subscription = node
                 .create_subscription::<T>(&self.ros_name, &self.qos)
                 .map_err(|e| self.endpoint_error(e))?;
+            state.subscription_topic = Some(subscription.topic_name().to_string());
             state.subscription = Some(subscription);
         }
-        state
-            .subscription
-            .as_mut()
-            .ok_or_else(|| TopicError::Endpoint {
-                name: self.name.clone(),
-                reason: "no subscription".to_owned(),
-            })
+        Ok(state.subscription.as_mut())
     }
 
-    /// The next message if one has arrived (never blocks). A malformed sample or a failure to
-    /// subscribe is logged and reads as `None`.
+    /// Takes the next message, skipping (counting and logging) samples that cannot be taken:
+    /// wake-ups are edge-triggered, so good samples behind a bad one must be taken now.
+    fn take(&self, state: &mut State<T>) -> Taken<T> {
+        let subscription = match self.ensure_subscription(state) {
+            Ok(Some(subscription)) => subscription,
+            Ok(None) => return Taken::Lent,
+            Err(err) => return Taken::Failed(err),
+        };
+        let mut skipped = 0_u64;
+        let mut first_error = None;
+        let mut taken = Taken::Busy;
+        for _ in 0..MAX_SKIPPED_PER_TAKE {
+            match subscription.try_take() {
+                Ok(Some(message)) => {
+                    taken = Taken::Message(message);
+                    break;
+                }
+                Ok(None) => {
+                    taken = Taken::Empty;
+                    break;
+                }
+                Err(err) => {
+                    skipped += 1;
+                    if first_error.is_none() {
+                        first_error = Some(err);
+                    }
+                }
+            }
+        }
+        if let Some(err) = first_error {
+            if state.skipped == 0 {
+                crate::hlog!(warn, "topic '{}': skipped a sample: {}", self.name, err);
+            } else {
+                tracing::debug!(topic = %self.name, "skipped {skipped} sample(s): {err}");
+            }
+            state.skipped += skipped;
+        }
+        taken
+    }
+
+    /// Counts a received message for the current node.
+    fn count_received() {
+        with_current_ref(|n| {
+            if let Some(n) = n {
+                n.count_received()
+            }
+        });
+    }
+
+    /// Logs `err` if it is the topic's first.
+    fn report(&self, mut state: MutexGuard<'_, State<T>>, err: &TopicError) {
+        let first = !state.reported;
+        state.reported = true;
+        drop(state);
+        if first {
+            crate::hlog!(error, "{}", err);
+        }
+    }
+
+    /// The next message if one has arrived (never blocks). Malformed samples are skipped
+    /// (counted in [`skipped_samples`](Self::skipped_samples)); a failure to subscribe is
+    /// logged and reads as `None`. While another thread waits in [`recv`](Self::recv) on this
+    /// topic, that thread takes what arrives and this returns `None`.
     pub fn try_recv(&self) -> Option<T> {
         let mut state = self.lock();
-        let result = match self.ensure_subscription(&mut state) {
-            Ok(sub) => sub.try_take().map_err(|e| TopicError::Endpoint {
-                name: self.name.clone(),
-                reason: e.to_string(),
-            }),
-            Err(e) => Err(e),
-        };
-        match result {
-            Ok(Some(message)) => {
+        match self.take(&mut state) {
+            Taken::Message(message) => {
                 drop(state);
-                with_current_ref(|n| {
-                    if let Some(n) = n {
-                        n.count_received()
-                    }
-                });
+                Self::count_received();
                 Some(message)
             }
-            Ok(None) => None,
-            Err(err) => {
-                let first = !state.reported;
-                state.reported = true;
-                drop(state);
-                if first {
-                    crate::hlog!(error, "{}", err);
-                }
+            Taken::Failed(err) => {
+                self.report(state, &err);
                 None
             }
+            Taken::Empty | Taken::Busy | Taken::Lent => None,
         }
     }
 
     /// Waits for the next message, at most `timeout` (woken by its arrival, not polling). Not
-    /// for `tick`: use [`try_recv`](Self::try_recv) there.
+    /// for `tick`: use [`try_recv`](Self::try_recv) there. Sending on this topic from another
+    /// thread meanwhile does not wait for it.
     pub fn recv_timeout(&self, timeout: Duration) -> Option<T> {
-        let end = Instant::now() + timeout;
-        loop {
-            if let Some(m) = self.try_recv() {
-                return Some(m);
-            }
-            let left = end.checked_duration_since(Instant::now())?;
-            let mut state = self.lock();
-            let sub = self.ensure_subscription(&mut state).ok()?;
-            sub.wait(left);
-        }
+        self.wait_recv(Some(Instant::now() + timeout))
     }
 
     /// Waits for the next message (blocking; `None` only if the subscriber cannot be created).
-    /// Not for `tick`: use [`try_recv`](Self::try_recv) there.
+    /// Not for `tick`: use [`try_recv`](Self::try_recv) there. Sending on this topic from
+    /// another thread meanwhile does not wait for it.
     pub fn recv(&self) -> Option<T> {
+        self.wait_recv(None)
+    }
+
+    /// Takes the next message, waiting until `end` (`None`: no limit) without holding the
+    /// state lock: the subscription is taken out of the state while its reader is waited on,
+    /// and the other receivers wait for it to be put back.
+    fn wait_recv(&self, end: Option<Instant>) -> Option<T> {
+        let mut state = self.lock();
         loop {
-            if let Some(m) = self.try_recv() {
-                return Some(m);
+            let busy = match self.take(&mut state) {
+                Taken::Message(message) => {
+                    drop(state);
+                    Self::count_received();
+                    return Some(message);
+                }
+                Taken::Failed(err) => {
+                    self.report(state, &err);
+                    return None;
+                }
+                Taken::Empty => false,
+                Taken::Busy => true,
+                Taken::Lent => {
+                    // Another receiver waits on the reader: wait until it puts it back.
+                    state = match left(end)? {
+                        None => self.returned.wait(state).unwrap_or_else(|p| p.into_inner()),
+                        Some(left) => {
+                            self.returned
+                                .wait_timeout(state, left)
+                                .unwrap_or_else(|p| p.into_inner())
+                                .0
+                        }
+                    };
+                    continue;
+                }
+            };
+            let left = left(end)?;
+            let mut lent = Lent {
+                topic: self,
+                subscription: state.subscription.take(),
+            };
+            state.lent = true;
+            drop(state);
+            if let Some(subscription) = &mut lent.subscription {
+                if busy {
+                    // More samples may be queued, which would not wake the wait again.
+                    subscription.waker().wake();
+                }
+                subscription.wait(left);
             }
-            let mut state = self.lock();
-            let sub = self.ensure_subscription(&mut state).ok()?;
-            sub.wait(None);
+            drop(lent);
+            state = self.lock();
         }
     }
 
@@ -333,6 +461,14 @@ impl<T: Message> Drop for Topic<T> {
                 tracing::debug!(topic = %self.name, "readers did not acknowledge everything");
             }
         }
+    }
+}
+
+/// The time left until `end`: `Some(None)` for no limit, `None` once it has passed.
+fn left(end: Option<Instant>) -> Option<Option<Duration>> {
+    match end {
+        None => Some(None),
+        Some(end) => end.checked_duration_since(Instant::now()).map(Some),
     }
 }
 
