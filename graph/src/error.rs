@@ -2,6 +2,7 @@
 
 /// Why a graph query failed.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum GraphError {
     /// `no_mangle = true` asked of a service query: DDS services live on mangled `rq/`/`rr/`
     /// topics (rmw `get_service_endpoint_info.h`; rmw_fastrtps returns `RMW_RET_INVALID_ARGUMENT`).

@@ -21,6 +21,7 @@ const MAX_BATCH: usize = 1024;
 
 /// Why a [`Graph`] could not be started.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum GraphStartError {
     /// The context's discovery feed could not be opened (e.g. another `Graph` holds it).
     #[error(transparent)]

@@ -16,6 +16,7 @@ pub const CDR_LE_ID: [u8; 2] = [0x00, 0x01];
 
 /// Errors of [`to_cdr`] / [`from_cdr`].
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum CdrError {
     /// Fewer than the 4 bytes of the encapsulation header.
     #[error("CDR payload of {0} bytes is shorter than its 4-byte encapsulation header")]

@@ -21,6 +21,7 @@ pub struct TypeHash {
 
 /// Why a type hash string could not be parsed.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum TypeHashError {
     /// The string does not start with `RIHS`.
     #[error("type hash string does not start with RIHS")]

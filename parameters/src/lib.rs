@@ -21,6 +21,7 @@ const SEPARATOR: char = '.';
 
 /// Why a parameter operation of [`Parameters`] failed. The texts are rclcpp's exception texts.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum ParameterError {
     /// The parameter name is empty.
     #[error("parameter name must not be empty")]

@@ -27,6 +27,7 @@ pub const ROS_ARGS_EXPLICIT_END_TOKEN: &str = "--";
 
 /// Why the arguments were rejected.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum ArgumentsError {
     /// A ROS argument is malformed (rcl `RCL_RET_INVALID_ROS_ARGS`); the message is rcl's.
     #[error("{0}")]

@@ -171,6 +171,7 @@ impl FromStr for Backend {
 
 /// Why a backend cannot be used.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum BackendError {
     /// The name is not a backend.
     #[error(

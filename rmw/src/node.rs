@@ -10,6 +10,7 @@ use crate::Gid;
 
 /// Why a [`Node`] could not be created.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum NodeError {
     /// The node name breaks ROS's rules.
     #[error("invalid node name '{name}': {source}")]

@@ -17,6 +17,7 @@ use crate::Gid;
 
 /// Why an endpoint could not be created.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum EndpointError {
     /// The topic name does not expand to a valid ROS name.
     #[error("invalid topic name '{name}': {source}")]

@@ -7,6 +7,7 @@ use horus_ros_rmw::{ContextError, EndpointError, NodeError};
 
 /// Why a service call failed.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum ServiceError {
     /// No reply within the timeout (the server was there but did not answer in time).
     /// Retried by `call_resilient`.
@@ -39,6 +40,7 @@ impl ServiceError {
 
 /// Why a service server or client could not be created.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum SetupError {
     /// The default context could not be created from the environment.
     #[error(transparent)]
@@ -90,6 +92,7 @@ pub enum SetupError {
 
 /// Any horus-ros services error, for `?` in applications.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum Error {
     /// A call failed.
     #[error(transparent)]

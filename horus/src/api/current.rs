@@ -39,6 +39,7 @@ use crate::api::runtime::current;
 
 /// Why something of the current node could not be reached or created.
 #[derive(Debug, Clone, thiserror::Error)]
+#[non_exhaustive]
 pub enum CurrentNodeError {
     /// Not called from a scheduled node's `init`, `tick` or `shutdown`.
     #[error("not called from a scheduled node (init, tick or shutdown)")]

@@ -72,6 +72,7 @@ impl fmt::Debug for Error {
 
 /// Why [`NodeBuilder::build`](crate::NodeBuilder::build) refused a node.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum BuildError {
     /// Another node of this scheduler already has this name.
     #[error(
@@ -102,6 +103,7 @@ pub enum BuildError {
 /// Why [`Scheduler::run`](crate::Scheduler::run) or
 /// [`Scheduler::tick_once`](crate::Scheduler::tick_once) stopped with an error.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum SchedulerError {
     /// A node's `init` failed and its failure policy made it fatal.
     #[error("node '{node}' failed to initialize: {error}")]

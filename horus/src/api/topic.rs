@@ -12,6 +12,7 @@ use crate::api::runtime::{current, with_current_ref};
 
 /// Why a [`Topic`] could not be created or used.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum TopicError {
     /// The HORUS name has no ROS equivalent (see [`names`](crate::names)).
     #[error("topic name '{name}' cannot be mapped to a ROS topic name ('.' becomes '/'; the result must be a valid ROS name): {reason}")]

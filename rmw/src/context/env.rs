@@ -77,6 +77,7 @@ impl FromStr for DomainId {
 
 /// Why a domain id was refused.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum DomainIdError {
     /// Not an integral number (rcl: "ROS_DOMAIN_ID is not an integral number").
     #[error("ROS_DOMAIN_ID '{value}' is not an integral number")]

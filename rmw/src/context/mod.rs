@@ -20,6 +20,7 @@ use horus_ros_msgs::rmw_dds_common::ParticipantEntitiesInfo;
 
 /// Why a [`Context`] could not be created.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum ContextError {
     /// `ROS_DOMAIN_ID` (or the domain given) is not valid.
     #[error(transparent)]
@@ -432,6 +433,7 @@ impl ContextInner {
 
 /// Why a [`DiscoveryFeed`] could not be opened.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum DiscoveryFeedError {
     /// The context already has a feed (rustdds keeps one discovery event queue per participant).
     #[error("this context already has a discovery feed")]

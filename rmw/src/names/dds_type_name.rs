@@ -26,6 +26,7 @@ pub enum ServiceTypeRole {
 
 /// Why a DDS type name is not that of a ROS type.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum DdsTypeNameError {
     /// No `dds_::` namespace, or (for messages) no trailing `_`.
     #[error("not a ROS type: '{0}'")]

@@ -20,6 +20,7 @@ const SUBSTITUTION_NAMESPACE2: &str = "namespace";
 
 /// Why a name could not be expanded into a valid fully-qualified name.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum ExpandError {
     /// The input fails `rcl_validate_topic_name` (rcl `RCL_RET_TOPIC_NAME_INVALID`).
     #[error(transparent)]

@@ -9,6 +9,7 @@ use super::node_name::{NodeName, NodeNameError};
 
 /// Why a string is not a valid fully-qualified node name.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum FqNodeNameError {
     /// The string does not start with `/` (index 0).
     #[error("fully-qualified node name must be absolute, it must lead with a '/'")]

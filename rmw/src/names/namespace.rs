@@ -14,6 +14,7 @@ pub const NAMESPACE_MAX_LENGTH: usize = TOPIC_NAME_MAX_LENGTH - 2;
 /// Why a string is not a valid namespace (rmw `RMW_NAMESPACE_INVALID_*`).
 /// Indices are byte offsets, as rmw's `invalid_index`.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum NamespaceError {
     /// `RMW_NAMESPACE_INVALID_IS_EMPTY_STRING`.
     #[error("namespace must not be empty")]

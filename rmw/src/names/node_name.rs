@@ -12,6 +12,7 @@ pub const NODE_NAME_MAX_LENGTH: usize = 255;
 ///
 /// Indices are byte offsets into the input, as rmw's `invalid_index`.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum NodeNameError {
     /// `RMW_NODE_NAME_INVALID_IS_EMPTY_STRING`.
     #[error("node name must not be empty")]

@@ -16,6 +16,7 @@ pub const TOPIC_NAME_MAX_LENGTH: usize = DDS_TOPIC_NAME_MAX_LENGTH - 8;
 /// Why a string is not a valid fully-qualified topic (or service) name
 /// (rmw `RMW_TOPIC_INVALID_*`). Indices are byte offsets, as rmw's.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum TopicNameError {
     /// `RMW_TOPIC_INVALID_IS_EMPTY_STRING`.
     #[error("topic name must not be empty")]

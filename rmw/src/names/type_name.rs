@@ -49,6 +49,7 @@ impl fmt::Display for InterfaceKind {
 /// Why a string is not a valid `package/kind/Name` type name. Indices are
 /// byte offsets into the whole input.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum RosTypeNameError {
     /// Not three `/`-separated parts.
     #[error("type name must have the form '<package>/<msg|srv|action>/<Name>'")]

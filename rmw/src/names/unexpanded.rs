@@ -8,6 +8,7 @@
 /// Why a name is not a valid unexpanded topic or service name
 /// (rcl `RCL_TOPIC_NAME_INVALID_*`). Indices are byte offsets, as rcl's.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum UnexpandedNameError {
     /// `RCL_TOPIC_NAME_INVALID_IS_EMPTY_STRING`.
     #[error("topic name must not be empty string")]

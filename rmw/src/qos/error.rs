@@ -2,6 +2,7 @@
 
 /// Why a QoS profile or policy value could not be converted.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum QosError {
     /// A policy is UNKNOWN, which no DDS endpoint can be created with
     /// (rmw_cyclonedds `create_readwrite_qos` and rmw_fastrtps `fill_entity_qos_from_profile`

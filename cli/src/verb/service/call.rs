@@ -325,6 +325,7 @@ pub(crate) fn call_error(e: ServiceError, service: &ServiceName, timeout: Durati
         ServiceError::ServiceFailed(m) => format!("The service {service} failed: {m}"),
         ServiceError::Transport(m) => format!("Calling {service} failed: {m}"),
         ServiceError::ServerGone => format!("The server of {service} left before answering"),
+        other => format!("Calling {service} failed: {other}"),
     })
 }
 

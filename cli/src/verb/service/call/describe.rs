@@ -166,5 +166,6 @@ fn call_describe(
         }
         horus_ros_services::ServiceError::ServiceFailed(m)
         | horus_ros_services::ServiceError::Transport(m) => m,
+        other => other.to_string(),
     })
 }
