@@ -107,6 +107,7 @@ impl Default for NodeServicesOptions {
 /// publishes the store's changes on `/parameter_events`, as rclcpp's `NodeParameters`.
 ///
 /// Dropping it stops the services (each server thread is joined) and the event publisher.
+#[must_use = "the node's services are served only while this is held"]
 pub struct NodeServices {
     parameters: Parameters,
     /// `/parameter_events`; the store's change listener holds it weakly, so that it goes with

@@ -184,6 +184,7 @@ struct ServerShared {
 }
 
 /// A running service server; it serves until [`stop`](Self::stop)ped or dropped.
+#[must_use = "a server serves only while it is held: dropping it stops serving"]
 pub struct ServiceServer<S: Service> {
     shared: Arc<ServerShared>,
     /// Wakes the server thread (to stop it).

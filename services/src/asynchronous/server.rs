@@ -226,6 +226,7 @@ struct Shared {
 ///     Ok(())
 /// }
 /// ```
+#[must_use = "a server serves only while it is held: dropping it stops serving"]
 pub struct AsyncServiceServer<S: Service> {
     shared: Arc<Shared>,
     thread: Option<JoinHandle<()>>,

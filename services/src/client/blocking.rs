@@ -82,6 +82,7 @@ impl<S: Service> ServiceClientBuilder<S> {
 }
 
 /// Calls a service and waits for the reply.
+#[must_use = "a client's endpoints exist only while it is held"]
 pub struct ServiceClient<S: Service> {
     core: Arc<ClientCore<Typed<S>>>,
     /// Where its calls wait for their replies (see `client::responses`).

@@ -127,6 +127,7 @@ impl DynamicServiceClientBuilder {
 
 /// A client for a service type known at run time; behaves like
 /// [`ServiceClient`](crate::ServiceClient) (same server choice, wire conventions and errors).
+#[must_use = "a client's endpoints exist only while it is held"]
 pub struct DynamicServiceClient {
     core: Arc<ClientCore<Raw>>,
     responses: Membership,

@@ -20,6 +20,7 @@ use crate::{IntrospectionState, ServiceError, SetupError};
 
 /// Calls a service without blocking: each call returns a [`PendingResponse`] to check, wait on,
 /// or `.await`. A background thread receives the replies.
+#[must_use = "a client's endpoints exist only while it is held"]
 pub struct AsyncServiceClient<S: Service> {
     core: Arc<ClientCore<Typed<S>>>,
     stop: Arc<AtomicBool>,
@@ -160,6 +161,7 @@ enum State<S: Service> {
 
 /// One call of an [`AsyncServiceClient`]: check it, wait for it, or `.await` it (any executor).
 /// Dropping it abandons the call; a late reply is then dropped.
+#[must_use = "dropping a pending response abandons its call"]
 pub struct PendingResponse<S: Service> {
     core: Arc<ClientCore<Typed<S>>>,
     deadline: Instant,

@@ -116,6 +116,7 @@ impl<S: Service> DdsServiceClientBuilder<S> {
 ///   ([`TransportError::BufferTooSmall`]).
 /// - A background thread receives replies and wakes the [registered](ServiceClientTrait::register_waker)
 ///   waker.
+#[must_use = "a client's endpoints exist only while it is held"]
 pub struct DdsServiceClient<S: Service> {
     shared: Arc<Shared>,
     pump: Option<JoinHandle<()>>,

@@ -139,6 +139,7 @@ impl<S: Service> DdsServiceServerBuilder<S> {
 ///   parked (bounded per client) and sent by the background thread once it is, or dropped after
 ///   5 s.
 /// - Requests taken but never answered are forgotten beyond 4096 outstanding (oldest first).
+#[must_use = "a server's endpoints exist only while it is held"]
 pub struct DdsServiceServer<S: Service> {
     shared: Arc<Shared>,
     pump: Option<JoinHandle<()>>,
