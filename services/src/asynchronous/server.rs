@@ -369,6 +369,8 @@ impl<S: Service> Dispatcher<S> {
         let shared = Arc::clone(&self.work.shared);
         while !shared.stop.load(Ordering::SeqCst) {
             let mut errors = 0;
+            // Whether a drain stopped at its error bound with requests possibly left behind.
+            let mut cut_short = false;
             // At the bound, requests stay in the reader: a finishing handler wakes us.
             while shared.in_flight.load(Ordering::SeqCst) < self.max_in_flight {
                 match self.work.wire.take_request(&mut self.requests) {
@@ -377,6 +379,7 @@ impl<S: Service> Dispatcher<S> {
                     TakenRequest::Dropped => {
                         errors += 1;
                         if errors >= MAX_ERRORS_PER_DRAIN {
+                            cut_short = true;
                             break;
                         }
                     }
@@ -384,6 +387,10 @@ impl<S: Service> Dispatcher<S> {
             }
             // Parked replies whose client can hear them now go out; old ones are dropped.
             let next_expiry = self.work.wire.flush_parked(&self.work.replies);
+            if cut_short {
+                // Wake-ups are edge-triggered: what is left would not wake us.
+                continue;
+            }
             // Requests, a handler finishing, `stop()` and graph changes while replies are parked
             // all wake it; the only deadline is the earliest parked reply's expiry.
             let wait = next_expiry.map(|t| t.saturating_duration_since(Instant::now()));
