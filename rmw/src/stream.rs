@@ -88,18 +88,25 @@ impl<M: Message> Subscription<M> {
     }
 }
 
-/// The stream's thread: takes every message that has arrived into the queue (in one push, so a
-/// burst larger than the capacity keeps its newest part), then waits for more.
+/// The stream's thread: takes every message that has arrived into the queue (in pushes of at
+/// most the queue's capacity, so a burst larger than the capacity keeps its newest part and a
+/// publisher faster than the taking never grows the batch), then waits for more.
 fn pump<M: Message>(
     mut subscription: Subscription<M>,
     queue: &DropOldestQueue<M>,
     stop: &AtomicBool,
 ) {
+    let capacity = queue.capacity();
     let mut batch = Vec::new();
     while !stop.load(Ordering::SeqCst) {
         loop {
             match subscription.try_take() {
-                Ok(Some(message)) => batch.push(message),
+                Ok(Some(message)) => {
+                    batch.push(message);
+                    if batch.len() >= capacity {
+                        queue.push_all(batch.drain(..));
+                    }
+                }
                 Ok(None) => break,
                 Err(e) => tracing::debug!("dropped a sample: {e}"),
             }

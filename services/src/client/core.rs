@@ -682,7 +682,14 @@ impl<C: Codec> ClientCore<C> {
     /// Parks the waker of a future still waiting for a usable server (woken when the graph
     /// changes or its deadline passes), and wakes the reply thread to take it into account.
     pub(crate) fn park_unsent(&self, waker: &Waker, deadline: Instant) {
-        lock(&self.unsent_wakers).push((waker.clone(), deadline));
+        {
+            // A future polled again before the reply thread looked is parked once.
+            let mut unsent = lock(&self.unsent_wakers);
+            match unsent.iter_mut().find(|(w, _)| w.will_wake(waker)) {
+                Some((_, at)) => *at = (*at).min(deadline),
+                None => unsent.push((waker.clone(), deadline)),
+            }
+        }
         self.set_wake_on_graph_change(true);
         self.wake();
     }

@@ -7,7 +7,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard};
 use std::task::Waker;
 use std::thread::JoinHandle;
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 use horus_ros_msgs::Service;
 use horus_ros_rmw::names::ServiceName;
@@ -24,6 +24,9 @@ use crate::{SetupError, WireFlavour};
 
 /// Most requests received and not yet taken; beyond, the oldest is dropped.
 const MAX_QUEUED: usize = 4096;
+/// At most one warning about requests dropped at [`MAX_QUEUED`] per interval (the interval of
+/// rmw's warnings about peers).
+const OVERFLOW_WARNING_INTERVAL: Duration = Duration::from_secs(10);
 
 /// Most requests taken and not yet answered; beyond, the oldest is forgotten (its
 /// `send_reply` then fails with `UnknownRequest`).
@@ -292,6 +295,8 @@ impl Shared {
 
     /// The request thread: queues requests, wakes the waker, sends deferred replies.
     fn pump(&self, mut reader: RawReader) {
+        // Requests dropped at the queue's bound since the last warning, and when that was.
+        let (mut overflowed, mut warned_at) = (0u64, None::<Instant>);
         while !self.stop.load(Ordering::SeqCst) {
             let mut arrived = false;
             let mut errors = 0;
@@ -301,7 +306,7 @@ impl Shared {
                         let mut queue = self.queue();
                         if queue.len() >= MAX_QUEUED {
                             queue.pop_front();
-                            tracing::warn!(service = %self.wire.service(), "request queue full: dropped the oldest request");
+                            overflowed += 1;
                         }
                         queue.push_back(request);
                         arrived = true;
@@ -315,6 +320,15 @@ impl Shared {
                     }
                 }
             };
+            // One warning per interval at most, with the count, however fast requests overflow.
+            if overflowed > 0 && warned_at.is_none_or(|at| at.elapsed() >= OVERFLOW_WARNING_INTERVAL)
+            {
+                tracing::warn!(
+                    service = %self.wire.service(),
+                    "request queue full ({MAX_QUEUED}): dropped the {overflowed} oldest request(s)"
+                );
+                (overflowed, warned_at) = (0, Some(Instant::now()));
+            }
             if arrived {
                 let waker = self.waker().take();
                 if let Some(w) = waker {
