@@ -23,6 +23,7 @@
 //!
 //! Environment: `HORUS_BENCH_RELIABILITY_CALLS` (N, calls per client; default 300),
 //! `HORUS_BENCH_RELIABILITY_PER_CONTEXT` (clients per context, default 8),
+//! `HORUS_BENCH_RELIABILITY_CLIENTS` (comma-separated client counts of part 1; default `8,64`),
 //! `HORUS_BENCH_RELIABILITY_PHASE_SECS` (length of each hostile-peer phase; default 5),
 //! `HORUS_BENCH_RELIABILITY_ONLY` (comma-separated subset of `clients,hostile,idle`),
 //! `HORUS_BENCH_RELIABILITY_BACKENDS` (comma-separated subset of `rustdds,cyclone`).
@@ -561,6 +562,11 @@ fn main() {
         "HORUS_BENCH_RELIABILITY_PER_CONTEXT",
         DEFAULT_CLIENTS_PER_CONTEXT,
     );
+    let client_counts: Vec<usize> = std::env::var("HORUS_BENCH_RELIABILITY_CLIENTS")
+        .ok()
+        .map(|v| v.split(',').filter_map(|n| n.trim().parse().ok()).collect())
+        .filter(|v: &Vec<usize>| !v.is_empty())
+        .unwrap_or_else(|| vec![8, 64]);
     let phase = Duration::from_secs(env_usize(
         "HORUS_BENCH_RELIABILITY_PHASE_SECS",
         DEFAULT_PHASE_SECS,
@@ -590,7 +596,7 @@ fn main() {
     if wanted("clients") {
         println!("many clients ({per_context} per context), one server, {CALL_TIMEOUT:?} timeout:");
         for &backend in &backends {
-            for clients in [8, 64] {
+            for &clients in &client_counts {
                 domain += 1;
                 print_many(
                     backend,
