@@ -4,11 +4,135 @@
 //! elements, arrays as their elements, nested structs inline. `wchar` / `wstring` follow
 //! rmw_cyclonedds (16-bit units; `wstring` length in units, no terminator).
 
-use super::{Container, Elem, Schema, Value, MAX_NESTING};
+use super::{Container, Elem, Member, Schema, SchemaError, Value, MAX_NESTING};
+
+/// Why a value does not encode as a type ([`encode`]).
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
+pub enum EncodeError {
+    /// The type (or a type it uses) is not in the schema.
+    #[error(transparent)]
+    Schema(#[from] SchemaError),
+    /// The value nests structs deeper than [`Schema::check`] allows (a type not checked).
+    #[error("type '{type_name}' nests structs more than {} deep", MAX_NESTING)]
+    TooDeep {
+        /// The struct found too deep.
+        type_name: String,
+    },
+    /// A struct type's value is not a [`Value::Struct`].
+    #[error("value does not fit its field type ({type_name})")]
+    NotAStruct {
+        /// The struct type.
+        type_name: String,
+    },
+    /// A struct value with another number of fields than its type.
+    #[error("value does not fit its field type ({type_name})")]
+    FieldCount {
+        /// The struct type.
+        type_name: String,
+        /// The type's number of fields.
+        expected: usize,
+        /// The value's.
+        found: usize,
+    },
+    /// An array or sequence field's value is not a [`Value::List`].
+    #[error("value does not fit its field type ({field})")]
+    NotAList {
+        /// The field's name.
+        field: String,
+    },
+    /// An array of another length than its type's, or a sequence longer than its bound (or
+    /// than a CDR count can say).
+    #[error("value does not fit its field type ({field})")]
+    Length {
+        /// The field's name.
+        field: String,
+        /// The field's container (the expected length or bound).
+        container: Container,
+        /// The value's length.
+        found: usize,
+    },
+    /// A value of another kind than its element type.
+    #[error("value does not fit its field type ({expected:?})")]
+    WrongType {
+        /// The element type.
+        expected: Elem,
+        /// The kind of value found (`Bool`, `Int`, `Str`…).
+        found: &'static str,
+    },
+    /// A `char` value beyond 8 bits.
+    #[error("value does not fit its field type (char)")]
+    CharOutOfRange {
+        /// The character.
+        value: char,
+    },
+    /// An integer beyond its field's range.
+    #[error("value does not fit its field type (integer out of range)")]
+    IntegerOutOfRange {
+        /// The integer.
+        value: i128,
+        /// The field's bits.
+        bits: u32,
+        /// Whether the field is signed.
+        signed: bool,
+    },
+    /// A `string` holding a NUL, which CDR strings cannot carry.
+    #[error("value does not fit its field type (string with a NUL)")]
+    NulInString,
+    /// A `string` longer than a CDR length can say.
+    #[error("value does not fit its field type (string)")]
+    StringTooLong {
+        /// Its length in bytes.
+        len: usize,
+    },
+    /// A `wstring` longer than a CDR length can say.
+    #[error("value does not fit its field type (wstring)")]
+    WStringTooLong {
+        /// Its length in UTF-16 units.
+        len: usize,
+    },
+    /// A `long double` field (no ROS interface uses one).
+    #[error("long double fields are not supported")]
+    LongDouble,
+}
+
+/// Why a body does not decode as a type ([`decode`]).
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
+pub enum DecodeError {
+    /// The type (or a type it uses) is not in the schema.
+    #[error(transparent)]
+    Schema(#[from] SchemaError),
+    /// The type nests structs deeper than [`Schema::check`] allows (a type not checked).
+    #[error("type '{type_name}' nests structs more than {} deep", MAX_NESTING)]
+    TooDeep {
+        /// The struct found too deep.
+        type_name: String,
+    },
+    /// The body ends before the value does.
+    #[error("reply body truncated at byte {offset}")]
+    Truncated {
+        /// Where the next value was to be read (from the body start).
+        offset: usize,
+    },
+    /// A sequence count beyond the field's bound or the bytes left.
+    #[error("field '{field}': sequence of {len} elements")]
+    SequenceTooLong {
+        /// The field's name.
+        field: String,
+        /// The count read.
+        len: usize,
+        /// The field's bound, if any.
+        bound: Option<usize>,
+    },
+    /// A `long double` field (no ROS interface uses one).
+    #[error("long double fields are not supported")]
+    LongDouble,
+}
 
 /// Encodes a struct value of type `type_name` as a little-endian body (`type_name` having passed
 /// [`Schema::check`]).
-pub fn encode(schema: &Schema, type_name: &str, value: &Value) -> Result<Vec<u8>, String> {
+pub fn encode(schema: &Schema, type_name: &str, value: &Value) -> Result<Vec<u8>, EncodeError> {
     let mut w = Writer {
         out: Vec::new(),
         depth: 0,
@@ -25,7 +149,7 @@ pub fn decode(
     type_name: &str,
     body: &[u8],
     big_endian: bool,
-) -> Result<Value, String> {
+) -> Result<Value, DecodeError> {
     let mut r = Reader {
         body,
         pos: 0,
@@ -35,19 +159,23 @@ pub fn decode(
     r.strukt(schema, type_name)
 }
 
+/// The kind of a value, for [`EncodeError::WrongType`].
+fn kind(v: &Value) -> &'static str {
+    match v {
+        Value::Bool(_) => "Bool",
+        Value::Int(_) => "Int",
+        Value::Float(_) => "Float",
+        Value::Str(_) => "Str",
+        Value::Byte(_) => "Byte",
+        Value::List(_) => "List",
+        Value::Struct(_) => "Struct",
+    }
+}
+
 struct Writer {
     out: Vec<u8>,
     /// Structs being written around the current one.
     depth: usize,
-}
-
-/// The error for a value nested deeper than [`Schema::check`] allows (a type not checked).
-fn too_deep(name: &str) -> String {
-    format!("type '{name}' nests structs more than {MAX_NESTING} deep")
-}
-
-fn mismatch(what: &str) -> String {
-    format!("value does not fit its field type ({what})")
 }
 
 impl Writer {
@@ -62,9 +190,11 @@ impl Writer {
         self.out.extend_from_slice(bytes);
     }
 
-    fn strukt(&mut self, schema: &Schema, name: &str, v: &Value) -> Result<(), String> {
+    fn strukt(&mut self, schema: &Schema, name: &str, v: &Value) -> Result<(), EncodeError> {
         if self.depth >= MAX_NESTING {
-            return Err(too_deep(name));
+            return Err(EncodeError::TooDeep {
+                type_name: name.to_owned(),
+            });
         }
         self.depth += 1;
         let result = self.fields(schema, name, v);
@@ -72,23 +202,29 @@ impl Writer {
         result
     }
 
-    fn fields(&mut self, schema: &Schema, name: &str, v: &Value) -> Result<(), String> {
-        let s = schema.get(name).map_err(|e| e.to_string())?;
+    fn fields(&mut self, schema: &Schema, name: &str, v: &Value) -> Result<(), EncodeError> {
+        let s = schema.get(name)?;
         let Value::Struct(fields) = v else {
-            return Err(mismatch(name));
+            return Err(EncodeError::NotAStruct {
+                type_name: name.to_owned(),
+            });
         };
         if fields.len() != s.members.len() {
-            return Err(mismatch(name));
+            return Err(EncodeError::FieldCount {
+                type_name: name.to_owned(),
+                expected: s.members.len(),
+                found: fields.len(),
+            });
         }
         for (m, f) in s.members.iter().zip(fields) {
             match m.ty.container {
                 Container::Single => self.elem(schema, &m.ty.elem, f)?,
                 Container::Array(n) => {
                     let Value::List(items) = f else {
-                        return Err(mismatch(&m.name));
+                        return Err(not_a_list(m));
                     };
                     if items.len() != n {
-                        return Err(mismatch(&m.name));
+                        return Err(wrong_length(m, items));
                     }
                     for i in items {
                         self.elem(schema, &m.ty.elem, i)?;
@@ -96,12 +232,12 @@ impl Writer {
                 }
                 Container::Sequence(bound) => {
                     let Value::List(items) = f else {
-                        return Err(mismatch(&m.name));
+                        return Err(not_a_list(m));
                     };
                     if bound.is_some_and(|b| items.len() > b) {
-                        return Err(mismatch(&m.name));
+                        return Err(wrong_length(m, items));
                     }
-                    let n = u32::try_from(items.len()).map_err(|_| mismatch(&m.name))?;
+                    let n = u32::try_from(items.len()).map_err(|_| wrong_length(m, items))?;
                     self.put(&n.to_le_bytes());
                     for i in items {
                         self.elem(schema, &m.ty.elem, i)?;
@@ -112,15 +248,15 @@ impl Writer {
         Ok(())
     }
 
-    fn elem(&mut self, schema: &Schema, e: &Elem, v: &Value) -> Result<(), String> {
+    fn elem(&mut self, schema: &Schema, e: &Elem, v: &Value) -> Result<(), EncodeError> {
         match (e, v) {
             (Elem::Nested(n), v) => self.strukt(schema, n, v)?,
             (Elem::Bool, Value::Bool(b)) => self.out.push(u8::from(*b)),
             (Elem::Byte, Value::Byte(b)) => self.out.push(*b),
             (Elem::Char, Value::Str(s)) => {
-                let c = s.chars().next().map_or(0, u32::from);
-                self.out
-                    .push(u8::try_from(c).map_err(|_| mismatch("char"))?);
+                let c = s.chars().next().unwrap_or('\0');
+                let b = u8::try_from(c).map_err(|_| EncodeError::CharOutOfRange { value: c })?;
+                self.out.push(b);
             }
             (Elem::WChar, Value::Str(s)) => {
                 let c = s.encode_utf16().next().unwrap_or(0);
@@ -135,33 +271,60 @@ impl Writer {
                     (0, (1i128 << bits) - 1)
                 };
                 if *i < lo || *i > hi {
-                    return Err(mismatch("integer out of range"));
+                    return Err(EncodeError::IntegerOutOfRange {
+                        value: *i,
+                        bits: *bits,
+                        signed: *signed,
+                    });
                 }
                 self.put(&bytes[..n]);
             }
             (Elem::F32, Value::Float(f)) => self.put(&(*f as f32).to_le_bytes()),
             (Elem::F64, Value::Float(f)) => self.put(&f.to_le_bytes()),
-            (Elem::LongDouble, _) => return Err("long double fields are not supported".to_owned()),
+            (Elem::LongDouble, _) => return Err(EncodeError::LongDouble),
             (Elem::Str(_), Value::Str(s)) => {
                 if s.contains('\0') {
-                    return Err(mismatch("string with a NUL"));
+                    return Err(EncodeError::NulInString);
                 }
-                let n = u32::try_from(s.len() + 1).map_err(|_| mismatch("string"))?;
+                let n = u32::try_from(s.len() + 1)
+                    .map_err(|_| EncodeError::StringTooLong { len: s.len() })?;
                 self.put(&n.to_le_bytes());
                 self.out.extend_from_slice(s.as_bytes());
                 self.out.push(0);
             }
             (Elem::WStr(_), Value::Str(s)) => {
                 let units: Vec<u16> = s.encode_utf16().collect();
-                let n = u32::try_from(units.len()).map_err(|_| mismatch("wstring"))?;
+                let n = u32::try_from(units.len())
+                    .map_err(|_| EncodeError::WStringTooLong { len: units.len() })?;
                 self.put(&n.to_le_bytes());
                 for u in units {
                     self.out.extend_from_slice(&u.to_le_bytes());
                 }
             }
-            (e, _) => return Err(mismatch(&format!("{e:?}"))),
+            (e, v) => {
+                return Err(EncodeError::WrongType {
+                    expected: e.clone(),
+                    found: kind(v),
+                })
+            }
         }
         Ok(())
+    }
+}
+
+/// An [`EncodeError::NotAList`] for field `m`.
+fn not_a_list(m: &Member) -> EncodeError {
+    EncodeError::NotAList {
+        field: m.name.clone(),
+    }
+}
+
+/// An [`EncodeError::Length`] for field `m` holding `items`.
+fn wrong_length(m: &Member, items: &[Value]) -> EncodeError {
+    EncodeError::Length {
+        field: m.name.clone(),
+        container: m.ty.container,
+        found: items.len(),
     }
 }
 
@@ -174,14 +337,14 @@ struct Reader<'a> {
 }
 
 impl Reader<'_> {
-    fn take<const N: usize>(&mut self) -> Result<[u8; N], String> {
+    fn take<const N: usize>(&mut self) -> Result<[u8; N], DecodeError> {
         let align = N.min(8);
         let start = self.pos.div_ceil(align) * align;
         let end = start + N;
         let bytes = self
             .body
             .get(start..end)
-            .ok_or_else(|| format!("reply body truncated at byte {start}"))?;
+            .ok_or(DecodeError::Truncated { offset: start })?;
         self.pos = end;
         let mut out = [0u8; N];
         out.copy_from_slice(bytes);
@@ -191,16 +354,16 @@ impl Reader<'_> {
         Ok(out)
     }
 
-    fn u32(&mut self) -> Result<u32, String> {
+    fn u32(&mut self) -> Result<u32, DecodeError> {
         Ok(u32::from_le_bytes(self.take::<4>()?))
     }
 
-    fn raw(&mut self, n: usize) -> Result<&[u8], String> {
+    fn raw(&mut self, n: usize) -> Result<&[u8], DecodeError> {
         let end = self
             .pos
             .checked_add(n)
             .filter(|e| *e <= self.body.len())
-            .ok_or_else(|| format!("reply body truncated at byte {}", self.pos))?;
+            .ok_or(DecodeError::Truncated { offset: self.pos })?;
         let s = &self.body[self.pos..end];
         self.pos = end;
         Ok(s)
@@ -211,9 +374,11 @@ impl Reader<'_> {
         self.body.len().saturating_sub(self.pos)
     }
 
-    fn strukt(&mut self, schema: &Schema, name: &str) -> Result<Value, String> {
+    fn strukt(&mut self, schema: &Schema, name: &str) -> Result<Value, DecodeError> {
         if self.depth >= MAX_NESTING {
-            return Err(too_deep(name));
+            return Err(DecodeError::TooDeep {
+                type_name: name.to_owned(),
+            });
         }
         self.depth += 1;
         let result = self.fields(schema, name);
@@ -221,8 +386,8 @@ impl Reader<'_> {
         result
     }
 
-    fn fields(&mut self, schema: &Schema, name: &str) -> Result<Value, String> {
-        let s = schema.get(name).map_err(|e| e.to_string())?;
+    fn fields(&mut self, schema: &Schema, name: &str) -> Result<Value, DecodeError> {
+        let s = schema.get(name)?;
         let mut fields = Vec::with_capacity(s.members.len());
         for m in &s.members {
             let v = match m.ty.container {
@@ -230,7 +395,7 @@ impl Reader<'_> {
                 Container::Array(n) => {
                     // Every element takes at least one byte (checked types).
                     if n > self.left() {
-                        return Err(format!("reply body truncated at byte {}", self.pos));
+                        return Err(DecodeError::Truncated { offset: self.pos });
                     }
                     Value::List(
                         (0..n)
@@ -241,7 +406,11 @@ impl Reader<'_> {
                 Container::Sequence(bound) => {
                     let n = self.u32()? as usize;
                     if bound.is_some_and(|b| n > b) || n > self.left() {
-                        return Err(format!("field '{}': sequence of {n} elements", m.name));
+                        return Err(DecodeError::SequenceTooLong {
+                            field: m.name.clone(),
+                            len: n,
+                            bound,
+                        });
                     }
                     Value::List(
                         (0..n)
@@ -255,7 +424,7 @@ impl Reader<'_> {
         Ok(Value::Struct(fields))
     }
 
-    fn elem(&mut self, schema: &Schema, e: &Elem) -> Result<Value, String> {
+    fn elem(&mut self, schema: &Schema, e: &Elem) -> Result<Value, DecodeError> {
         Ok(match e {
             Elem::Nested(n) => self.strukt(schema, n)?,
             Elem::Bool => Value::Bool(self.take::<1>()?[0] != 0),
@@ -280,7 +449,7 @@ impl Reader<'_> {
             }
             Elem::F32 => Value::Float(f64::from(f32::from_le_bytes(self.take::<4>()?))),
             Elem::F64 => Value::Float(f64::from_le_bytes(self.take::<8>()?)),
-            Elem::LongDouble => return Err("long double fields are not supported".to_owned()),
+            Elem::LongDouble => return Err(DecodeError::LongDouble),
             Elem::Str(_) => {
                 let n = self.u32()? as usize;
                 let bytes = self.raw(n)?;
@@ -290,7 +459,7 @@ impl Reader<'_> {
             Elem::WStr(_) => {
                 let n = self.u32()? as usize;
                 if n > self.left() / 2 {
-                    return Err(format!("reply body truncated at byte {}", self.pos));
+                    return Err(DecodeError::Truncated { offset: self.pos });
                 }
                 let units = (0..n)
                     .map(|_| self.take::<2>().map(u16::from_le_bytes))

@@ -52,6 +52,10 @@ fn elem_json(schema: &Schema, e: &Elem, v: &Value) -> Json {
 
 /// A message of type `type_name` filled from `json` as `service call` fills one from YAML
 /// (fields not given keep their defaults).
-pub fn fill_from_json(schema: &Schema, type_name: &str, json: &Json) -> Result<Value, String> {
+pub fn fill_from_json(
+    schema: &Schema,
+    type_name: &str,
+    json: &Json,
+) -> Result<Value, crate::yaml::FillError> {
     crate::yaml::fill_from_yaml(schema, type_name, &json.to_string())
 }

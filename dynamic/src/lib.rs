@@ -23,7 +23,9 @@ pub mod repr;
 mod service_type;
 pub mod yaml;
 
-pub use service_type::{compiled_description, ServiceType};
+pub use cdr::{DecodeError, EncodeError};
+pub use service_type::{compiled_description, RequestError, ServiceType};
+pub use yaml::FillError;
 
 use std::collections::HashMap;
 
@@ -144,17 +146,95 @@ pub enum Value {
     Struct(Vec<Value>),
 }
 
-/// Errors of schema building.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct SchemaError(pub String);
-
-impl std::fmt::Display for SchemaError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(&self.0)
-    }
+/// Why a [`FieldType`] of a description has no [`FieldTy`] ([`convert_type`]).
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
+pub enum FieldTypeError {
+    /// The type id is none of `type_description_interfaces/msg/FieldType`'s.
+    #[error("unknown field type id {type_id}")]
+    UnknownTypeId {
+        /// The id found.
+        type_id: u8,
+    },
+    /// An array or sequence capacity that does not fit a `usize`.
+    #[error("capacity {capacity} is too large")]
+    CapacityTooLarge {
+        /// The capacity found.
+        capacity: u64,
+    },
+    /// A nested type with an empty `nested_type_name`.
+    #[error("nested type without a name")]
+    UnnamedNestedType,
 }
 
-impl std::error::Error for SchemaError {}
+/// Why a description makes no [`Schema`], or a type of a schema cannot be used
+/// ([`Schema::from_description`], [`Schema::check`], [`Schema::default_value`],
+/// [`sub_description`], [`ServiceType::from_descriptions`]).
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
+pub enum SchemaError {
+    /// A type used (or asked for) is not in the description.
+    #[error("the type description lacks type '{type_name}'")]
+    MissingType {
+        /// The type's name (`pkg/msg/Name`).
+        type_name: String,
+    },
+    /// A field's type does not convert.
+    #[error("field '{field}' of '{type_name}': {source}")]
+    FieldType {
+        /// The struct holding the field.
+        type_name: String,
+        /// The field's name.
+        field: String,
+        /// What is wrong with its type.
+        #[source]
+        source: FieldTypeError,
+    },
+    /// A type contains itself (directly or through other types).
+    #[error("type '{type_name}' contains itself")]
+    Recursive {
+        /// The type found again inside itself.
+        type_name: String,
+    },
+    /// Structs nest deeper than [`MAX_NESTING`].
+    #[error("type '{type_name}' nests structs more than {} deep", MAX_NESTING)]
+    TooDeep {
+        /// The outermost type.
+        type_name: String,
+    },
+    /// A struct without fields (rosidl always gives one a placeholder field).
+    #[error("type '{type_name}' has no fields")]
+    NoFields {
+        /// The struct.
+        type_name: String,
+    },
+    /// A fixed array of no element.
+    #[error("field '{field}' of '{type_name}' is an array of 0 elements")]
+    EmptyArray {
+        /// The struct holding the field.
+        type_name: String,
+        /// The field's name.
+        field: String,
+    },
+    /// A value of the type would hold more than [`MAX_FIXED_VALUES`] values outside sequences.
+    #[error(
+        "type '{type_name}' holds more than {} values in fixed-size fields",
+        MAX_FIXED_VALUES
+    )]
+    TooManyValues {
+        /// The type found too large.
+        type_name: String,
+    },
+}
+
+impl SchemaError {
+    /// A [`SchemaError::MissingType`] for `type_name`.
+    fn missing(type_name: &str) -> Self {
+        Self::MissingType {
+            type_name: type_name.to_owned(),
+        }
+    }
+}
 
 /// The struct types of one or more descriptions, by name.
 #[derive(Clone, Debug, Default)]
@@ -185,7 +265,7 @@ impl Schema {
     pub fn get(&self, name: &str) -> Result<&Struct, SchemaError> {
         self.structs
             .get(name)
-            .ok_or_else(|| SchemaError(format!("the type description lacks type '{name}'")))
+            .ok_or_else(|| SchemaError::missing(name))
     }
 
     /// Checks that type `root` can be used: every nested type it uses (recursively) is known,
@@ -215,17 +295,20 @@ impl Schema {
             return Ok(*values);
         }
         if path.contains(&name) {
-            return Err(SchemaError(format!("type '{name}' contains itself")));
+            return Err(SchemaError::Recursive {
+                type_name: name.to_owned(),
+            });
         }
         if path.len() >= MAX_NESTING {
-            return Err(SchemaError(format!(
-                "type '{}' nests structs more than {MAX_NESTING} deep",
-                path[0]
-            )));
+            return Err(SchemaError::TooDeep {
+                type_name: path[0].to_owned(),
+            });
         }
         let s = self.get(name)?;
         if s.members.is_empty() {
-            return Err(SchemaError(format!("type '{name}' has no fields")));
+            return Err(SchemaError::NoFields {
+                type_name: name.to_owned(),
+            });
         }
         path.push(name);
         let mut values: u64 = 1;
@@ -237,10 +320,10 @@ impl Schema {
             let member = match m.ty.container {
                 Container::Single => element,
                 Container::Array(0) => {
-                    return Err(SchemaError(format!(
-                        "field '{}' of '{name}' is an array of 0 elements",
-                        m.name
-                    )))
+                    return Err(SchemaError::EmptyArray {
+                        type_name: name.to_owned(),
+                        field: m.name.clone(),
+                    })
                 }
                 Container::Array(n) => 1u64
                     .saturating_add(u64::try_from(n).unwrap_or(u64::MAX).saturating_mul(element)),
@@ -248,9 +331,9 @@ impl Schema {
             };
             values = values.saturating_add(member);
             if values > MAX_FIXED_VALUES {
-                return Err(SchemaError(format!(
-                    "type '{name}' holds more than {MAX_FIXED_VALUES} values in fixed-size fields"
-                )));
+                return Err(SchemaError::TooManyValues {
+                    type_name: name.to_owned(),
+                });
             }
         }
         path.pop();
@@ -319,7 +402,7 @@ pub fn sub_description(
             .collect();
     let main = *all
         .get(type_name)
-        .ok_or_else(|| SchemaError(format!("the type description lacks type '{type_name}'")))?;
+        .ok_or_else(|| SchemaError::missing(type_name))?;
     let mut seen: Vec<String> = Vec::new();
     let mut stack: Vec<&IndividualTypeDescription> = vec![main];
     while let Some(t) = stack.pop() {
@@ -328,9 +411,7 @@ pub fn sub_description(
             if n.is_empty() || seen.contains(n) || n == type_name {
                 continue;
             }
-            let r = all
-                .get(n.as_str())
-                .ok_or_else(|| SchemaError(format!("the type description lacks type '{n}'")))?;
+            let r = all.get(n.as_str()).ok_or_else(|| SchemaError::missing(n))?;
             seen.push(n.clone());
             stack.push(r);
         }
@@ -352,8 +433,10 @@ fn convert_struct(t: &IndividualTypeDescription) -> Result<Struct, SchemaError> 
         .map(|f| {
             Ok(Member {
                 name: f.name.clone(),
-                ty: convert_type(&f.r#type).map_err(|e| {
-                    SchemaError(format!("field '{}' of '{}': {e}", f.name, t.type_name))
+                ty: convert_type(&f.r#type).map_err(|source| SchemaError::FieldType {
+                    type_name: t.type_name.clone(),
+                    field: f.name.clone(),
+                    source,
                 })?,
                 default: f.default_value.clone(),
             })
@@ -365,12 +448,12 @@ fn convert_struct(t: &IndividualTypeDescription) -> Result<Struct, SchemaError> 
     })
 }
 
-fn usize_of(n: u64) -> Result<usize, SchemaError> {
-    usize::try_from(n).map_err(|_| SchemaError(format!("capacity {n} is too large")))
+fn usize_of(n: u64) -> Result<usize, FieldTypeError> {
+    usize::try_from(n).map_err(|_| FieldTypeError::CapacityTooLarge { capacity: n })
 }
 
 /// Maps a `FieldType` to [`FieldTy`].
-pub fn convert_type(t: &FieldType) -> Result<FieldTy, SchemaError> {
+pub fn convert_type(t: &FieldType) -> Result<FieldTy, FieldTypeError> {
     let (base, container) = match t.type_id {
         1..=48 => (t.type_id, Container::Single),
         49..=96 => (t.type_id - 48, Container::Array(usize_of(t.capacity)?)),
@@ -379,13 +462,13 @@ pub fn convert_type(t: &FieldType) -> Result<FieldTy, SchemaError> {
             Container::Sequence(Some(usize_of(t.capacity)?)),
         ),
         145..=192 => (t.type_id - 144, Container::Sequence(None)),
-        id => return Err(SchemaError(format!("unknown field type id {id}"))),
+        id => return Err(FieldTypeError::UnknownTypeId { type_id: id }),
     };
     let bound = (t.string_capacity > 0).then_some(t.string_capacity);
     let elem = match base {
         FieldType::FIELD_TYPE_NESTED_TYPE => {
             if t.nested_type_name.is_empty() {
-                return Err(SchemaError("nested type without a name".to_owned()));
+                return Err(FieldTypeError::UnnamedNestedType);
             }
             Elem::Nested(t.nested_type_name.clone())
         }
@@ -436,7 +519,7 @@ pub fn convert_type(t: &FieldType) -> Result<FieldTy, SchemaError> {
         FieldType::FIELD_TYPE_FIXED_WSTRING | FieldType::FIELD_TYPE_BOUNDED_WSTRING => {
             Elem::WStr(bound)
         }
-        id => return Err(SchemaError(format!("unknown field type id {id}"))),
+        id => return Err(FieldTypeError::UnknownTypeId { type_id: id }),
     };
     Ok(FieldTy { elem, container })
 }
@@ -503,15 +586,12 @@ mod tests {
         let d = description(types);
         let root = d.type_description.type_name.clone();
         let schema = Schema::from_description(&d).expect("fields convert");
-        let error = schema.check(&root).expect_err("refused").0;
+        let error = schema.check(&root).expect_err("refused");
         assert_eq!(
-            schema
-                .default_value(&root)
-                .expect_err("no default either")
-                .0,
+            schema.default_value(&root).expect_err("no default either"),
             error
         );
-        error
+        error.to_string()
     }
 
     const NESTED_ARRAY: u8 = FieldType::FIELD_TYPE_NESTED_TYPE + 48;
@@ -637,7 +717,11 @@ mod tests {
         )]);
         let schema = Schema::from_description(&d).expect("schema");
         let e = cdr::decode(&schema, "p/msg/A", &[0; 4096], false).expect_err("refused");
-        assert!(e.contains("more than 100 deep"), "{e}");
+        assert!(
+            matches!(&e, cdr::DecodeError::TooDeep { type_name } if type_name == "p/msg/A"),
+            "{e:?}"
+        );
+        assert!(e.to_string().contains("more than 100 deep"), "{e}");
     }
 
     #[test]
@@ -654,7 +738,18 @@ mod tests {
         let mut body = vec![0; 1000];
         body.extend_from_slice(&u32::MAX.to_le_bytes());
         let e = cdr::decode(&schema, "p/msg/A", &body, false).expect_err("refused");
-        assert!(e.contains("sequence of 4294967295 elements"), "{e}");
+        assert_eq!(
+            e,
+            cdr::DecodeError::SequenceTooLong {
+                field: "s".to_owned(),
+                len: 4294967295,
+                bound: None,
+            }
+        );
+        assert!(
+            e.to_string().contains("sequence of 4294967295 elements"),
+            "{e}"
+        );
         body.truncate(1000);
         body.extend_from_slice(&2u32.to_le_bytes());
         body.extend_from_slice(&[7, 8]);

@@ -7,7 +7,23 @@ use horus_ros_msgs::description::{REQUEST_SUFFIX, RESPONSE_SUFFIX};
 use horus_ros_msgs::{example_interfaces, rcl_interfaces, std_srvs, type_description_interfaces};
 use horus_ros_msgs::{Service, TypeDescription, TypeHash};
 
+use crate::cdr::{DecodeError, EncodeError};
+use crate::yaml::FillError;
 use crate::{cdr, json, repr, sub_description, yaml, Schema, SchemaError, Value};
+
+/// Why a request could not be made for a [`ServiceType`]: its values do not fill the request
+/// type ([`ServiceType::request_from_yaml`], [`ServiceType::request_from_json`]), or the value
+/// does not encode ([`ServiceType::encode_request`]).
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
+pub enum RequestError {
+    /// The values do not fill the request type.
+    #[error(transparent)]
+    Fill(#[from] FillError),
+    /// The request value does not encode.
+    #[error(transparent)]
+    Encode(#[from] EncodeError),
+}
 
 /// A service type known at run time (`pkg/srv/Name`).
 #[derive(Clone, Debug)]
@@ -34,7 +50,7 @@ impl ServiceType {
             descriptions
                 .iter()
                 .find_map(|d| sub_description(d, name).ok())
-                .ok_or_else(|| SchemaError(format!("the type description lacks type '{name}'")))
+                .ok_or_else(|| SchemaError::missing(name))
         };
         let request = find(&req_name)?;
         let response = find(&resp_name)?;
@@ -97,22 +113,22 @@ impl ServiceType {
     }
 
     /// A request filled from ros2cli's YAML (`service call`'s values: `'{a: 1, b: 2}'`).
-    pub fn request_from_yaml(&self, text: &str) -> Result<Value, String> {
+    pub fn request_from_yaml(&self, text: &str) -> Result<Value, FillError> {
         yaml::fill_from_yaml(&self.schema, &self.request_type, text)
     }
 
     /// A request filled from a JSON object of its fields (checked as YAML values are).
-    pub fn request_from_json(&self, value: &serde_json::Value) -> Result<Value, String> {
+    pub fn request_from_json(&self, value: &serde_json::Value) -> Result<Value, FillError> {
         json::fill_from_json(&self.schema, &self.request_type, value)
     }
 
     /// The request's CDR body (little-endian, no encapsulation header).
-    pub fn encode_request(&self, request: &Value) -> Result<Vec<u8>, String> {
+    pub fn encode_request(&self, request: &Value) -> Result<Vec<u8>, EncodeError> {
         cdr::encode(&self.schema, &self.request_type, request)
     }
 
     /// A response decoded from its CDR body.
-    pub fn decode_response(&self, body: &[u8], big_endian: bool) -> Result<Value, String> {
+    pub fn decode_response(&self, body: &[u8], big_endian: bool) -> Result<Value, DecodeError> {
         cdr::decode(&self.schema, &self.response_type, body, big_endian)
     }
 
@@ -206,11 +222,25 @@ mod tests {
         let e = ty
             .request_from_json(&serde_json::json!({"c": 1}))
             .expect_err("no such field");
-        assert!(e.contains('c'), "{e}");
+        assert!(
+            matches!(&e, FillError::NoSuchField { field, .. } if field == "c"),
+            "{e}"
+        );
         let e = ty
             .request_from_json(&serde_json::json!({"a": "two"}))
             .expect_err("wrong type");
-        assert!(e.contains('a'), "{e}");
+        assert!(
+            matches!(&e, FillError::InvalidInteger { field, text } if field == "a" && text == "two"),
+            "{e:?}"
+        );
+        assert_eq!(
+            e.to_string(),
+            "invalid literal for int() with base 10: 'two'"
+        );
+        let e = ty
+            .request_from_json(&serde_json::json!({"a": [1]}))
+            .expect_err("wrong type");
+        assert_eq!(e.to_string(), "The 'a' field must be of type 'int'");
         assert!(ty.request_from_yaml("{a: [").is_err());
         assert!(ServiceType::compiled("foo/srv/Nope").is_none());
     }

@@ -7,16 +7,110 @@
 //! string (Python makes `'false'` true), and a `byte` field takes an integer 0..=255 (Python's
 //! `bytes(n)` makes n zero bytes).
 
-use yaml_rust2::{Yaml, YamlLoader};
+use yaml_rust2::{ScanError, Yaml, YamlLoader};
 
 use super::repr::{py_float, py_str};
-use super::{Container, Elem, Member, Schema, Value};
+use super::{Container, Elem, FieldTy, Member, Schema, SchemaError, Value};
+
+/// Why a message is not filled from a YAML document ([`fill_from_yaml`], or from JSON with
+/// [`fill_from_json`](crate::json::fill_from_json)). The messages are those of ros2cli
+/// (`set_message_fields` and rclpy's field setters); an error inside a nested message is that
+/// message's error.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
+pub enum FillError {
+    /// The text is not YAML.
+    #[error("invalid YAML: {source}")]
+    Yaml {
+        /// The YAML scanner's error (with its position).
+        #[source]
+        source: ScanError,
+    },
+    /// The type (or a type it uses) cannot be used.
+    #[error(transparent)]
+    Schema(#[from] SchemaError),
+    /// A message's value is not a mapping.
+    #[error("Value '{value}' is expected to be a dictionary but is a {found}")]
+    NotADictionary {
+        /// The value, as Python's `str()` shows it.
+        value: String,
+        /// Its Python type (`list`, `int`…).
+        found: &'static str,
+    },
+    /// A key that is no field of the message.
+    #[error("'{}' object has no attribute '{field}'", short_name(.type_name))]
+    NoSuchField {
+        /// The message type (`pkg/msg/Name`).
+        type_name: String,
+        /// The key.
+        field: String,
+    },
+    /// A value of the wrong type for its field.
+    #[error("The '{field}' field must be {}", type_requirement(.expected))]
+    WrongType {
+        /// The field's name.
+        field: String,
+        /// The field's element type.
+        expected: Elem,
+    },
+    /// A number beyond its field's range.
+    #[error("The '{field}' field must be {}", range_requirement(.expected))]
+    OutOfRange {
+        /// The field's name.
+        field: String,
+        /// The field's element type.
+        expected: Elem,
+    },
+    /// A string longer than its field's bound.
+    #[error("The '{field}' field must be string value not longer than {max}")]
+    TooLong {
+        /// The field's name.
+        field: String,
+        /// The bound.
+        max: u64,
+    },
+    /// An array or sequence field's value that is no list of the right length and elements.
+    #[error("The '{field}' field must be {}", container_requirement(.expected))]
+    WrongContainer {
+        /// The field's name.
+        field: String,
+        /// The field's type.
+        expected: FieldTy,
+    },
+    /// A string that is no integer, for an integer field (Python's `int()` error).
+    #[error("invalid literal for int() with base 10: {}", py_str(.text))]
+    InvalidInteger {
+        /// The field's name.
+        field: String,
+        /// The string.
+        text: String,
+    },
+    /// A string that is no number, for a float field (Python's `float()` error).
+    #[error("could not convert string to float: {}", py_str(.text))]
+    InvalidFloat {
+        /// The field's name.
+        field: String,
+        /// The string.
+        text: String,
+    },
+    /// The default value of a struct type is not a struct (a bug).
+    #[error("internal error: '{type_name}' is not a struct")]
+    NotAStruct {
+        /// The type.
+        type_name: String,
+    },
+}
+
+/// The class name Python shows for `type_name`: its last part.
+fn short_name(type_name: &str) -> &str {
+    type_name.rsplit('/').next().unwrap_or(type_name)
+}
 
 /// Parses `text` as YAML and fills a message of type `type_name` with it.
-pub fn fill_from_yaml(schema: &Schema, type_name: &str, text: &str) -> Result<Value, String> {
-    let docs = YamlLoader::load_from_str(text).map_err(|e| format!("invalid YAML: {e}"))?;
+pub fn fill_from_yaml(schema: &Schema, type_name: &str, text: &str) -> Result<Value, FillError> {
+    let docs = YamlLoader::load_from_str(text).map_err(|source| FillError::Yaml { source })?;
     let doc = docs.into_iter().next().unwrap_or(Yaml::Null);
-    let mut value = schema.default_value(type_name).map_err(|e| e.to_string())?;
+    let mut value = schema.default_value(type_name)?;
     fill_struct(schema, type_name, &mut value, &doc)?;
     Ok(value)
 }
@@ -79,17 +173,18 @@ fn fill_struct(
     type_name: &str,
     value: &mut Value,
     y: &Yaml,
-) -> Result<(), String> {
-    let s = schema.get(type_name).map_err(|e| e.to_string())?;
+) -> Result<(), FillError> {
+    let s = schema.get(type_name)?;
     let Yaml::Hash(map) = y else {
-        return Err(format!(
-            "Value '{}' is expected to be a dictionary but is a {}",
-            py_display(y),
-            py_type(y)
-        ));
+        return Err(FillError::NotADictionary {
+            value: py_display(y),
+            found: py_type(y),
+        });
     };
     let Value::Struct(fields) = value else {
-        return Err(format!("internal error: '{type_name}' is not a struct"));
+        return Err(FillError::NotAStruct {
+            type_name: type_name.to_owned(),
+        });
     };
     let hidden = s.is_empty_placeholder();
     for (k, v) in map {
@@ -99,20 +194,26 @@ fn fill_struct(
             .iter()
             .position(|m| m.name == key)
             .filter(|_| !hidden)
-            .ok_or_else(|| format!("'{}' object has no attribute '{key}'", s.short_name()))?;
+            .ok_or_else(|| FillError::NoSuchField {
+                type_name: s.name.clone(),
+                field: key,
+            })?;
         let member = &s.members[index];
         fields[index] = convert_member(schema, member, v)?;
     }
     Ok(())
 }
 
-fn convert_member(schema: &Schema, m: &Member, y: &Yaml) -> Result<Value, String> {
+fn convert_member(schema: &Schema, m: &Member, y: &Yaml) -> Result<Value, FillError> {
     match m.ty.container {
         Container::Single => {
-            convert_elem(schema, &m.ty.elem, y).map_err(|e| e.into_message(&m.name, &m.ty.elem))
+            convert_elem(schema, &m.ty.elem, y).map_err(|e| e.into_error(&m.name, &m.ty.elem))
         }
         Container::Array(_) | Container::Sequence(_) => {
-            let wrong = || container_message(m);
+            let wrong = || FillError::WrongContainer {
+                field: m.name.clone(),
+                expected: m.ty.clone(),
+            };
             let Yaml::Array(items) = y else {
                 return Err(wrong());
             };
@@ -134,22 +235,22 @@ fn convert_member(schema: &Schema, m: &Member, y: &Yaml) -> Result<Value, String
     }
 }
 
-/// rosidl's assertion message for arrays and sequences.
-fn container_message(m: &Member) -> String {
+/// What rosidl's assertion message for arrays and sequences says a field of type `ty` must be.
+fn container_requirement(ty: &FieldTy) -> String {
     let mut parts = vec!["a set or sequence".to_owned()];
-    match m.ty.container {
+    match ty.container {
         Container::Array(n) => parts.push(format!("with length {n}")),
         Container::Sequence(Some(n)) => parts.push(format!("with length <= {n}")),
         _ => {}
     }
-    if let Elem::Str(Some(n)) | Elem::WStr(Some(n)) = m.ty.elem {
+    if let Elem::Str(Some(n)) | Elem::WStr(Some(n)) = ty.elem {
         parts.push(format!("and each string value not longer than {n}"));
     }
     parts.push(format!(
         "and each value of type '{}'",
-        python_type(&m.ty.elem)
+        python_type(&ty.elem)
     ));
-    match m.ty.elem {
+    match ty.elem {
         Elem::Int { bits, signed: true } => {
             let b = 1i128 << (bits - 1);
             parts.push(format!("and each integer in [{}, {}]", -b, b - 1));
@@ -168,7 +269,31 @@ fn container_message(m: &Member) -> String {
         ),
         _ => {}
     }
-    format!("The '{}' field must be {}", m.name, parts.join(" "))
+    parts.join(" ")
+}
+
+/// What rclpy's setter says a field of element type `e` must be, given a value of another type.
+fn type_requirement(e: &Elem) -> String {
+    match e {
+        Elem::Nested(n) => format!("a sub message of type '{}'", short_name(n)),
+        Elem::Byte => "of type 'bytes' or 'ByteString' with length 1".to_owned(),
+        Elem::Char => "of type 'str' or 'UserString' with length 1 and the character ord() in \
+                       [-128, 127]"
+            .to_owned(),
+        other => format!("of type '{}'", python_type(other)),
+    }
+}
+
+/// What rclpy's setter says a number of element type `e` must be, given one out of range.
+fn range_requirement(e: &Elem) -> String {
+    match e {
+        Elem::Int { bits, signed: true } => {
+            let b = 1i128 << (bits - 1);
+            format!("an integer in [{}, {}]", -b, b - 1)
+        }
+        Elem::Int { bits, .. } => format!("an unsigned integer in [0, {}]", (1i128 << bits) - 1),
+        _ => "a float in [-3.402823466e+38, 3.402823466e+38]".to_owned(),
+    }
 }
 
 /// The Python type rclpy stores an element as.
@@ -190,53 +315,31 @@ enum ElemError {
     Range,
     /// A string too long.
     TooLong(u64),
-    /// Python's own conversion error message (e.g. `int('x')`).
-    Python(String),
+    /// A string that Python's `int()` refuses.
+    Int(String),
+    /// A string that Python's `float()` refuses.
+    Float(String),
     /// An error inside a nested message, already complete.
-    Nested(String),
+    Nested(FillError),
 }
 
 impl ElemError {
-    fn into_message(self, name: &str, e: &Elem) -> String {
+    /// The error of field `field` of element type `e`.
+    fn into_error(self, field: &str, e: &Elem) -> FillError {
+        let field = field.to_owned();
         match self {
-            ElemError::Type => match e {
-                Elem::Nested(n) => format!(
-                    "The '{name}' field must be a sub message of type '{}'",
-                    n.rsplit('/').next().unwrap_or(n)
-                ),
-                Elem::Byte => format!(
-                    "The '{name}' field must be of type 'bytes' or 'ByteString' with length 1"
-                ),
-                Elem::Char => format!(
-                    "The '{name}' field must be of type 'str' or 'UserString' with length 1 and \
-                     the character ord() in [-128, 127]"
-                ),
-                other => format!(
-                    "The '{name}' field must be of type '{}'",
-                    python_type(other)
-                ),
+            ElemError::Type => FillError::WrongType {
+                field,
+                expected: e.clone(),
             },
-            ElemError::Range => match e {
-                Elem::Int { bits, signed: true } => {
-                    let b = 1i128 << (bits - 1);
-                    format!(
-                        "The '{name}' field must be an integer in [{}, {}]",
-                        -b,
-                        b - 1
-                    )
-                }
-                Elem::Int { bits, .. } => format!(
-                    "The '{name}' field must be an unsigned integer in [0, {}]",
-                    (1i128 << bits) - 1
-                ),
-                _ => format!(
-                    "The '{name}' field must be a float in [-3.402823466e+38, 3.402823466e+38]"
-                ),
+            ElemError::Range => FillError::OutOfRange {
+                field,
+                expected: e.clone(),
             },
-            ElemError::TooLong(n) => {
-                format!("The '{name}' field must be string value not longer than {n}")
-            }
-            ElemError::Python(m) | ElemError::Nested(m) => m,
+            ElemError::TooLong(max) => FillError::TooLong { field, max },
+            ElemError::Int(text) => FillError::InvalidInteger { field, text },
+            ElemError::Float(text) => FillError::InvalidFloat { field, text },
+            ElemError::Nested(e) => e,
         }
     }
 }
@@ -246,7 +349,7 @@ fn convert_elem(schema: &Schema, e: &Elem, y: &Yaml) -> Result<Value, ElemError>
         Elem::Nested(n) => {
             let mut v = schema
                 .default_value(n)
-                .map_err(|e| ElemError::Nested(e.to_string()))?;
+                .map_err(|e| ElemError::Nested(e.into()))?;
             fill_struct(schema, n, &mut v, y).map_err(ElemError::Nested)?;
             Ok(v)
         }
@@ -270,12 +373,10 @@ fn convert_elem(schema: &Schema, e: &Elem, y: &Yaml) -> Result<Value, ElemError>
                         f as i128
                     }
                 }
-                Yaml::String(s) => s.trim().parse::<i128>().map_err(|_| {
-                    ElemError::Python(format!(
-                        "invalid literal for int() with base 10: {}",
-                        py_str(s)
-                    ))
-                })?,
+                Yaml::String(s) => s
+                    .trim()
+                    .parse::<i128>()
+                    .map_err(|_| ElemError::Int(s.clone()))?,
                 _ => return Err(ElemError::Type),
             };
             let (lo, hi) = if *signed {
@@ -293,9 +394,7 @@ fn convert_elem(schema: &Schema, e: &Elem, y: &Yaml) -> Result<Value, ElemError>
                 Yaml::Integer(i) => *i as f64,
                 Yaml::Real(r) => real(r).ok_or(ElemError::Type)?,
                 Yaml::Boolean(b) => f64::from(u8::from(*b)),
-                Yaml::String(s) => py_parse_float(s).ok_or_else(|| {
-                    ElemError::Python(format!("could not convert string to float: {}", py_str(s)))
-                })?,
+                Yaml::String(s) => py_parse_float(s).ok_or_else(|| ElemError::Float(s.clone()))?,
                 _ => return Err(ElemError::Type),
             };
             if *e == Elem::F32 && f.is_finite() && f.abs() > 3.402823466e+38 {
@@ -390,4 +489,71 @@ fn unquote(s: &str) -> &str {
         }
     }
     s
+}
+
+#[cfg(test)]
+mod tests {
+    use std::error::Error as _;
+
+    use super::*;
+    use horus_ros_msgs::rcl_interfaces::srv::{SetParameters, SetParametersRequest};
+    use horus_ros_msgs::{Message, Service};
+
+    /// The error of filling a `SetParameters` request from `text`.
+    fn fill_error(text: &str) -> FillError {
+        let schema = Schema::from_description(&SetParameters::type_description()).expect("schema");
+        fill_from_yaml(&schema, SetParametersRequest::TYPE_NAME, text).expect_err("refused")
+    }
+
+    #[test]
+    fn errors_carry_the_field_and_show_rclpys_messages() {
+        let e = fill_error("parameters: [{value: {type: 300}}]");
+        assert_eq!(
+            e,
+            FillError::OutOfRange {
+                field: "type".to_owned(),
+                expected: Elem::Int {
+                    bits: 8,
+                    signed: false
+                },
+            }
+        );
+        assert_eq!(
+            e.to_string(),
+            "The 'type' field must be an unsigned integer in [0, 255]"
+        );
+        let e = fill_error("parameters: [{value: {byte_array_value: 3}}]");
+        assert!(
+            matches!(&e, FillError::WrongContainer { field, .. } if field == "byte_array_value"),
+            "{e:?}"
+        );
+        assert_eq!(
+            e.to_string(),
+            "The 'byte_array_value' field must be a set or sequence and each value of type 'bytes'"
+        );
+        let e = fill_error("parameters: [{value: 1}]");
+        assert_eq!(
+            e.to_string(),
+            "Value '1' is expected to be a dictionary but is a int"
+        );
+        let e = fill_error("parameters: [{value: {double_value: x}}]");
+        assert_eq!(e.to_string(), "could not convert string to float: 'x'");
+        let e = fill_error("parameters: [{nme: a}]");
+        assert_eq!(e.to_string(), "'Parameter' object has no attribute 'nme'");
+        let e = fill_error("parameters: [{value: {bool_value: []}}]");
+        assert_eq!(
+            e.to_string(),
+            "The 'bool_value' field must be of type 'bool'"
+        );
+    }
+
+    #[test]
+    fn invalid_yaml_keeps_the_scanner_error_as_its_source() {
+        let e = fill_error("{a: [");
+        let FillError::Yaml { source } = &e else {
+            panic!("{e:?}")
+        };
+        assert_eq!(e.to_string(), format!("invalid YAML: {source}"));
+        assert!(e.source().is_some());
+    }
 }

@@ -6,7 +6,7 @@
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use horus_ros_dynamic::{ServiceType, Value};
+use horus_ros_dynamic::{DecodeError, RequestError, ServiceType, Value};
 use horus_ros_msgs::{dds_type_name, TypeHash};
 use horus_ros_rmw::names::ServiceName;
 use horus_ros_rmw::qos::Qos;
@@ -42,31 +42,35 @@ pub enum DynamicCallError {
     )]
     NoSchema,
     /// The request values do not fit the request type.
-    #[error("invalid request for {service_type}: {message}")]
+    #[error("invalid request for {service_type}: {source}")]
     Request {
         /// The service type.
         service_type: String,
         /// What is wrong (the field named).
-        message: String,
+        #[source]
+        source: RequestError,
     },
     /// The call itself failed.
     #[error(transparent)]
     Call(#[from] ServiceError),
     /// The response does not decode as the response type.
-    #[error("cannot decode the response as {service_type}: {message}")]
+    #[error("cannot decode the response as {service_type}: {source}")]
     Response {
         /// The service type.
         service_type: String,
         /// What is wrong.
-        message: String,
+        #[source]
+        source: DecodeError,
     },
 }
 
 /// A [`DynamicCallError::Request`] for `service_type`.
-fn invalid_request(service_type: &ServiceType) -> impl Fn(String) -> DynamicCallError + '_ {
-    |message| DynamicCallError::Request {
+fn invalid_request<E: Into<RequestError>>(
+    service_type: &ServiceType,
+) -> impl Fn(E) -> DynamicCallError + '_ {
+    |source| DynamicCallError::Request {
         service_type: service_type.name().to_owned(),
-        message,
+        source: source.into(),
     }
 }
 
@@ -239,9 +243,9 @@ impl DynamicServiceClient {
         let reply = self.call(body, timeout)?;
         schema
             .decode_response(&reply.body, reply.big_endian)
-            .map_err(|message| DynamicCallError::Response {
+            .map_err(|source| DynamicCallError::Response {
                 service_type: schema.name().to_owned(),
-                message,
+                source,
             })
     }
 
