@@ -69,6 +69,7 @@ pub use raw_traits::{
     RosService, ServiceClientTrait, ServiceRequest, ServiceServerTrait, TransportError,
 };
 pub use retry::RetryConfig;
+pub use runtime::default_node;
 pub use server::{ServiceServer, ServiceServerBuilder};
 
 pub use horus_ros_dynamic as dynamic;

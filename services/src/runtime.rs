@@ -40,9 +40,11 @@ impl Runtime {
     }
 }
 
-/// The default node: created on first use, kept while a server or client uses it, so that the
-/// process leaves the graph cleanly when the last of them is dropped.
-fn default_node() -> Result<Node, SetupError> {
+/// The process's default node, `horus_<program>_<pid>` in a context from the environment: the
+/// one node of every server, client and HORUS topic made without a node of its own, so that a
+/// process has one participant. Created on first use and kept while one of them holds it, so
+/// the process leaves the graph cleanly when the last of them is dropped.
+pub fn default_node() -> Result<Node, SetupError> {
     static DEFAULT: OnceLock<Mutex<WeakNode>> = OnceLock::new();
     let slot = DEFAULT.get_or_init(|| Mutex::new(WeakNode::default()));
     let mut weak = slot.lock().unwrap_or_else(|p| p.into_inner());

@@ -1,11 +1,11 @@
 //! [`Topic<T>`]: a HORUS topic on a ROS 2 topic.
 
-use std::sync::{Condvar, Mutex, MutexGuard, OnceLock};
+use std::sync::{Condvar, Mutex, MutexGuard};
 use std::time::{Duration, Instant};
 
 use horus_ros_msgs::Message;
 use horus_ros_rmw::qos::Qos;
-use horus_ros_rmw::{Context, Node as RosNode, Publisher, Subscription, WeakNode};
+use horus_ros_rmw::{Node as RosNode, Publisher, Subscription};
 
 use crate::api::names::ros_topic_name;
 use crate::api::runtime::{current, with_current_ref};
@@ -473,29 +473,8 @@ fn left(end: Option<Instant>) -> Option<Option<Duration>> {
     }
 }
 
-/// The node of topics used outside any scheduled node: `horus_<program>`, created on first use
-/// and kept while an endpoint uses it.
+/// The node of topics used outside any scheduled node: the process's default node, shared with
+/// the servers and clients made without a node (one participant per process).
 fn process_node() -> Result<RosNode, String> {
-    static NODE: OnceLock<Mutex<WeakNode>> = OnceLock::new();
-    let slot = NODE.get_or_init(|| Mutex::new(WeakNode::default()));
-    let mut weak = slot.lock().unwrap_or_else(|p| p.into_inner());
-    if let Some(node) = weak.upgrade() {
-        return Ok(node);
-    }
-    let context = Context::from_env().map_err(|e| e.to_string())?;
-    let program = std::env::args()
-        .next()
-        .and_then(|a| {
-            std::path::Path::new(&a)
-                .file_name()
-                .map(|f| f.to_string_lossy().into_owned())
-        })
-        .unwrap_or_else(|| "program".to_owned());
-    let name: String = format!("horus_{program}")
-        .chars()
-        .map(|c| if c.is_ascii_alphanumeric() { c } else { '_' })
-        .collect();
-    let node = context.create_node(&name, "/").map_err(|e| e.to_string())?;
-    *weak = node.downgrade();
-    Ok(node)
+    horus_ros_services::default_node().map_err(|e| e.to_string())
 }
