@@ -2,11 +2,12 @@
 //! namespace). Each test has its own domain.
 
 use std::sync::atomic::{AtomicUsize, Ordering};
-use std::sync::Arc;
+use std::sync::{mpsc, Arc};
 use std::time::{Duration, Instant};
 
+use horus_ros_graph::Graph;
 use horus_ros_services::prelude::*;
-use horus_ros_services::SetupError;
+use horus_ros_services::{DdsServiceServer, ServiceServerTrait, SetupError};
 
 const SECOND: Duration = Duration::from_secs(1);
 
@@ -81,17 +82,14 @@ fn handler_errors_and_panics_reach_the_client_quickly_and_the_server_keeps_servi
         .expect("server");
     let mut c = client(&n, "/picky");
     assert!(c.wait_for_service(10 * SECOND));
-    let start = Instant::now();
+    // The error reply ends the call: had the client waited for its timeout instead, the call
+    // would have ended in Timeout.
     let err = c
-        .call(AddTwoIntsRequest { a: 0, b: 1 }, 5 * SECOND)
+        .call(AddTwoIntsRequest { a: 0, b: 1 }, 30 * SECOND)
         .expect_err("handler error");
     assert_eq!(
         err,
         ServiceError::ServiceFailed("a must not be zero".to_owned())
-    );
-    assert!(
-        start.elapsed() < SECOND,
-        "an error reply must not wait for the timeout"
     );
     // A generous timeout: the default panic hook prints a symbolized backtrace first (tests
     // run with RUST_BACKTRACE=1), which takes seconds on a loaded machine.
@@ -119,23 +117,36 @@ fn without_a_server_calls_say_no_server_and_call_optional_says_none() {
     let n = node(83, "lonely");
     let mut c = client(&n, "/nobody_home");
     assert!(!c.server_available());
+    // NoServer only once the call's timeout has passed without a server.
     let start = Instant::now();
     assert_eq!(
         c.call(AddTwoIntsRequest { a: 1, b: 1 }, Duration::from_millis(300)),
         Err(ServiceError::NoServer)
     );
-    assert!(start.elapsed() < SECOND);
+    assert!(start.elapsed() >= Duration::from_millis(300));
     assert_eq!(
         c.call_optional(AddTwoIntsRequest { a: 1, b: 1 }, Duration::from_millis(300)),
         Ok(None)
     );
-    // NoServer is permanent: not retried (one attempt's worth of time).
-    let start = Instant::now();
     assert_eq!(
         c.call_resilient(AddTwoIntsRequest::default(), Duration::from_millis(200)),
         Err(ServiceError::NoServer)
     );
-    assert!(start.elapsed() < Duration::from_millis(600));
+    // NoServer is permanent: not retried. A retry would come only after a 60 s backoff, so an
+    // answer well before that (one 200 ms attempt) means there was none.
+    let (answer_tx, answer) = mpsc::channel();
+    std::thread::spawn(move || {
+        let _ = answer_tx.send(c.call_resilient_with(
+            AddTwoIntsRequest::default(),
+            Duration::from_millis(200),
+            RetryConfig::new(1, 60 * SECOND),
+        ));
+    });
+    assert_eq!(
+        answer.recv_timeout(30 * SECOND),
+        Ok(Err(ServiceError::NoServer)),
+        "NoServer was retried"
+    );
 }
 
 #[test]
@@ -143,29 +154,47 @@ fn a_late_reply_is_dropped_and_the_next_call_gets_its_own() {
     let n = node(84, "slowpoke");
     let calls = Arc::new(AtomicUsize::new(0));
     let seen = Arc::clone(&calls);
+    // The first request is answered only once the test releases it, after its call timed out.
+    let (arrived_tx, arrived) = mpsc::channel();
+    let (release_tx, released) = mpsc::channel::<()>();
     let _server = ServiceServerBuilder::<AddTwoInts>::new()
         .node(&n)
         .name("/slow")
         .on_request(move |req| {
             if seen.fetch_add(1, Ordering::SeqCst) == 0 {
-                std::thread::sleep(Duration::from_millis(400));
+                let _ = arrived_tx.send(());
+                // Released by the test, or by its end (the sender dropped).
+                let _ = released.recv();
             }
             Ok(AddTwoIntsResponse { sum: req.a + req.b })
         })
         .build()
         .expect("server");
+    // Dropped before the server, which joins its thread: a failing assertion releases the handler.
+    let release = release_tx;
     let mut c = client(&n, "/slow");
     assert!(c.wait_for_service(10 * SECOND));
+    let start = Instant::now();
+    let first = c.call(AddTwoIntsRequest { a: 1, b: 1 }, Duration::from_millis(100));
+    let took = start.elapsed();
+    assert_eq!(first, Err(ServiceError::Timeout));
+    assert!(
+        took >= Duration::from_millis(100),
+        "timed out early: {took:?}"
+    );
     assert_eq!(
-        c.call(AddTwoIntsRequest { a: 1, b: 1 }, Duration::from_millis(100)),
-        Err(ServiceError::Timeout)
+        arrived.recv_timeout(10 * SECOND),
+        Ok(()),
+        "the request reached the handler"
     );
     assert_eq!(
         c.pending_requests(),
         0,
         "a timed-out call leaves nothing behind"
     );
-    // The first (late) reply, sum 2, arrives during this call and must not be taken for it.
+    release.send(()).expect("handler waiting");
+    // The first (late) reply, sum 2, is sent before this call is answered and must not be taken
+    // for it.
     assert_eq!(
         c.call(AddTwoIntsRequest { a: 5, b: 5 }, 5 * SECOND),
         Ok(AddTwoIntsResponse { sum: 10 })
@@ -178,24 +207,59 @@ fn call_resilient_retries_a_timeout() {
     let n = node(85, "retrying");
     let calls = Arc::new(AtomicUsize::new(0));
     let seen = Arc::clone(&calls);
+    // The first request is answered only once the test releases it: when the retry is out.
+    let (release_tx, released) = mpsc::channel::<()>();
     let _server = ServiceServerBuilder::<AddTwoInts>::new()
         .node(&n)
         .name("/flaky")
         .on_request(move |req| {
             if seen.fetch_add(1, Ordering::SeqCst) == 0 {
-                std::thread::sleep(Duration::from_millis(300));
+                // Released by the test, or by its end (the sender dropped).
+                let _ = released.recv();
             }
             Ok(AddTwoIntsResponse { sum: req.a * req.b })
         })
         .build()
         .expect("server");
+    // A raw server on the same service sees every request the client sends, and answers none.
+    let mut observer = DdsServiceServer::<AddTwoInts>::builder()
+        .node(&n)
+        .name("/flaky")
+        .build()
+        .expect("observer");
+    // Dropped before the server, which joins its thread: a failing assertion releases the handler.
+    let release = release_tx;
     let mut c = client(&n, "/flaky");
     assert!(c.wait_for_service(10 * SECOND));
-    let reply = c.call_resilient_with(
-        AddTwoIntsRequest { a: 3, b: 4 },
-        Duration::from_millis(150),
-        RetryConfig::new(5, Duration::from_millis(20)),
+    let graph = Graph::shared(n.context()).expect("graph");
+    assert!(
+        graph.wait_for_match(c.gids().0, observer.gids().0, 20 * SECOND),
+        "the observer never matched the client"
     );
+    let caller = std::thread::spawn(move || {
+        c.call_resilient_with(
+            AddTwoIntsRequest { a: 3, b: 4 },
+            Duration::from_millis(500),
+            RetryConfig::new(5, Duration::from_millis(20)),
+        )
+    });
+    // The first attempt timed out when its retry goes out: then the handler is released.
+    let mut buf = [0u8; 256];
+    let mut seen_requests = 0;
+    let deadline = Instant::now() + 20 * SECOND;
+    let waker = std::task::Waker::from(Arc::new(Unparker(std::thread::current())));
+    while seen_requests < 2 {
+        observer.register_waker(&waker);
+        if observer.try_recv_request(&mut buf).expect("take").is_some() {
+            seen_requests += 1;
+            continue;
+        }
+        let now = Instant::now();
+        assert!(now < deadline, "saw {seen_requests} requests, no retry");
+        std::thread::park_timeout(deadline - now);
+    }
+    release.send(()).expect("handler waiting");
+    let reply = caller.join().expect("caller");
     assert_eq!(reply, Ok(AddTwoIntsResponse { sum: 12 }));
     assert!(
         calls.load(Ordering::SeqCst) >= 2,
@@ -206,37 +270,52 @@ fn call_resilient_retries_a_timeout() {
 #[test]
 fn a_server_dropped_mid_call_gives_the_client_an_error_within_its_timeout() {
     let n = node(86, "vanishing");
-    let (handling_tx, handling_rx) = std::sync::mpsc::channel();
+    let (handling_tx, handling_rx) = mpsc::channel();
+    let (release_tx, released) = mpsc::channel::<()>();
     let server = ServiceServerBuilder::<AddTwoInts>::new()
         .node(&n)
         .name("/vanishing")
         .on_request(move |req| {
             let _ = handling_tx.send(());
-            // A slow handler: the server is stopped while it runs.
-            std::thread::sleep(Duration::from_millis(300));
+            // A slow handler: the server is stopped while it runs, and it finishes only once
+            // the test releases it (or ends, dropping the sender).
+            let _ = released.recv();
             Ok(AddTwoIntsResponse { sum: req.a + req.b })
         })
         .build()
         .expect("server");
     let mut c = client(&n, "/vanishing");
     assert!(c.wait_for_service(10 * SECOND));
+    let (stopping_tx, stopping) = mpsc::channel();
     let stopper = std::thread::spawn(move || {
-        // Stopped mid-call: once the handler has the request.
+        // Stopped mid-call: once the handler has the request. Dropping it waits for the handler.
         let _ = handling_rx.recv_timeout(10 * SECOND);
         server.stop();
+        let _ = stopping_tx.send(());
         drop(server);
     });
-    // The handler finishes its request before the server stops: a reply or a timeout, never a hang.
+    // The server keeps its endpoints until its handler returns, after this call: a timeout,
+    // at its deadline and not before.
     let start = Instant::now();
-    let _ = c.call(AddTwoIntsRequest { a: 1, b: 2 }, SECOND);
-    assert!(start.elapsed() <= SECOND + Duration::from_millis(200));
+    let first = c.call(AddTwoIntsRequest { a: 1, b: 2 }, SECOND);
+    let took = start.elapsed();
+    let stopped_mid_call = stopping.recv_timeout(10 * SECOND);
+    release_tx.send(()).expect("handler waiting");
     stopper.join().expect("stopper");
-    // The server is gone: the next call fails within its timeout (ServerGone when the request
-    // went out while its endpoints were still being withdrawn).
+    assert_eq!(
+        stopped_mid_call,
+        Ok(()),
+        "the request never reached the handler"
+    );
+    assert_eq!(first, Err(ServiceError::Timeout));
+    assert!(took >= SECOND, "timed out early: {took:?}");
+    // The server is gone: the next call fails (ServerGone when the request went out while its
+    // endpoints were still being withdrawn) within its timeout, far from a hang.
     let start = Instant::now();
     let err = c
         .call(AddTwoIntsRequest { a: 1, b: 2 }, SECOND)
         .expect_err("no server any more");
+    let took = start.elapsed();
     assert!(
         matches!(
             err,
@@ -244,7 +323,7 @@ fn a_server_dropped_mid_call_gives_the_client_an_error_within_its_timeout() {
         ),
         "{err:?}"
     );
-    assert!(start.elapsed() <= SECOND + Duration::from_millis(200));
+    assert!(took < 10 * SECOND, "the call hung: {took:?}");
 }
 
 #[test]
@@ -365,22 +444,22 @@ fn async_calls_can_be_checked_waited_and_awaited() {
         .name("/async_add")
         .build_async()
         .expect("client");
-    // Sent before any server is matched: it goes out once one is.
-    let mut first = c.call_async(AddTwoIntsRequest { a: 1, b: 2 }, 10 * SECOND);
-    let start = Instant::now();
-    let reply = loop {
-        if let Some(r) = first.check().expect("check") {
-            break r;
-        }
-        assert!(start.elapsed() < 10 * SECOND && !first.is_expired());
-        std::thread::sleep(Duration::from_millis(5));
-    };
-    assert_eq!(reply.sum, 3);
+    // Sent before any server is matched: waiting sends it once one is.
+    let first = c.call_async(AddTwoIntsRequest { a: 1, b: 2 }, 10 * SECOND);
+    assert!(!first.is_expired());
+    assert_eq!(first.wait(), Ok(AddTwoIntsResponse { sum: 3 }));
+    // check() gives a reply that is in at once, and only once. The server answers in order and
+    // the client's reply thread routes the replies in order: once a later call's reply is in, so
+    // is this one's.
+    let mut checked = c.call_async(AddTwoIntsRequest { a: 2, b: 5 }, 5 * SECOND);
     assert_eq!(
         c.call_async(AddTwoIntsRequest { a: 4, b: 5 }, 5 * SECOND)
             .wait(),
         Ok(AddTwoIntsResponse { sum: 9 })
     );
+    assert_eq!(checked.check(), Ok(Some(AddTwoIntsResponse { sum: 7 })));
+    assert_eq!(checked.check(), Ok(None));
+    assert!(!checked.is_expired());
     let many: Vec<_> = (0..20)
         .map(|i| c.call_async(AddTwoIntsRequest { a: i, b: i }, 5 * SECOND))
         .collect();
@@ -413,14 +492,17 @@ fn a_server_needs_a_handler() {
     ));
 }
 
+/// Wakes a parked thread.
+struct Unparker(std::thread::Thread);
+
+impl std::task::Wake for Unparker {
+    fn wake(self: Arc<Self>) {
+        self.0.unpark();
+    }
+}
+
 /// A minimal executor: polls the future on this thread, parking until woken.
 fn block_on<F: std::future::Future>(future: F) -> F::Output {
-    struct Unparker(std::thread::Thread);
-    impl std::task::Wake for Unparker {
-        fn wake(self: Arc<Self>) {
-            self.0.unpark();
-        }
-    }
     let waker = std::task::Waker::from(Arc::new(Unparker(std::thread::current())));
     let mut cx = std::task::Context::from_waker(&waker);
     let mut future = std::pin::pin!(future);
