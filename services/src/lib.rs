@@ -53,7 +53,7 @@ pub use asynchronous::{
 };
 pub use client::{
     AsyncServiceClient, DynamicCallError, DynamicPart, DynamicServiceClient,
-    DynamicServiceClientBuilder, PendingResponse, RawReply, ServiceClient, ServiceClientBuilder,
+    DynamicServiceClientBuilder, PendingResponse, RawResponse, ServiceClient, ServiceClientBuilder,
 };
 pub use error::{Error, Result, ServiceError, SetupError};
 pub use horus_ros_rmw::service::WireFlavour;

@@ -1,14 +1,16 @@
 //! The raw, non-blocking service traits over DDS (run inside the test network namespace):
 //! [`DdsServiceServer`] / [`DdsServiceClient`] with each other and with the ordinary
 //! [`ServiceClient`] / [`ServiceServerBuilder`], in both wire conventions. Domains 91-95; every
-//! wait is bounded.
+//! wait is bounded, and event-driven: a thread waits parked, woken by the endpoints' wakers or by
+//! graph changes, never by a polling interval.
 
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::Arc;
+use std::sync::{mpsc, Arc, Weak};
 use std::task::{Wake, Waker};
 use std::thread::Thread;
 use std::time::{Duration, Instant};
 
+use horus_ros_graph::{Graph, GraphView, GraphWatcher};
 use horus_ros_msgs::cdr::{from_cdr, to_cdr};
 use horus_ros_services::prelude::*;
 use horus_ros_services::{
@@ -17,6 +19,10 @@ use horus_ros_services::{
 
 const SECOND: Duration = Duration::from_secs(1);
 const WAIT: Duration = Duration::from_secs(10);
+/// How long the rustdds backend gives an rmw_cyclonedds server's reply writer to match a client's
+/// reader after the graph shows the match (`CYCLONE_MATCH_SETTLE` in the client core, 100 ms,
+/// with a margin): no event marks its end.
+const SETTLE: Duration = Duration::from_millis(250);
 
 /// A node in its own context (its own DDS participant) on `domain`.
 fn node(domain: u32, name: &str) -> Node {
@@ -43,29 +49,92 @@ fn raw_client(node: &Node, name: &str) -> DdsServiceClient<AddTwoInts> {
         .expect("raw client")
 }
 
-/// Polls `f` every millisecond until it gives `Some`, at most `timeout`.
-fn until<T>(timeout: Duration, mut f: impl FnMut() -> Option<T>) -> Option<T> {
-    let deadline = Instant::now() + timeout;
-    loop {
-        if let Some(value) = f() {
-            return Some(value);
-        }
-        if Instant::now() >= deadline {
-            return None;
-        }
-        std::thread::sleep(Duration::from_millis(1));
+/// Unparks the thread that made it: as a waker, and as a watcher of a graph.
+struct Unparker(Thread);
+
+impl Unparker {
+    fn new() -> Arc<Self> {
+        Arc::new(Self(std::thread::current()))
     }
 }
 
-/// Polls discovery until it ends; its answer.
-fn discover(client: &mut DdsServiceClient<AddTwoInts>, timeout_ms: u32) -> Option<bool> {
+impl Wake for Unparker {
+    fn wake(self: Arc<Self>) {
+        self.0.unpark();
+    }
+}
+
+impl GraphWatcher for Unparker {
+    fn graph_changed(&self, _graph: &GraphView<'_>) {
+        self.0.unpark();
+    }
+}
+
+/// Looks with `look` until it gives `Some`, at most `timeout`, parked in between: `look` is given
+/// a waker that unparks this thread, registers it with every endpoint whose event it waits for
+/// (`register_waker`) and then looks, so an event after the look ends the park that follows.
+fn until<T>(timeout: Duration, look: impl FnMut(&Waker) -> Option<T>) -> Option<T> {
+    wait_for(None, timeout, None, look)
+}
+
+/// [`until`], also woken by every change of `node`'s graph (what availability and readiness
+/// follow), by the instant [`SETTLE`] after the last one, and at `also_at`, if given.
+fn until_graph<T>(
+    node: &Node,
+    timeout: Duration,
+    also_at: Option<Instant>,
+    look: impl FnMut(&Waker) -> Option<T>,
+) -> Option<T> {
+    let graph = Graph::shared(node.context()).expect("graph");
+    wait_for(Some(&graph), timeout, also_at, look)
+}
+
+fn wait_for<T>(
+    graph: Option<&Graph>,
+    timeout: Duration,
+    also_at: Option<Instant>,
+    mut look: impl FnMut(&Waker) -> Option<T>,
+) -> Option<T> {
+    let deadline = Instant::now() + timeout;
+    let unparker = Unparker::new();
+    if let Some(graph) = graph {
+        let watcher: Weak<dyn GraphWatcher> = Arc::downgrade(&unparker) as _;
+        graph.watch(watcher);
+    }
+    let waker = Waker::from(Arc::clone(&unparker));
+    loop {
+        if let Some(value) = look(&waker) {
+            return Some(value);
+        }
+        let now = Instant::now();
+        if now >= deadline {
+            return None;
+        }
+        let settled = graph.map(|g| g.last_change() + SETTLE);
+        let wake_at = [settled, also_at]
+            .into_iter()
+            .flatten()
+            .filter(|&at| at > now)
+            .fold(deadline, Instant::min);
+        // Spurious wake-ups (an earlier waker firing late) only make it look again.
+        std::thread::park_timeout(wake_at - now);
+    }
+}
+
+/// Waits for discovery to end (woken by graph changes, and at the query's end); its answer.
+fn discover(
+    node: &Node,
+    client: &mut DdsServiceClient<AddTwoInts>,
+    timeout_ms: u32,
+) -> Option<bool> {
+    let query = Duration::from_millis(u64::from(timeout_ms));
+    let ends = Instant::now() + query;
     client
         .start_server_discovery(timeout_ms)
         .expect("start discovery");
-    until(
-        Duration::from_millis(u64::from(timeout_ms)) + 5 * SECOND,
-        || client.poll_server_discovery().expect("poll discovery"),
-    )
+    until_graph(node, query + 5 * SECOND, Some(ends), |_| {
+        client.poll_server_discovery().expect("poll discovery")
+    })
 }
 
 /// A waker that raises a flag and unparks the thread that made it.
@@ -107,15 +176,17 @@ impl Wake for Flag {
     }
 }
 
-/// Serves requests with `handle_request` until `done` says stop, at most `timeout`.
+/// Serves requests with `handle_request` until `done` says stop, at most `timeout`: woken by the
+/// server's waker, and by whatever `done` registers the waker it is given with.
 fn serve_until(
     server: &mut DdsServiceServer<AddTwoInts>,
     timeout: Duration,
-    mut done: impl FnMut() -> bool,
+    mut done: impl FnMut(&Waker) -> bool,
 ) -> usize {
     let (mut req_buf, mut reply_buf) = ([0u8; 256], [0u8; 256]);
     let mut served = 0;
-    until(timeout, || {
+    until(timeout, |waker| {
+        server.register_waker(waker);
         if server
             .handle_request::<AddTwoInts>(&mut req_buf, &mut reply_buf, |r| AddTwoIntsResponse {
                 sum: r.a + r.b,
@@ -124,20 +195,35 @@ fn serve_until(
         {
             served += 1;
         }
-        done().then_some(())
+        done(waker).then_some(())
     });
     served
 }
 
-/// Polls the raw client for its typed reply, at most `timeout`.
+/// Waits for the raw client's typed reply (woken by its waker), at most `timeout`.
 fn reply_of(
     client: &mut DdsServiceClient<AddTwoInts>,
     timeout: Duration,
 ) -> Option<Result<AddTwoIntsResponse, TransportError>> {
     let mut buf = [0u8; 256];
-    until(timeout, || {
+    until(timeout, |waker| {
+        client.register_waker(waker);
         client.try_recv_reply::<AddTwoInts>(&mut buf).transpose()
     })
+}
+
+/// Runs `calls` on a thread of its own; the results come back on the channel, and the thread
+/// that spawned it is unparked then (a `serve_until` waiting for them looks again).
+fn on_a_thread<T: Send + 'static>(
+    calls: impl FnOnce() -> T + Send + 'static,
+) -> (std::thread::JoinHandle<()>, mpsc::Receiver<T>) {
+    let (tx, rx) = mpsc::channel();
+    let waiting = std::thread::current();
+    let handle = std::thread::spawn(move || {
+        let _ = tx.send(calls());
+        waiting.unpark();
+    });
+    (handle, rx)
 }
 
 #[test]
@@ -152,7 +238,7 @@ fn a_raw_server_and_a_raw_client_talk_typed_and_raw() {
         server.try_recv_request(&mut req_buf).expect("nothing yet"),
         None
     );
-    assert_eq!(discover(&mut client, 10_000), Some(true));
+    assert_eq!(discover(&b, &mut client, 10_000), Some(true));
     assert!(client.is_server_ready());
     assert_eq!(client.server_available(), Ok(true));
 
@@ -221,7 +307,8 @@ fn a_raw_server_and_a_raw_client_talk_typed_and_raw() {
     let raw = to_cdr(&AddTwoIntsRequest { a: 40, b: 2 }).expect("encode");
     client.send_request_raw(&raw).expect("send raw");
     let mut len = None;
-    serve_until(&mut server, WAIT, || {
+    serve_until(&mut server, WAIT, |waker| {
+        client.register_waker(waker);
         len = client.try_recv_reply_raw(&mut reply_buf).expect("recv raw");
         len.is_some()
     });
@@ -240,7 +327,8 @@ fn a_raw_server_and_a_raw_client_talk_typed_and_raw() {
     client
         .send_request::<AddTwoInts>(&AddTwoIntsRequest { a: 7, b: 8 }, &mut req_buf)
         .expect("send");
-    let handled = until(WAIT, || {
+    let handled = until(WAIT, |waker| {
+        server.register_waker(waker);
         server
             .handle_request_boxed::<AddTwoInts>(&mut req_buf, &mut reply_buf, |r| {
                 Box::new(AddTwoIntsResponse { sum: r.a * r.b })
@@ -265,12 +353,31 @@ fn a_raw_server_and_a_raw_client_talk_typed_and_raw() {
         Err(TransportError::Serialization(_))
     ));
 
-    // The deprecated blocking calls keep the seed's default: Timeout at once.
+    // The deprecated blocking calls: not the seed's default (Timeout at once, without trying),
+    // but a call, woken by its reply, while another thread serves.
+    let serving = std::thread::spawn(move || {
+        let (mut req_buf, mut reply_buf) = ([0u8; 256], [0u8; 256]);
+        let mut handled = 0;
+        let served = until(WAIT, |waker| {
+            server.register_waker(waker);
+            while server
+                .handle_request::<AddTwoInts>(&mut req_buf, &mut reply_buf, |r| {
+                    AddTwoIntsResponse { sum: r.a + r.b }
+                })
+                .expect("handle")
+            {
+                handled += 1;
+            }
+            (handled == 2).then_some(())
+        });
+        assert!(served.is_some(), "served {handled} of the 2 blocking calls");
+    });
     #[allow(deprecated)]
     {
+        let len = client.call_raw(&raw, &mut reply_buf).expect("call_raw");
         assert_eq!(
-            client.call_raw(&raw, &mut reply_buf),
-            Err(TransportError::Timeout)
+            from_cdr::<AddTwoIntsResponse>(&reply_buf[..len]).expect("decode"),
+            AddTwoIntsResponse { sum: 42 }
         );
         assert_eq!(
             client.call::<AddTwoInts>(
@@ -278,9 +385,23 @@ fn a_raw_server_and_a_raw_client_talk_typed_and_raw() {
                 &mut req_buf,
                 &mut reply_buf
             ),
-            Err(TransportError::Timeout)
+            Ok(AddTwoIntsResponse { sum: 2 })
         );
     }
+    serving.join().expect("the serving thread");
+
+    // With no server, a blocking call ends at the client's send timeout with NoServer.
+    let mut lonely = DdsServiceClient::<AddTwoInts>::builder()
+        .node(&b)
+        .name("/raw_add_nobody")
+        .send_timeout(Duration::from_millis(300))
+        .build()
+        .expect("raw client");
+    let started = Instant::now();
+    #[allow(deprecated)]
+    let outcome = lonely.call_raw(&raw, &mut reply_buf);
+    assert_eq!(outcome, Err(TransportError::NoServer));
+    assert!(started.elapsed() >= Duration::from_millis(300), "not before the send timeout");
 }
 
 #[test]
@@ -294,14 +415,18 @@ fn raw_endpoints_talk_with_the_ordinary_client_and_server() {
         .name("/mixed_one")
         .build()
         .expect("client");
-    let caller = std::thread::spawn(move || {
-        let results: Vec<_> = (0..5)
+    let (caller, calls) = on_a_thread(move || {
+        (0..5)
             .map(|i| client.call(AddTwoIntsRequest { a: i, b: 100 }, WAIT))
-            .collect();
-        results
+            .collect::<Vec<_>>()
     });
-    let served = serve_until(&mut server, 3 * WAIT, || caller.is_finished());
-    let results = caller.join().expect("caller thread");
+    let mut results = None;
+    let served = serve_until(&mut server, 3 * WAIT, |_| {
+        results = calls.try_recv().ok();
+        results.is_some()
+    });
+    caller.join().expect("caller thread");
+    let results = results.expect("the calls never ended");
     assert_eq!(served, 5);
     for (i, result) in (0..5).zip(results) {
         assert_eq!(result, Ok(AddTwoIntsResponse { sum: i + 100 }));
@@ -318,7 +443,7 @@ fn raw_endpoints_talk_with_the_ordinary_client_and_server() {
         .build()
         .expect("server");
     let mut client = raw_client(&b, "/mixed_two");
-    assert_eq!(discover(&mut client, 10_000), Some(true));
+    assert_eq!(discover(&b, &mut client, 10_000), Some(true));
     let mut buf = [0u8; 64];
     client
         .send_request::<AddTwoInts>(&AddTwoIntsRequest { a: 10, b: 3 }, &mut buf)
@@ -345,7 +470,7 @@ fn discovery_and_availability_follow_the_graph() {
     assert_eq!(client.server_available(), Ok(false));
     assert!(!client.is_server_ready());
     let started = Instant::now();
-    assert_eq!(discover(&mut client, 300), Some(false));
+    assert_eq!(discover(&a, &mut client, 300), Some(false));
     assert!(started.elapsed() >= Duration::from_millis(300));
 
     // A request sent before any server exists is queued, and sent once one is ready.
@@ -355,20 +480,21 @@ fn discovery_and_availability_follow_the_graph() {
         .expect("queued");
     assert_eq!(client.try_recv_reply_raw(&mut buf), Ok(None));
     let mut server = raw_server(&b, "/later");
-    assert_eq!(discover(&mut client, 10_000), Some(true));
+    assert_eq!(discover(&a, &mut client, 10_000), Some(true));
     assert_eq!(client.server_available(), Ok(true));
     assert!(client.is_server_ready());
     let mut reply = None;
-    serve_until(&mut server, WAIT, || {
+    serve_until(&mut server, WAIT, |waker| {
+        client.register_waker(waker);
         reply = client.try_recv_reply::<AddTwoInts>(&mut buf).expect("recv");
         reply.is_some()
     });
     assert_eq!(reply, Some(AddTwoIntsResponse { sum: 42 }));
 
-    // The server leaves: availability drops.
+    // The server leaves: availability drops (a graph change).
     drop(server);
     assert!(
-        until(WAIT, || (client.server_available() == Ok(false))
+        until_graph(&a, WAIT, None, |_| (client.server_available() == Ok(false))
             .then_some(()))
         .is_some(),
         "the dropped server stayed available"
@@ -412,13 +538,18 @@ fn the_rmw_cyclonedds_convention_works_both_ways() {
         .wire_flavour(WireFlavour::CycloneDds)
         .build()
         .expect("client");
-    let caller = std::thread::spawn(move || {
+    let (caller, calls) = on_a_thread(move || {
         (0..3)
             .map(|i| client.call(AddTwoIntsRequest { a: i, b: 1 }, WAIT))
             .collect::<Vec<_>>()
     });
-    serve_until(&mut server, 3 * WAIT, || caller.is_finished());
-    let results = caller.join().expect("caller thread");
+    let mut results = None;
+    serve_until(&mut server, 3 * WAIT, |_| {
+        results = calls.try_recv().ok();
+        results.is_some()
+    });
+    caller.join().expect("caller thread");
+    let results = results.expect("the calls never ended");
     for (i, result) in (0..3).zip(results) {
         assert_eq!(result, Ok(AddTwoIntsResponse { sum: i + 1 }));
     }
@@ -430,12 +561,13 @@ fn the_rmw_cyclonedds_convention_works_both_ways() {
         .wire_flavour(WireFlavour::CycloneDds)
         .build()
         .expect("raw client");
-    assert_eq!(discover(&mut raw, 10_000), Some(true));
+    assert_eq!(discover(&a, &mut raw, 10_000), Some(true));
     let mut buf = [0u8; 64];
     raw.send_request::<AddTwoInts>(&AddTwoIntsRequest { a: 5, b: 6 }, &mut buf)
         .expect("send");
     let mut req_buf = [0u8; 64];
-    let (sequence_number, data) = until(WAIT, || {
+    let (sequence_number, data) = until(WAIT, |waker| {
+        server.register_waker(waker);
         server
             .try_recv_request(&mut req_buf)
             .expect("take")
@@ -468,7 +600,7 @@ fn the_rmw_cyclonedds_convention_works_both_ways() {
         .wire_flavour(WireFlavour::CycloneDds)
         .build()
         .expect("raw client");
-    assert_eq!(discover(&mut raw, 10_000), Some(true));
+    assert_eq!(discover(&a, &mut raw, 10_000), Some(true));
     raw.send_request::<AddTwoInts>(&AddTwoIntsRequest { a: 6, b: 7 }, &mut buf)
         .expect("send");
     assert_eq!(
@@ -482,10 +614,11 @@ fn only_the_latest_request_is_answered_and_clients_get_their_own_replies() {
     let (a, b) = (node(95, "latest_server"), node(95, "latest_clients"));
     let mut server = raw_server(&a, "/latest");
     let mut client = raw_client(&b, "/latest");
-    assert_eq!(discover(&mut client, 10_000), Some(true));
+    assert_eq!(discover(&b, &mut client, 10_000), Some(true));
     let (mut buf, mut req_buf) = ([0u8; 64], [0u8; 64]);
     let mut take = |server: &mut DdsServiceServer<AddTwoInts>| {
-        until(WAIT, || {
+        until(WAIT, |waker| {
+            server.register_waker(waker);
             server
                 .try_recv_request(&mut req_buf)
                 .expect("take")
@@ -521,14 +654,15 @@ fn only_the_latest_request_is_answered_and_clients_get_their_own_replies() {
     // Several raw clients at once, each gets only its own reply.
     let mut clients: Vec<_> = (0..4).map(|_| raw_client(&b, "/latest")).collect();
     for (i, c) in (0i64..).zip(clients.iter_mut()) {
-        assert_eq!(discover(c, 10_000), Some(true));
+        assert_eq!(discover(&b, c, 10_000), Some(true));
         c.send_request::<AddTwoInts>(&AddTwoIntsRequest { a: i, b: 1000 }, &mut buf)
             .expect("send");
     }
     let mut got: Vec<Option<AddTwoIntsResponse>> = vec![None; clients.len()];
-    serve_until(&mut server, WAIT, || {
+    serve_until(&mut server, WAIT, |waker| {
         for (c, slot) in clients.iter_mut().zip(got.iter_mut()) {
             if slot.is_none() {
+                c.register_waker(waker);
                 *slot = c.try_recv_reply::<AddTwoInts>(&mut buf).expect("recv");
             }
         }

@@ -79,9 +79,10 @@ impl<S: Service> Codec for Typed<S> {
     }
 }
 
-/// A reply as it came: its CDR body (without any request header) and byte order.
+/// A response as it came (rmw `rmw_take_response`): its CDR body (without any request header)
+/// and byte order.
 #[derive(Clone, Debug, PartialEq, Eq)]
-pub struct RawReply {
+pub struct RawResponse {
     /// The CDR body of the response message (after the encapsulation header).
     pub body: Vec<u8>,
     /// Whether the body is big-endian.
@@ -95,7 +96,7 @@ pub(crate) struct Raw {
 
 impl Codec for Raw {
     type Request = Vec<u8>;
-    type Response = RawReply;
+    type Response = RawResponse;
 
     fn service_type(&self) -> &str {
         &self.service_type
@@ -105,8 +106,8 @@ impl Codec for Raw {
         Ok(request.clone())
     }
 
-    fn decode(&self, body: &[u8], big_endian: bool) -> Result<RawReply, ServiceError> {
-        Ok(RawReply {
+    fn decode(&self, body: &[u8], big_endian: bool) -> Result<RawResponse, ServiceError> {
+        Ok(RawResponse {
             body: body.to_vec(),
             big_endian,
         })
@@ -122,7 +123,7 @@ impl Codec for Raw {
         _info: ServiceEventInfo,
         _contents: bool,
         _request: Option<&Vec<u8>>,
-        _response: Option<&RawReply>,
+        _response: Option<&RawResponse>,
     ) -> Option<Vec<u8>> {
         None
     }

@@ -12,7 +12,7 @@ use horus_ros_rmw::names::ServiceName;
 use horus_ros_rmw::qos::Qos;
 use horus_ros_rmw::{Gid, Node};
 
-use super::codec::{Raw, RawReply};
+use super::codec::{Raw, RawResponse};
 use super::core::{ClientCore, ClientOptions};
 use super::responses::Membership;
 use crate::naming::ServiceTopics;
@@ -224,7 +224,11 @@ impl DynamicServiceClient {
 
     /// Calls once with `request` (a CDR_LE body of the request message, no encapsulation
     /// header); the reply comes back as its body, any rmw_cyclonedds header removed.
-    pub fn call(&mut self, request: Vec<u8>, timeout: Duration) -> Result<RawReply, ServiceError> {
+    pub fn call(
+        &mut self,
+        request: Vec<u8>,
+        timeout: Duration,
+    ) -> Result<RawResponse, ServiceError> {
         self.core.call_blocking(&self.responses, &request, timeout)
     }
 

@@ -9,7 +9,7 @@ mod pending;
 pub(crate) mod responses;
 
 pub use blocking::{ServiceClient, ServiceClientBuilder};
-pub use codec::RawReply;
+pub use codec::RawResponse;
 pub use dynamic::{
     DynamicCallError, DynamicPart, DynamicServiceClient, DynamicServiceClientBuilder,
 };

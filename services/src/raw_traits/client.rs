@@ -3,8 +3,8 @@
 use std::marker::PhantomData;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard};
-use std::task::Waker;
-use std::thread::JoinHandle;
+use std::task::{Wake, Waker};
+use std::thread::{JoinHandle, Thread};
 use std::time::{Duration, Instant};
 
 use horus_ros_msgs::Service;
@@ -12,8 +12,11 @@ use horus_ros_rmw::names::ServiceName;
 use horus_ros_rmw::qos::Qos;
 use horus_ros_rmw::{Gid, Node};
 
-use super::{encapsulate_into, le_body, ServiceClientTrait, TransportError};
-use crate::client::codec::{Raw, RawReply};
+use super::{
+    deserialize, encapsulate_into, le_body, serialize_into, RosService, ServiceClientTrait,
+    TransportError,
+};
+use crate::client::codec::{Raw, RawResponse};
 use crate::client::core::{ClientCore, ClientOptions, Readiness, RequestKey};
 use crate::WireFlavour;
 use crate::{ServiceError, SetupError};
@@ -251,6 +254,41 @@ impl<S: Service> ServiceClientTrait for DdsServiceClient<S> {
         }
     }
 
+    /// Sends `request` and waits for its reply (blocking), unlike the trait's default, which
+    /// answers `Timeout` at once. The whole call is bounded by the client's
+    /// [send timeout](DdsServiceClientBuilder::send_timeout): `NoServer` if no server was ready
+    /// in time, `Timeout` if one was and its reply did not come. Woken by the reply, never polled.
+    fn call_raw(&mut self, request: &[u8], reply_buf: &mut [u8]) -> Result<usize, TransportError> {
+        let deadline = Instant::now() + self.shared.send_timeout;
+        self.send_request_raw(request)?;
+        let waker = Waker::from(Arc::new(Unpark(std::thread::current())));
+        loop {
+            if let Some(len) = self.try_recv_reply_raw(reply_buf)? {
+                return Ok(len);
+            }
+            // A reply that came after the look above wakes the waker at once.
+            self.register_waker(&waker);
+            let now = Instant::now();
+            if now >= deadline {
+                return Err(self.shared.abandon());
+            }
+            std::thread::park_timeout(deadline - now);
+        }
+    }
+
+    /// The typed form of [`call_raw`](Self::call_raw) (blocking, bounded the same way).
+    fn call<R: RosService>(
+        &mut self,
+        request: &R::Request,
+        req_buf: &mut [u8],
+        reply_buf: &mut [u8],
+    ) -> Result<R::Reply, TransportError> {
+        let len = serialize_into(request, req_buf)?;
+        #[allow(deprecated)]
+        let reply_len = self.call_raw(&req_buf[..len], reply_buf)?;
+        deserialize(&reply_buf[..reply_len])
+    }
+
     /// Whether a server can take a request now: its request reader and reply writer are known
     /// and matched with our writer and reader (rmw_fastrtps `service_is_ready`).
     fn is_server_ready(&self) -> bool {
@@ -276,7 +314,7 @@ struct State {
     /// The request sent last, until its reply is in.
     current: Option<RequestKey>,
     /// The reply to `current` (or the error that ended it), until taken.
-    reply: Option<Result<RawReply, TransportError>>,
+    reply: Option<Result<RawResponse, TransportError>>,
     waker: Option<Waker>,
 }
 
@@ -286,6 +324,15 @@ struct Shared {
     send_timeout: Duration,
     state: Mutex<State>,
     stop: AtomicBool,
+}
+
+/// Wakes a thread parked in [`DdsServiceClient::call_raw`].
+struct Unpark(Thread);
+
+impl Wake for Unpark {
+    fn wake(self: Arc<Self>) {
+        self.0.unpark();
+    }
 }
 
 /// The raw traits' form of a call error.
@@ -337,8 +384,22 @@ impl Shared {
         }
     }
 
+    /// Ends a blocking call at its deadline: `NoServer` if its request was never sent, else
+    /// `Timeout` (a reply that still comes is dropped).
+    fn abandon(&self) -> TransportError {
+        let mut state = self.state();
+        state.waker = None;
+        if state.unsent.take().is_some() {
+            return TransportError::NoServer;
+        }
+        if let Some(key) = state.current.take() {
+            self.core.forget(key);
+        }
+        TransportError::Timeout
+    }
+
     /// Ends the current request with `outcome` and wakes the waker.
-    fn complete(&self, state: &mut State, outcome: Result<RawReply, TransportError>) {
+    fn complete(&self, state: &mut State, outcome: Result<RawResponse, TransportError>) {
         if let Some(key) = state.current.take() {
             self.core.forget(key);
         }

@@ -321,7 +321,8 @@ impl Shared {
                 }
             };
             // One warning per interval at most, with the count, however fast requests overflow.
-            if overflowed > 0 && warned_at.is_none_or(|at| at.elapsed() >= OVERFLOW_WARNING_INTERVAL)
+            if overflowed > 0
+                && warned_at.is_none_or(|at| at.elapsed() >= OVERFLOW_WARNING_INTERVAL)
             {
                 tracing::warn!(
                     service = %self.wire.service(),

@@ -27,7 +27,7 @@ use horus_ros_rmw::names::ServiceName;
 use crate::dynamic::{ServiceType, Value};
 use crate::session::Session;
 use crate::{CliError, Global};
-use horus_ros_services::{DynamicCallError, DynamicServiceClient, RawReply, ServiceError};
+use horus_ros_services::{DynamicCallError, DynamicServiceClient, RawResponse, ServiceError};
 
 /// Arguments of `service call`.
 #[derive(Debug, clap::Args)]
@@ -262,7 +262,7 @@ impl Opened {
     }
 
     /// A reply decoded as the response type, as Python's `repr` shows it.
-    pub(crate) fn response_repr(&self, reply: &RawReply) -> Result<String, CliError> {
+    pub(crate) fn response_repr(&self, reply: &RawResponse) -> Result<String, CliError> {
         let response = self
             .info
             .decode_response(&reply.body, reply.big_endian)
