@@ -401,7 +401,10 @@ fn a_raw_server_and_a_raw_client_talk_typed_and_raw() {
     #[allow(deprecated)]
     let outcome = lonely.call_raw(&raw, &mut reply_buf);
     assert_eq!(outcome, Err(TransportError::NoServer));
-    assert!(started.elapsed() >= Duration::from_millis(300), "not before the send timeout");
+    assert!(
+        started.elapsed() >= Duration::from_millis(300),
+        "not before the send timeout"
+    );
 }
 
 #[test]
