@@ -16,6 +16,7 @@ pub mod context;
 #[cfg(feature = "cyclone")]
 mod cyclone;
 mod dds;
+mod dds_error;
 pub mod discovery;
 mod entities;
 mod feed_wait;
@@ -43,10 +44,11 @@ pub use context::{
     env::{DiscoveryOptions, DiscoveryRange, DomainId},
     Context, ContextBuilder, ContextError, DiscoveryFeed, DiscoveryFeedError, FeedWaker,
 };
+pub use dds_error::DdsError;
 pub use discovery::{DiscoveredEndpoint, DiscoveredParticipant, DiscoveryEvent, VendorId};
 pub use gid::Gid;
 pub use node::{Node, NodeError, WeakNode};
-pub use pubsub::{EndpointError, PublishError, Publisher, Subscription, TakeError};
+pub use pubsub::{EndpointError, PublishError, Publisher, SampleError, Subscription, TakeError};
 pub use queue::{DropOldestQueue, Lagged};
 pub use raw::{
     RawEndpointSpec, RawReader, RawReaderWaker, RawSample, RawWriter, SampleId, ServiceEndpointId,

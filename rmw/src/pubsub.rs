@@ -7,8 +7,10 @@
 
 use std::marker::PhantomData;
 
+use horus_ros_msgs::cdr::CdrError;
 use horus_ros_msgs::Message;
 
+use crate::dds_error::DdsError;
 use crate::names::{ExpandError, TopicName};
 use crate::node::Node;
 use crate::qos::{EndpointKind, Qos, QosError};
@@ -16,7 +18,7 @@ use crate::raw::{RawEndpointSpec, RawReader, RawReaderWaker, RawWriter};
 use crate::Gid;
 
 /// Why an endpoint could not be created.
-#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
 pub enum EndpointError {
     /// The topic name does not expand to a valid ROS name.
@@ -36,35 +38,63 @@ pub enum EndpointError {
         source: QosError,
     },
     /// The DDS layer refused to create the reader or writer.
-    #[error("could not create the DDS {kind} for '{topic}': {reason}")]
+    #[error("could not create the DDS {kind} for '{topic}': {source}")]
     Dds {
         /// `reader` or `writer`.
         kind: &'static str,
         /// The DDS topic name.
         topic: String,
         /// What the DDS layer said.
-        reason: String,
+        #[source]
+        source: DdsError,
     },
 }
 
+/// What went wrong with one sample: its CDR, or the DDS layer.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum SampleError {
+    /// The message could not be encoded as CDR, or the sample taken does not decode as the
+    /// subscription's message type (e.g. a malformed sample from the wire; it is consumed).
+    #[error("{0}")]
+    Cdr(#[source] CdrError),
+    /// The DDS layer refused or failed.
+    #[error("{0}")]
+    Dds(#[source] DdsError),
+}
+
+impl From<CdrError> for SampleError {
+    fn from(e: CdrError) -> Self {
+        Self::Cdr(e)
+    }
+}
+
+impl From<DdsError> for SampleError {
+    fn from(e: DdsError) -> Self {
+        Self::Dds(e)
+    }
+}
+
 /// Why a sample could not be published.
-#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
-#[error("could not publish on '{topic}': {reason}")]
+#[derive(Debug, thiserror::Error)]
+#[error("could not publish on '{topic}': {source}")]
 pub struct PublishError {
-    /// The ROS topic name.
+    /// The ROS topic name ([`Publisher`]), or the DDS topic name ([`RawWriter`]).
     pub topic: String,
-    /// What the DDS layer said.
-    pub reason: String,
+    /// What went wrong: the message's encoding, or the DDS layer.
+    #[source]
+    pub source: SampleError,
 }
 
 /// Why a sample could not be taken.
-#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
-#[error("could not take a sample from '{topic}': {reason}")]
+#[derive(Debug, thiserror::Error)]
+#[error("could not take a sample from '{topic}': {source}")]
 pub struct TakeError {
-    /// The ROS topic name.
+    /// The ROS topic name ([`Subscription`]), or the DDS topic name ([`RawReader`]).
     pub topic: String,
     /// What went wrong (e.g. a malformed sample from the wire).
-    pub reason: String,
+    #[source]
+    pub source: SampleError,
 }
 
 /// Resolves `name` for `node` (remapped as rcl does) and checks that `qos` maps to DDS; returns
@@ -164,15 +194,15 @@ impl Node {
 impl<M: Message> Publisher<M> {
     /// Publishes one message.
     pub fn publish(&self, message: M) -> Result<(), PublishError> {
-        let fail = |reason: String| PublishError {
+        let fail = |source: SampleError| PublishError {
             topic: self.topic.to_string(),
-            reason,
+            source,
         };
-        let body = horus_ros_msgs::cdr::to_cdr_body(&message).map_err(|e| fail(e.to_string()))?;
+        let body = horus_ros_msgs::cdr::to_cdr_body(&message).map_err(|e| fail(e.into()))?;
         self.writer
             .write(body, None, None)
             .map(|_| ())
-            .map_err(|e| fail(e.reason))
+            .map_err(|e| fail(e.source))
     }
 
     /// Waits until every matched reliable reader acknowledged what was published, at most
@@ -203,11 +233,11 @@ impl<M: Message> Subscription<M> {
     /// Takes the next message, if one has arrived (non-blocking). A sample that does not decode
     /// as `M` is consumed and reported as an error.
     pub fn try_take(&mut self) -> Result<Option<M>, TakeError> {
-        let fail = |reason: String| TakeError {
+        let fail = |source: SampleError| TakeError {
             topic: self.topic.to_string(),
-            reason,
+            source,
         };
-        let Some(sample) = self.reader.take().map_err(|e| fail(e.reason))? else {
+        let Some(sample) = self.reader.take().map_err(|e| fail(e.source))? else {
             return Ok(None);
         };
         let decoded = if sample.big_endian {
@@ -215,7 +245,7 @@ impl<M: Message> Subscription<M> {
         } else {
             horus_ros_msgs::cdr::from_cdr_body::<M, byteorder::LittleEndian>(&sample.body)
         };
-        decoded.map(Some).map_err(|e| fail(e.to_string()))
+        decoded.map(Some).map_err(|e| fail(e.into()))
     }
 
     /// A handle that makes this subscription's current or next [`wait`](Self::wait) return,

@@ -11,10 +11,11 @@ use std::time::Duration;
 use horus_ros_msgs::TypeHash;
 
 use crate::context::Dds;
+use crate::dds_error::DdsError;
 use crate::discovery::DiscoveredEndpoint;
 use crate::entities::EndpointSide;
 use crate::node::{Node, Registration};
-use crate::pubsub::{EndpointError, PublishError, TakeError};
+use crate::pubsub::{EndpointError, PublishError, SampleError, TakeError};
 use crate::qos::{EndpointKind, Qos};
 use crate::Gid;
 
@@ -195,9 +196,9 @@ impl RawReaderWaker {
     /// Wakes the reader's waiting thread (or makes its next wait return at once).
     pub fn wake(&self) {
         let result = match &self.0 {
-            WakerImpl::RustDds(waker) => waker.wake().map_err(|e| e.to_string()),
+            WakerImpl::RustDds(waker) => waker.wake().map_err(DdsError::Io),
             #[cfg(feature = "cyclone")]
-            WakerImpl::Cyclone(guard) => guard.trigger().map_err(|e| e.to_string()),
+            WakerImpl::Cyclone(guard) => guard.trigger().map_err(DdsError::Cyclone),
         };
         if let Err(e) = result {
             tracing::debug!("could not wake a reader: {e}");
@@ -224,11 +225,11 @@ impl std::fmt::Debug for RawReader {
 fn dds_error<'a>(
     kind: &'static str,
     spec: &'a RawEndpointSpec,
-) -> impl Fn(String) -> EndpointError + 'a {
-    move |reason| EndpointError::Dds {
+) -> impl Fn(DdsError) -> EndpointError + 'a {
+    move |source| EndpointError::Dds {
         kind,
         topic: spec.dds_topic_name.clone(),
-        reason,
+        source,
     }
 }
 
@@ -386,20 +387,16 @@ impl RawWriter {
         related: Option<SampleId>,
         only_to: Option<Gid>,
     ) -> Result<SampleId, PublishError> {
-        let fail = |reason: String| PublishError {
+        let fail = |e: DdsError| PublishError {
             topic: self.topic.clone(),
-            reason,
+            source: SampleError::Dds(e),
         };
         match &self.writer {
             WriterImpl::RustDds(writer) => writer.write(body, related, only_to).map_err(fail),
             #[cfg(feature = "cyclone")]
             WriterImpl::Cyclone(writer) => {
                 if related.is_some() {
-                    return Err(fail(
-                        "the Cyclone backend cannot send related_sample_identity \
-                         (Cyclone DDS has no API for it)"
-                            .to_owned(),
-                    ));
+                    return Err(fail(DdsError::RelatedSampleIdentityUnsupported));
                 }
                 let _ = only_to;
                 let sequence_number = writer.write(&body).map_err(fail)?;
@@ -424,9 +421,9 @@ impl RawReader {
     /// On the Cyclone backend, samples carry no `related_sample_identity` and their sequence
     /// number is [`SampleId::UNKNOWN_SEQUENCE_NUMBER`] (Cyclone DDS reports neither).
     pub fn take(&mut self) -> Result<Option<RawSample>, TakeError> {
-        let fail = |reason: String| TakeError {
+        let fail = |e: DdsError| TakeError {
             topic: self.topic.clone(),
-            reason,
+            source: SampleError::Dds(e),
         };
         match &mut self.reader {
             ReaderImpl::RustDds(reader) => reader.take().map_err(fail),
@@ -443,7 +440,7 @@ impl RawReader {
                     publication_handle: Some(sample.publication_handle),
                 })),
                 Ok(None) => Ok(None),
-                Err(reason) => Err(fail(reason)),
+                Err(e) => Err(fail(e)),
             },
         }
     }

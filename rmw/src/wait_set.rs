@@ -9,6 +9,7 @@
 use std::sync::Arc;
 use std::time::Duration;
 
+use crate::dds_error::DdsError;
 use crate::raw::{ReaderImpl, WakerImpl};
 use crate::{Backend, Context, RawReader, RawReaderWaker};
 
@@ -21,7 +22,7 @@ const WAKE: usize = usize::MAX;
 pub enum WaitSetError {
     /// The DDS layer refused.
     #[error("wait set: {0}")]
-    Dds(String),
+    Dds(#[source] DdsError),
     /// The reader belongs to another backend than the set.
     #[error("wait set: the reader is of another DDS backend than the set")]
     OtherBackend,
@@ -72,11 +73,10 @@ impl std::fmt::Debug for WaitSet {
 impl WaitSet {
     /// An empty set for readers of `context`'s backend.
     pub fn new(context: &Context) -> Result<Self, WaitSetError> {
-        let fail = |e: &dyn std::fmt::Display| WaitSetError::Dds(e.to_string());
         match context.backend() {
             Backend::RustDds => {
-                let (waiter, waker) =
-                    crate::dds::waiter::Waiter::new(WAKE).map_err(|e| fail(&e))?;
+                let (waiter, waker) = crate::dds::waiter::Waiter::new(WAKE)
+                    .map_err(|e| WaitSetError::Dds(DdsError::Io(e)))?;
                 Ok(Self {
                     imp: Imp::RustDds(waiter),
                     waker: RawReaderWaker(WakerImpl::RustDds(waker)),
@@ -84,9 +84,10 @@ impl WaitSet {
             }
             #[cfg(feature = "cyclone")]
             Backend::Cyclone => {
-                let waiter = horus_ros_rmw_cyclone::Waiter::new().map_err(|e| fail(&e))?;
-                let guard = horus_ros_rmw_cyclone::GuardCondition::new().map_err(|e| fail(&e))?;
-                waiter.attach_guard(&guard, WAKE).map_err(|e| fail(&e))?;
+                let fail = |e| WaitSetError::Dds(DdsError::Cyclone(e));
+                let waiter = horus_ros_rmw_cyclone::Waiter::new().map_err(fail)?;
+                let guard = horus_ros_rmw_cyclone::GuardCondition::new().map_err(fail)?;
+                waiter.attach_guard(&guard, WAKE).map_err(fail)?;
                 Ok(Self {
                     imp: Imp::Cyclone {
                         waiter: Arc::new(waiter),
@@ -106,14 +107,13 @@ impl WaitSet {
         if key == WAKE {
             return Err(WaitSetError::ReservedKey(key));
         }
-        let fail = |e: &dyn std::fmt::Display| WaitSetError::Dds(e.to_string());
         match (&self.imp, &mut reader.reader) {
             (Imp::RustDds(waiter), ReaderImpl::RustDds(dds)) => {
-                dds.attach_to(waiter, key).map_err(|e| fail(&e))
+                dds.attach_to(waiter, key).map_err(WaitSetError::Dds)
             }
             #[cfg(feature = "cyclone")]
             (Imp::Cyclone { waiter, .. }, ReaderImpl::Cyclone(cyclone)) => {
-                cyclone.attach_to(waiter, key).map_err(|e| fail(&e))?;
+                cyclone.attach_to(waiter, key).map_err(WaitSetError::Dds)?;
                 reader.attachments.push(Attachment {
                     waiter: Arc::clone(waiter),
                     token: key,

@@ -4,7 +4,7 @@ use std::time::{Duration, Instant};
 
 use horus_ros_msgs::{Message, TypeHash};
 use horus_ros_rmw::qos::Qos;
-use horus_ros_rmw::{Context, DiscoveryEvent, RawEndpointSpec, SampleId};
+use horus_ros_rmw::{Context, DdsError, DiscoveryEvent, RawEndpointSpec, SampleError, SampleId};
 
 const DOMAIN: u32 = 38;
 
@@ -65,7 +65,10 @@ fn raw_samples_carry_identity_and_related_identity() {
         // Cyclone DDS cannot send related_sample_identity: refused, nothing sent.
         let refused = writer.write(body.clone(), Some(related), None);
         assert!(
-            refused.is_err_and(|e| e.reason.contains("related_sample_identity")),
+            refused.is_err_and(|e| matches!(
+                e.source,
+                SampleError::Dds(DdsError::RelatedSampleIdentityUnsupported)
+            ) && e.to_string().contains("related_sample_identity")),
             "a related identity must be refused on {}",
             context.backend()
         );

@@ -10,6 +10,7 @@ use std::sync::{Arc, Mutex, MutexGuard, Weak};
 
 use crate::backend::{Backend, BackendError};
 use crate::dds::{self, RustddsParticipant};
+use crate::dds_error::DdsError;
 use crate::discovery::{DiscoveredEndpoint, DiscoveredParticipant, DiscoveryEvent, VendorId};
 use crate::entities::{EndpointSide, LocalEntities, NodeKey};
 use crate::local_sink::LocalSink;
@@ -33,12 +34,13 @@ pub enum ContextError {
     #[error(transparent)]
     Arguments(#[from] crate::args::ArgumentsError),
     /// The DDS participant could not be created (e.g. no free ports).
-    #[error("could not create the DDS participant in domain {domain}: {reason}")]
+    #[error("could not create the DDS participant in domain {domain}: {source}")]
     Participant {
         /// The domain asked for.
         domain: DomainId,
         /// What the DDS layer said.
-        reason: String,
+        #[source]
+        source: DdsError,
     },
 }
 
@@ -149,10 +151,11 @@ impl Dds {
         domain: DomainId,
         discovery: &DiscoveryOptions,
         enclave: &str,
-    ) -> Result<(Self, Vec<String>), String> {
+    ) -> Result<(Self, Vec<String>), ContextError> {
+        let fail = |source| ContextError::Participant { domain, source };
         match backend {
             Backend::RustDds => {
-                let (p, warnings) = RustddsParticipant::create(domain, discovery)?;
+                let (p, warnings) = RustddsParticipant::create(domain, discovery).map_err(fail)?;
                 if enclave != "/" {
                     tracing::debug!(
                         "enclave {enclave}: the rustdds backend cannot announce it (no USER_DATA)"
@@ -162,11 +165,12 @@ impl Dds {
             }
             #[cfg(feature = "cyclone")]
             Backend::Cyclone => {
-                let p = crate::cyclone::CycloneParticipant::create(domain, discovery, enclave)?;
+                let p = crate::cyclone::CycloneParticipant::create(domain, discovery, enclave)
+                    .map_err(fail)?;
                 Ok((Self::Cyclone(p), Vec::new()))
             }
             #[cfg(not(feature = "cyclone"))]
-            Backend::Cyclone => Err(BackendError::NotBuiltIn { backend }.to_string()),
+            Backend::Cyclone => Err(BackendError::NotBuiltIn { backend }.into()),
         }
     }
 
@@ -276,8 +280,7 @@ impl Context {
         enclave: String,
         arguments: crate::args::Arguments,
     ) -> Result<Self, ContextError> {
-        let (dds, warnings) = Dds::create(backend, domain, &discovery, &enclave)
-            .map_err(|reason| ContextError::Participant { domain, reason })?;
+        let (dds, warnings) = Dds::create(backend, domain, &discovery, &enclave)?;
         for w in warnings {
             tracing::warn!("{w}");
         }
@@ -432,23 +435,25 @@ impl ContextInner {
 }
 
 /// Why a [`DiscoveryFeed`] could not be opened.
-#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
 pub enum DiscoveryFeedError {
     /// The context already has a feed (rustdds keeps one discovery event queue per participant).
     #[error("this context already has a discovery feed")]
     AlreadyOpen,
     /// The wake-up machinery (an OS poll instance) could not be set up.
-    #[error("could not set up waiting for discovery events: {reason}")]
+    #[error("could not set up waiting for discovery events: {source}")]
     Poll {
-        /// What the OS said.
-        reason: String,
+        /// What the OS (rustdds backend) or Cyclone DDS said.
+        #[source]
+        source: DdsError,
     },
     /// A reader (`ros_discovery_info` or a built-in topic) could not be created.
-    #[error("could not create a discovery reader: {reason}")]
+    #[error("could not create a discovery reader: {source}")]
     Reader {
         /// What the DDS layer said.
-        reason: String,
+        #[source]
+        source: DdsError,
     },
 }
 

@@ -10,14 +10,19 @@ use horus_ros_msgs::rmw_dds_common::Gid;
 use horus_ros_rmw_cyclone as cyc;
 
 use super::{gid, qos, CycloneParticipant, LocalEndpoints};
+use crate::dds_error::DdsError;
 use crate::qos::{DdsQos, EndpointKind};
 
 /// The blob topic `topic_name` of type `type_name` (each endpoint gets its own topic entity;
 /// Cyclone shares what lies behind same-named ones).
-fn topic(p: &CycloneParticipant, topic_name: &str, type_name: &str) -> Result<cyc::Topic, String> {
+fn topic(
+    p: &CycloneParticipant,
+    topic_name: &str,
+    type_name: &str,
+) -> Result<cyc::Topic, DdsError> {
     p.participant
         .blob_topic(topic_name, type_name)
-        .map_err(|e| e.to_string())
+        .map_err(DdsError::Cyclone)
 }
 
 /// The GID of a new endpoint of ours, listed with the context's live endpoints.
@@ -25,8 +30,8 @@ fn register(
     p: &CycloneParticipant,
     entity: &cyc::Entity,
     kind: EndpointKind,
-) -> Result<Gid, String> {
-    let gid = gid(entity.guid().map_err(|e| e.to_string())?);
+) -> Result<Gid, DdsError> {
+    let gid = gid(entity.guid().map_err(DdsError::Cyclone)?);
     p.local_endpoints.insert(gid, entity, kind);
     Ok(gid)
 }
@@ -47,8 +52,8 @@ impl RawWriter {
         type_name: &str,
         policies: &DdsQos,
         user_data: &[u8],
-    ) -> Result<(Self, Gid), String> {
-        let fail = |e: cyc::Error| e.to_string();
+    ) -> Result<(Self, Gid), DdsError> {
+        let fail = DdsError::Cyclone;
         let writer = p
             .participant
             .writer(
@@ -71,11 +76,11 @@ impl RawWriter {
 
     /// Writes a CDR_LE body; returns the sample's sequence number (counted here, as RTPS does:
     /// one per write, from 1).
-    pub(crate) fn write(&self, body: &[u8]) -> Result<i64, String> {
+    pub(crate) fn write(&self, body: &[u8]) -> Result<i64, DdsError> {
         let mut cdr = Vec::with_capacity(4 + body.len());
         cdr.extend_from_slice(&CDR_LE_HEADER);
         cdr.extend_from_slice(body);
-        self.writer.write(&cdr).map_err(|e| e.to_string())?;
+        self.writer.write(&cdr).map_err(DdsError::Cyclone)?;
         Ok(self.last_sequence_number.fetch_add(1, Ordering::Relaxed) + 1)
     }
 }
@@ -141,8 +146,8 @@ impl RawReader {
         policies: &DdsQos,
         user_data: &[u8],
         responses_of: Option<u64>,
-    ) -> Result<(Self, Gid), String> {
-        let fail = |e: cyc::Error| e.to_string();
+    ) -> Result<(Self, Gid), DdsError> {
+        let fail = DdsError::Cyclone;
         let topic = match responses_of {
             None => topic(p, topic_name, type_name)?,
             Some(client) => p
@@ -175,21 +180,20 @@ impl RawReader {
 
     /// Takes the next sample, if any. A sample in an encoding other than plain CDR is consumed
     /// and reported as an error.
-    pub(crate) fn take(&self) -> Result<Option<Sample>, String> {
-        let Some(sample) = self.reader.take().map_err(|e| e.to_string())? else {
+    pub(crate) fn take(&self) -> Result<Option<Sample>, DdsError> {
+        let Some(sample) = self.reader.take().map_err(DdsError::Cyclone)? else {
             return Ok(None);
         };
         let writer = sample.writer_guid.map(gid).unwrap_or_default();
         let Some((header, body)) = sample.cdr.split_first_chunk::<4>() else {
-            return Err(format!(
-                "sample of {} bytes is shorter than its encapsulation header",
-                sample.cdr.len()
-            ));
+            return Err(DdsError::ShortSample {
+                len: sample.cdr.len(),
+            });
         };
         let big_endian = match [header[0], header[1]] {
             CDR_LE_ID => false,
             CDR_BE_ID => true,
-            other => return Err(format!("unsupported CDR encapsulation {other:02x?}")),
+            id => return Err(DdsError::UnsupportedEncapsulation { id }),
         };
         Ok(Some(Sample {
             body: body.to_vec(),
@@ -201,10 +205,10 @@ impl RawReader {
 
     /// Attaches this reader's data to another waitset too, under `token` (detach it with
     /// `waiter.detach(token)`).
-    pub(crate) fn attach_to(&self, waiter: &cyc::Waiter, token: usize) -> Result<(), String> {
+    pub(crate) fn attach_to(&self, waiter: &cyc::Waiter, token: usize) -> Result<(), DdsError> {
         waiter
             .attach_reader(&self.reader, token)
-            .map_err(|e| e.to_string())
+            .map_err(DdsError::Cyclone)
     }
 
     /// The guard condition that wakes [`wait`](Self::wait).

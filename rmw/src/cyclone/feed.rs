@@ -15,6 +15,7 @@ use horus_ros_rmw_cyclone::{self as cyc, BuiltinSample, BuiltinTopic, StatusMask
 use super::{gid, qos, CycloneParticipant, LocalEndpoints};
 use crate::context::DiscoveryFeedError;
 use crate::dds::discovery_info::{TOPIC_NAME, TYPE_NAME};
+use crate::dds_error::DdsError;
 use crate::discovery::{DiscoveredEndpoint, DiscoveredParticipant, DiscoveryEvent, VendorId};
 use crate::feed_wait::FeedSource;
 use crate::late_joiner::{Action, LateJoinerReader};
@@ -101,11 +102,11 @@ impl CycloneDiscoveryFeed {
         p: &CycloneParticipant,
         info_topic: &cyc::Topic,
     ) -> Result<(Self, LocalSink), DiscoveryFeedError> {
-        let reader = |e: cyc::Error| DiscoveryFeedError::Reader {
-            reason: e.to_string(),
+        let reader = |e| DiscoveryFeedError::Reader {
+            source: DdsError::Cyclone(e),
         };
-        let poll = |e: cyc::Error| DiscoveryFeedError::Poll {
-            reason: e.to_string(),
+        let poll = |e| DiscoveryFeedError::Poll {
+            source: DdsError::Cyclone(e),
         };
         let participants = p
             .participant

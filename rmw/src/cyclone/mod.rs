@@ -23,6 +23,7 @@ use horus_ros_rmw_cyclone as cyc;
 use crate::context::env::{DiscoveryOptions, DiscoveryRange, DomainId};
 use crate::context::DiscoveryFeedError;
 use crate::dds::discovery_info::{TOPIC_NAME, TYPE_NAME};
+use crate::dds_error::DdsError;
 use crate::local_sink::LocalSink;
 use crate::qos::EndpointKind;
 
@@ -89,8 +90,8 @@ impl CycloneParticipant {
         domain: DomainId,
         discovery: &DiscoveryOptions,
         enclave: &str,
-    ) -> Result<Self, String> {
-        let fail = |e: cyc::Error| e.to_string();
+    ) -> Result<Self, DdsError> {
+        let fail = DdsError::Cyclone;
         let dom = cyc::Domain::acquire(u32::from(domain.get()), &domain_config(discovery))
             .map_err(fail)?;
         let user_data = format!("enclave={enclave};");

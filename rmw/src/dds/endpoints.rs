@@ -11,6 +11,7 @@ use rustdds::{RTPSEntity, SampleIdentity, SequenceNumber, TopicKind, WriteOption
 use super::raw::{RawAdapter, RawPayload};
 use super::waiter::{wait_on, Waiter, Waker};
 use super::{gid_from_guid, guid_from_gid, qos, RustddsParticipant};
+use crate::dds_error::DdsError;
 use crate::qos::DdsQos;
 use crate::raw::{RawSample, SampleId};
 
@@ -39,7 +40,7 @@ fn topic(
     topic_name: &str,
     type_name: &str,
     policies: &rustdds::QosPolicies,
-) -> Result<rustdds::Topic, String> {
+) -> Result<rustdds::Topic, DdsError> {
     p.participant
         .create_topic(
             topic_name.to_owned(),
@@ -47,7 +48,7 @@ fn topic(
             policies,
             TopicKind::NoKey,
         )
-        .map_err(|e| format!("topic: {e}"))
+        .map_err(DdsError::RustDdsTopic)
 }
 
 /// A raw writer.
@@ -63,13 +64,13 @@ impl RawWriter {
         topic_name: &str,
         type_name: &str,
         policies: &DdsQos,
-    ) -> Result<(Self, Gid), String> {
+    ) -> Result<(Self, Gid), DdsError> {
         let policies = qos::to_rustdds(policies);
         let topic = topic(p, topic_name, type_name, &policies)?;
         let writer = p
             .publisher
             .create_datawriter_no_key::<RawPayload, RawAdapter>(&topic, Some(policies))
-            .map_err(|e| e.to_string())?;
+            .map_err(DdsError::RustDdsCreate)?;
         let gid = gid_from_guid(writer.guid());
         Ok((Self { writer }, gid))
     }
@@ -82,7 +83,7 @@ impl RawWriter {
         body: Vec<u8>,
         related: Option<SampleId>,
         only_to: Option<Gid>,
-    ) -> Result<SampleId, String> {
+    ) -> Result<SampleId, DdsError> {
         let mut options = WriteOptionsBuilder::new();
         if let Some(r) = related {
             options = options.related_sample_identity(sample_identity(r));
@@ -99,7 +100,7 @@ impl RawWriter {
                 options.build(),
             )
             .map(sample_id)
-            .map_err(|e| e.to_string())
+            .map_err(|e| DdsError::RustDdsWrite(e.forget_data()))
     }
 
     /// Waits until every matched reliable reader acknowledged what was written, at most
@@ -125,15 +126,15 @@ impl RawReader {
         topic_name: &str,
         type_name: &str,
         policies: &DdsQos,
-    ) -> Result<(Self, Gid, Waker), String> {
+    ) -> Result<(Self, Gid, Waker), DdsError> {
         let policies = qos::to_rustdds(policies);
         let topic = topic(p, topic_name, type_name, &policies)?;
         let mut reader = p
             .subscriber
             .create_datareader_no_key::<RawPayload, RawAdapter>(&topic, Some(policies))
-            .map_err(|e| e.to_string())?;
+            .map_err(DdsError::RustDdsCreate)?;
         let gid = gid_from_guid(reader.guid());
-        let fail = |e: std::io::Error| format!("poll: {e}");
+        let fail = DdsError::Poll;
         let poll = mio::Poll::new().map_err(fail)?;
         poll.registry()
             .register(&mut reader, mio::Token(DATA), mio::Interest::READABLE)
@@ -144,8 +145,12 @@ impl RawReader {
 
     /// Takes the next sample, if any; one rustdds could not decode is consumed and reported as
     /// an error.
-    pub(crate) fn take(&mut self) -> Result<Option<RawSample>, String> {
-        let Some(sample) = self.reader.take_next_sample().map_err(|e| e.to_string())? else {
+    pub(crate) fn take(&mut self) -> Result<Option<RawSample>, DdsError> {
+        let Some(sample) = self
+            .reader
+            .take_next_sample()
+            .map_err(DdsError::RustDdsRead)?
+        else {
             return Ok(None);
         };
         let info = sample.sample_info();
@@ -163,8 +168,8 @@ impl RawReader {
 
     /// Moves this reader's data from its own poll to `waiter`'s, under `token` (a mio source is
     /// registered with one poll at a time; rustdds' poll forgets it when the reader is gone).
-    pub(crate) fn attach_to(&mut self, waiter: &Waiter, token: usize) -> Result<(), String> {
-        let fail = |e: std::io::Error| e.to_string();
+    pub(crate) fn attach_to(&mut self, waiter: &Waiter, token: usize) -> Result<(), DdsError> {
+        let fail = DdsError::Io;
         self.poll
             .registry()
             .deregister(&mut self.reader)

@@ -16,6 +16,7 @@ use rustdds::{DomainParticipant, QosPolicyBuilder, RTPSEntity, GUID};
 
 use crate::context::env::{DiscoveryOptions, DomainId};
 use crate::context::DiscoveryFeedError;
+use crate::dds_error::DdsError;
 use crate::local_sink::LocalSink;
 use discovery_feed::{DdsDiscoveryFeed, InfoReaderFactory, StatusPoll};
 use discovery_info::DiscoveryInfoWriter;
@@ -50,8 +51,8 @@ impl RustddsParticipant {
     pub(crate) fn create(
         domain: DomainId,
         discovery: &DiscoveryOptions,
-    ) -> Result<(Self, Vec<String>), String> {
-        let fail = |e: rustdds::dds::CreateError| e.to_string();
+    ) -> Result<(Self, Vec<String>), DdsError> {
+        let fail = DdsError::RustDdsCreate;
         let (participant, warnings) =
             participant::create_participant(domain, discovery).map_err(fail)?;
         let qos = QosPolicyBuilder::new().build();
@@ -87,8 +88,8 @@ impl RustddsParticipant {
         &self,
         own_gid: Gid,
     ) -> Result<(DdsDiscoveryFeed, LocalSink), DiscoveryFeedError> {
-        let reader_error = |e: rustdds::dds::CreateError| DiscoveryFeedError::Reader {
-            reason: e.to_string(),
+        let reader_error = |e| DiscoveryFeedError::Reader {
+            source: DdsError::RustDdsCreate(e),
         };
         let topic = discovery_info::topic(&self.participant).map_err(reader_error)?;
         let reader = self
@@ -99,7 +100,7 @@ impl RustddsParticipant {
             Some(status) => status,
             None => StatusPoll::new(self.participant.status_listener()).map_err(|e| {
                 DiscoveryFeedError::Poll {
-                    reason: e.to_string(),
+                    source: DdsError::Io(e),
                 }
             })?,
         };
@@ -111,7 +112,7 @@ impl RustddsParticipant {
         DdsDiscoveryFeed::new(status, reader, factory, own_gid, snapshot).map_err(|(status, e)| {
             *lock(&self.status_poll) = Some(status);
             DiscoveryFeedError::Poll {
-                reason: e.to_string(),
+                source: DdsError::Io(e),
             }
         })
     }
