@@ -231,11 +231,15 @@ impl Graph {
     /// weak reference). This is how a thread that waits on something else (a DDS reader) learns
     /// of graph changes without polling: its watcher wakes it.
     pub fn watch(&self, watcher: Weak<dyn GraphWatcher>) {
-        self.shared
+        let mut watchers = self
+            .shared
             .watchers
             .lock()
-            .unwrap_or_else(|p| p.into_inner())
-            .push(watcher);
+            .unwrap_or_else(|p| p.into_inner());
+        // Dropped watchers go here too, not only at changes: in a quiet graph, watchers made and
+        // dropped again and again would otherwise pile up.
+        watchers.retain(|w| w.strong_count() > 0);
+        watchers.push(watcher);
     }
 
     /// Waits until the graph changes, at most `timeout`; returns whether it changed
