@@ -80,8 +80,11 @@ async fn pending_responses_are_awaited_on_tokio_and_a_sync_server_answers_awaite
         .on_request(|req| Ok(AddTwoIntsResponse { sum: req.a + req.b }))
         .build()
         .expect("server");
+    // The client in a participant of its own: rustdds 0.15.1 can leave a burst of requests
+    // between a writer and a reader of one participant undelivered under load (seen in this
+    // test: the server got 64 of the 100 and never the rest), which no call of ours can repair.
     let mut client = AsyncServiceClient::<AddTwoInts>::builder()
-        .node(&n)
+        .node(&node(201, "pending_client"))
         .name("/pending")
         .build_async()
         .expect("client");
