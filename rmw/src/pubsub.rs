@@ -56,11 +56,11 @@ pub enum EndpointError {
 pub enum SampleError {
     /// The message could not be encoded as CDR, or the sample taken does not decode as the
     /// subscription's message type (e.g. a malformed sample from the wire; it is consumed).
-    #[error("{0}")]
-    Cdr(#[source] CdrError),
+    #[error(transparent)]
+    Cdr(CdrError),
     /// The DDS layer refused or failed.
-    #[error("{0}")]
-    Dds(#[source] DdsError),
+    #[error(transparent)]
+    Dds(DdsError),
 }
 
 impl From<CdrError> for SampleError {

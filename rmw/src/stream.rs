@@ -105,6 +105,10 @@ fn pump<M: Message>(
                     batch.push(message);
                     if batch.len() >= capacity {
                         queue.push_all(batch.drain(..));
+                        // A publisher faster than the taking must not keep drop() waiting.
+                        if stop.load(Ordering::SeqCst) {
+                            break;
+                        }
                     }
                 }
                 Ok(None) => break,

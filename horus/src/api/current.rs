@@ -23,8 +23,8 @@
 //! }
 //! ```
 
-use std::sync::mpsc::{self, TrySendError};
-use std::sync::{Arc, Mutex};
+use std::collections::VecDeque;
+use std::sync::{Arc, Mutex, MutexGuard};
 use std::time::Duration;
 
 use horus_ros_msgs::rcl_interfaces::msg::{ParameterType, ParameterValue};
@@ -48,7 +48,7 @@ pub enum CurrentNodeError {
     #[error("node '{0}' has no ROS side (its scheduler runs without ROS)")]
     NoRos(String),
     /// The service server or client could not be created (the cause is the error's source).
-    #[error("could not create the service server or client")]
+    #[error("could not create the service server or client: {0}")]
     Setup(#[source] Arc<SetupError>),
 }
 
@@ -153,8 +153,10 @@ pub fn serve_with_timeout<S: Service>(
 ) -> Result<ServiceQueue<S>, CurrentNodeError> {
     let node = ros_node()?;
     let handle = serve_runtime().map_err(SetupError::Thread)?;
-    // Bounded: a request the node has not taken yet, or one whose wait ended untaken.
-    let (tx, rx) = mpsc::sync_channel::<PendingRequest<S>>(SERVE_MAX_IN_FLIGHT);
+    // Requests the node has not taken yet: at most SERVE_MAX_IN_FLIGHT live ones (the server's
+    // bound on handlers in flight); one whose wait ended untaken is dropped at the next push.
+    let waiting: Waiting<S> = Arc::new(Mutex::new(VecDeque::new()));
+    let queue = Arc::clone(&waiting);
     let server = ServiceServerBuilder::<S>::new()
         .node(&node)
         .name(name)
@@ -162,10 +164,15 @@ pub fn serve_with_timeout<S: Service>(
             // The server's thread only hands the request over; its answer is awaited on the
             // serve runtime, so other requests go on being served meanwhile.
             let (reply, answer) = oneshot::channel();
-            let queued = match tx.try_send(PendingRequest { request, reply }) {
-                Ok(()) => Ok(()),
-                Err(TrySendError::Full(_)) => Err("the serving node has too many requests waiting"),
-                Err(TrySendError::Disconnected(_)) => Err("the serving node has stopped"),
+            let queued = {
+                let mut waiting = lock(&queue);
+                waiting.retain(|p: &PendingRequest<S>| !p.reply.is_closed());
+                if waiting.len() < SERVE_MAX_IN_FLIGHT {
+                    waiting.push_back(PendingRequest { request, reply });
+                    Ok(())
+                } else {
+                    Err("the serving node has too many requests waiting")
+                }
             };
             async move {
                 queued.map_err(str::to_owned)?;
@@ -184,7 +191,7 @@ pub fn serve_with_timeout<S: Service>(
         .build()?;
     Ok(ServiceQueue {
         _server: server,
-        requests: rx,
+        requests: waiting,
     })
 }
 
@@ -214,7 +221,14 @@ fn serve_runtime() -> std::io::Result<tokio::runtime::Handle> {
 /// [`serve_with_timeout`] says otherwise), after which its client gets an error reply.
 pub struct ServiceQueue<S: Service> {
     _server: AsyncServiceServer<S>,
-    requests: mpsc::Receiver<PendingRequest<S>>,
+    requests: Waiting<S>,
+}
+
+/// The requests of a [`ServiceQueue`] waiting for a tick, oldest first.
+type Waiting<S> = Arc<Mutex<VecDeque<PendingRequest<S>>>>;
+
+fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
+    m.lock().unwrap_or_else(|p| p.into_inner())
 }
 
 impl<S: Service> std::fmt::Debug for ServiceQueue<S> {
@@ -229,12 +243,13 @@ impl<S: Service> ServiceQueue<S> {
     /// The next request waiting for an answer, if any (requests whose wait already ended, by
     /// timeout, are skipped).
     pub fn try_recv(&self) -> Option<PendingRequest<S>> {
-        loop {
-            let pending = self.requests.try_recv().ok()?;
+        let mut waiting = lock(&self.requests);
+        while let Some(pending) = waiting.pop_front() {
             if !pending.reply.is_closed() {
                 return Some(pending);
             }
         }
+        None
     }
 }
 

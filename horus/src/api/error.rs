@@ -53,13 +53,19 @@ impl<E: std::error::Error + Send + Sync + 'static> From<E> for Error {
 
 impl fmt::Display for Error {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{}", self.0)?;
+        // The chain, each cause once: this workspace's errors already end their message with
+        // their source's (thiserror's `…: {source}`), other crates' errors may not.
+        let mut text = self.0.to_string();
         let mut source = self.0.source();
         while let Some(s) = source {
-            write!(f, ": {s}")?;
+            let cause = s.to_string();
+            if !text.contains(&cause) {
+                text.push_str(": ");
+                text.push_str(&cause);
+            }
             source = s.source();
         }
-        Ok(())
+        f.write_str(&text)
     }
 }
 
@@ -144,4 +150,29 @@ pub enum SchedulerError {
     /// The ROS 2 side could not be set up (context, node, `--ros-args`).
     #[error("ROS 2 setup failed: {0}")]
     Ros(String),
+}
+
+#[cfg(test)]
+mod chain_tests {
+    use super::*;
+
+    #[derive(Debug, thiserror::Error)]
+    #[error("inner")]
+    struct Inner;
+
+    /// This workspace's way: the message ends with the source's.
+    #[derive(Debug, thiserror::Error)]
+    #[error("outer: {0}")]
+    struct Says(#[source] Inner);
+
+    /// Another crate's way: the source is only the source.
+    #[derive(Debug, thiserror::Error)]
+    #[error("outer")]
+    struct Keeps(#[source] Inner);
+
+    #[test]
+    fn the_chain_names_each_cause_once() {
+        assert_eq!(Error::from(Says(Inner)).to_string(), "outer: inner");
+        assert_eq!(Error::from(Keeps(Inner)).to_string(), "outer: inner");
+    }
 }

@@ -54,7 +54,8 @@ pub enum TopicError {
 /// first `try_recv`/`recv`, or [`connect_subscriber`](Self::connect_subscriber)) are created
 /// under the ROS node of the HORUS node that first uses them, so a topic constructed before its
 /// node is registered is listed under that node in `ros2 node info`. Used outside any
-/// scheduled node, it belongs to the process's own node (`horus_<program>`).
+/// scheduled node, it belongs to the process's default node (`horus_<program>_<pid>`, shared
+/// with the servers and clients made without a node: `horus_ros_services::default_node`).
 pub struct Topic<T: Message> {
     name: String,
     ros_name: String,

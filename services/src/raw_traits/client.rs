@@ -270,6 +270,11 @@ impl<S: Service> ServiceClientTrait for DdsServiceClient<S> {
             self.register_waker(&waker);
             let now = Instant::now();
             if now >= deadline {
+                // An outcome that came after the look above (the reply, or the send timeout's
+                // NoServer) is the answer; only then is the call given up.
+                if let Some(len) = self.try_recv_reply_raw(reply_buf)? {
+                    return Ok(len);
+                }
                 return Err(self.shared.abandon());
             }
             std::thread::park_timeout(deadline - now);

@@ -346,5 +346,12 @@ impl Shared {
             // changes a parked reply waits for; otherwise only a parked reply's expiry is due.
             reader.wait(next_expiry.map(|t| t.saturating_duration_since(Instant::now())));
         }
+        // What overflowed since the last warning is told too.
+        if overflowed > 0 {
+            tracing::warn!(
+                service = %self.wire.service(),
+                "request queue full ({MAX_QUEUED}): dropped the {overflowed} oldest request(s)"
+            );
+        }
     }
 }
