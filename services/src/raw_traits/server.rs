@@ -293,6 +293,14 @@ impl Shared {
         lock(&self.waker)
     }
 
+    /// Warns that `dropped` requests were dropped at the queue's bound.
+    fn warn_overflowed(&self, dropped: u64) {
+        tracing::warn!(
+            service = %self.wire.service(),
+            "request queue full ({MAX_QUEUED}): dropped the {dropped} oldest request(s)"
+        );
+    }
+
     /// The request thread: queues requests, wakes the waker, sends deferred replies.
     fn pump(&self, mut reader: RawReader) {
         // Requests dropped at the queue's bound since the last warning, and when that was.
@@ -324,10 +332,7 @@ impl Shared {
             if overflowed > 0
                 && warned_at.is_none_or(|at| at.elapsed() >= OVERFLOW_WARNING_INTERVAL)
             {
-                tracing::warn!(
-                    service = %self.wire.service(),
-                    "request queue full ({MAX_QUEUED}): dropped the {overflowed} oldest request(s)"
-                );
+                self.warn_overflowed(overflowed);
                 (overflowed, warned_at) = (0, Some(Instant::now()));
             }
             if arrived {
@@ -348,10 +353,7 @@ impl Shared {
         }
         // What overflowed since the last warning is told too.
         if overflowed > 0 {
-            tracing::warn!(
-                service = %self.wire.service(),
-                "request queue full ({MAX_QUEUED}): dropped the {overflowed} oldest request(s)"
-            );
+            self.warn_overflowed(overflowed);
         }
     }
 }
