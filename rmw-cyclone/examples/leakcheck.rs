@@ -1,12 +1,12 @@
 //! Exercises every resource path of the binding (domain, participants, QoS objects, blob
 //! topics, raw write/take serdata references, matched-endpoint data, built-in topic loans,
-//! waitsets, read/status/guard conditions) and tears everything down; run under valgrind by
+//! waitsets, read/status/guard conditions, data listeners and their signals) and tears everything down; run under valgrind by
 //! `tests/leakcheck.rs`. Domain 147, loopback only: run inside `scripts/isolated`.
 use std::time::{Duration, Instant};
 
 use horus_ros_rmw_cyclone::config::{domain_config, DiscoveryRange};
 use horus_ros_rmw_cyclone::{
-    BuiltinSample, BuiltinTopic, Domain, EndpointQos, GuardCondition, History, Participant,
+    BuiltinSample, BuiltinTopic, Domain, EndpointQos, GuardCondition, History, Participant, Signal,
     StatusMask, Waiter,
 };
 
@@ -86,6 +86,9 @@ fn run(round: usize) -> Result<(), Box<dyn std::error::Error>> {
     let mut got = 0;
     let mut kept = 0;
     waiter.attach_reader(&filtered, 5)?;
+    // The data listener's path: raised on arrival, the notice detached again before the end.
+    let signal = Signal::new();
+    let notice = r.notify(&signal, 6);
     for i in 0..SAMPLES {
         let mut cdr = vec![0, 1, 0, 0];
         cdr.extend_from_slice(&(i as u32).to_le_bytes());
@@ -109,6 +112,10 @@ fn run(round: usize) -> Result<(), Box<dyn std::error::Error>> {
             br.take()?;
         }
     }
+    let mut ready = Vec::new();
+    assert!(signal.wait(Some(Duration::ZERO), &mut ready));
+    assert_eq!(ready, [6]);
+    drop(notice);
     assert_eq!(w.matched_subscriptions()?.len(), 2);
     assert_eq!(r.matched_publications()?.len(), 1);
     guard.trigger()?;

@@ -14,9 +14,12 @@
 //!   ([`Entity`]); matched endpoints.
 //! - [`BuiltinReader`]: DCPSParticipant / DCPSPublication / DCPSSubscription as owned
 //!   [`BuiltinSample`]s, including remote USER_DATA and liveness.
+//! - [`Signal`]: what the backend waits on for readers' data: [`Reader::notify`] raises it
+//!   from the reader's DATA_AVAILABLE listener (after Cyclone released the reader's history
+//!   cache), and it wakes one waiting thread with a condition variable notified outside its
+//!   lock. That listener is the only one installed; it runs no user code.
 //! - [`Waiter`]: a waitset blocking in the caller's thread on reader data, entity statuses and
-//!   [`GuardCondition`]s. No listener is ever installed, so no code of ours (let alone user
-//!   code) runs on Cyclone's threads.
+//!   [`GuardCondition`]s (the discovery feed's).
 //!
 //! **All `unsafe` code of the Cyclone backend is in this crate, in one private module
 //! (`sys`)**, with a `SAFETY:` comment per block; the crate denies `unsafe_code` everywhere else
@@ -45,11 +48,13 @@
 
 pub mod config;
 pub mod qos;
+mod signal;
 mod sys;
 
 pub use qos::{Durability, EndpointQos, History, Liveliness, Reliability};
+pub use signal::Signal;
 pub use sys::{
-    BuiltinReader, BuiltinSample, BuiltinTopic, Domain, EndpointInfo, Entity, Error,
+    BuiltinReader, BuiltinSample, BuiltinTopic, DataNotice, Domain, EndpointInfo, Entity, Error,
     GuardCondition, MatchedEndpoint, Participant, ParticipantInfo, Reader, Result, Sample,
     StatusMask, Topic, Waiter, WeakEntity, Writer, HEAD_LEN,
 };

@@ -170,7 +170,7 @@ pub struct RawReader {
     waker: RawReaderWaker,
     /// The wait sets this reader is attached to (see [`WaitSet`](crate::WaitSet)).
     #[cfg(feature = "cyclone")]
-    pub(crate) attachments: Vec<crate::wait_set::Attachment>,
+    pub(crate) attachments: Vec<horus_ros_rmw_cyclone::DataNotice>,
 }
 
 /// Makes a [`RawReader`]'s current or next [`wait`](RawReader::wait) return, from any thread
@@ -183,7 +183,7 @@ pub struct RawReaderWaker(pub(crate) WakerImpl);
 pub(crate) enum WakerImpl {
     RustDds(crate::dds::waiter::Waker),
     #[cfg(feature = "cyclone")]
-    Cyclone(horus_ros_rmw_cyclone::GuardCondition),
+    Cyclone(std::sync::Arc<horus_ros_rmw_cyclone::Signal>),
 }
 
 impl std::fmt::Debug for RawReaderWaker {
@@ -198,7 +198,10 @@ impl RawReaderWaker {
         let result = match &self.0 {
             WakerImpl::RustDds(waker) => waker.wake().map_err(DdsError::Io),
             #[cfg(feature = "cyclone")]
-            WakerImpl::Cyclone(guard) => guard.trigger().map_err(DdsError::Cyclone),
+            WakerImpl::Cyclone(signal) => {
+                signal.wake();
+                Ok(())
+            }
         };
         if let Err(e) = result {
             tracing::debug!("could not wake a reader: {e}");
@@ -336,7 +339,7 @@ impl Node {
                     responses_of,
                 )
                 .map_err(dds_error("reader", spec))?;
-                let waker = WakerImpl::Cyclone(reader.guard());
+                let waker = WakerImpl::Cyclone(reader.signal());
                 (ReaderImpl::Cyclone(reader), gid, waker)
             }
         };

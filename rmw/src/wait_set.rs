@@ -40,28 +40,10 @@ pub struct WaitSet {
 
 enum Imp {
     RustDds(crate::dds::waiter::Waiter),
+    /// Raised by the attached readers' data (each reader holds its notice, so dropping the
+    /// reader detaches it, as rustdds' poll forgets a closed channel) and by the waker.
     #[cfg(feature = "cyclone")]
-    Cyclone {
-        waiter: Arc<horus_ros_rmw_cyclone::Waiter>,
-        guard: horus_ros_rmw_cyclone::GuardCondition,
-    },
-}
-
-/// What a Cyclone reader attached to a set holds: its read condition there, deleted with the
-/// reader (rustdds' poll forgets a reader's channel by itself when the channel is closed).
-#[cfg(feature = "cyclone")]
-pub(crate) struct Attachment {
-    waiter: Arc<horus_ros_rmw_cyclone::Waiter>,
-    token: usize,
-}
-
-#[cfg(feature = "cyclone")]
-impl Drop for Attachment {
-    fn drop(&mut self) {
-        if let Err(e) = self.waiter.detach(self.token) {
-            tracing::debug!("could not detach a reader from its wait set: {e}");
-        }
-    }
+    Cyclone(Arc<horus_ros_rmw_cyclone::Signal>),
 }
 
 impl std::fmt::Debug for WaitSet {
@@ -84,16 +66,10 @@ impl WaitSet {
             }
             #[cfg(feature = "cyclone")]
             Backend::Cyclone => {
-                let fail = |e| WaitSetError::Dds(DdsError::Cyclone(e));
-                let waiter = horus_ros_rmw_cyclone::Waiter::new().map_err(fail)?;
-                let guard = horus_ros_rmw_cyclone::GuardCondition::new().map_err(fail)?;
-                waiter.attach_guard(&guard, WAKE).map_err(fail)?;
+                let signal = horus_ros_rmw_cyclone::Signal::new();
                 Ok(Self {
-                    imp: Imp::Cyclone {
-                        waiter: Arc::new(waiter),
-                        guard: guard.clone(),
-                    },
-                    waker: RawReaderWaker(WakerImpl::Cyclone(guard)),
+                    imp: Imp::Cyclone(Arc::clone(&signal)),
+                    waker: RawReaderWaker(WakerImpl::Cyclone(signal)),
                 })
             }
             #[cfg(not(feature = "cyclone"))]
@@ -112,12 +88,9 @@ impl WaitSet {
                 dds.attach_to(waiter, key).map_err(WaitSetError::Dds)
             }
             #[cfg(feature = "cyclone")]
-            (Imp::Cyclone { waiter, .. }, ReaderImpl::Cyclone(cyclone)) => {
-                cyclone.attach_to(waiter, key).map_err(WaitSetError::Dds)?;
-                reader.attachments.push(Attachment {
-                    waiter: Arc::clone(waiter),
-                    token: key,
-                });
+            (Imp::Cyclone(signal), ReaderImpl::Cyclone(cyclone)) => {
+                let notice = cyclone.attach_to(signal, key);
+                reader.attachments.push(notice);
                 Ok(())
             }
             #[cfg(feature = "cyclone")]
@@ -132,32 +105,15 @@ impl WaitSet {
 
     /// Waits until an attached reader may have data or the waker was woken, at most `timeout`
     /// (`None`: no limit). Puts the keys of the readers that may have data in `ready` (cleared
-    /// first); returns whether anything was signalled. Take from each until `None`: on the
-    /// rustdds backend a reader is reported once per arrival, on Cyclone while it holds data.
+    /// first); returns whether anything was signalled. Take from each until `None`: a reader is
+    /// reported once per arrival (or burst of arrivals) after its previous report.
     pub fn wait(&self, timeout: impl Into<Option<Duration>>, ready: &mut Vec<usize>) -> bool {
         ready.clear();
         let timeout = timeout.into();
         match &self.imp {
             Imp::RustDds(waiter) => waiter.wait(timeout, ready),
             #[cfg(feature = "cyclone")]
-            Imp::Cyclone { waiter, guard } => match waiter.wait_for(timeout) {
-                Ok(triggered) => {
-                    for token in &triggered {
-                        if *token == WAKE {
-                            if let Err(e) = guard.take() {
-                                tracing::debug!("wait set: could not reset its guard: {e}");
-                            }
-                        } else {
-                            ready.push(*token);
-                        }
-                    }
-                    !triggered.is_empty()
-                }
-                Err(e) => {
-                    tracing::debug!("wait set: waiting failed: {e}");
-                    false
-                }
-            },
+            Imp::Cyclone(signal) => signal.wait(timeout, ready),
         }
     }
 }

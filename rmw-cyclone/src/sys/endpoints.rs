@@ -7,6 +7,7 @@ use std::sync::{Arc, Mutex};
 use cyclors as c;
 
 use super::*;
+use crate::signal::{Notice, Signal};
 use crate::Guid;
 
 /// One reference to a Cyclone serdata, released (`ddsi_serdata_unref`) on drop.
@@ -137,6 +138,84 @@ pub struct Sample {
 pub struct Reader {
     pub(super) handle: Arc<Handle>,
     pub(super) writers: Mutex<HashMap<u64, Guid>>,
+    pub(super) hooks: Arc<DataHooks>,
+}
+
+/// How many writers' GUIDs a reader remembers by instance handle; past it the cache starts
+/// over (writers that come and go must not grow it).
+const WRITER_CACHE: usize = 1024;
+
+/// The [`Signal`]s a reader's data raises, shared with its DATA_AVAILABLE listener.
+#[derive(Debug, Default)]
+pub(super) struct DataHooks(Mutex<Vec<Arc<Notice>>>);
+
+impl DataHooks {
+    fn raise_all(&self) {
+        for notice in lock(&self.0).iter() {
+            notice.raise();
+        }
+    }
+}
+
+/// The reader's DATA_AVAILABLE listener. Cyclone calls it after storing a sample and
+/// releasing the reader's history cache (`dds_reader_data_available_cb`), in the thread that
+/// delivered the sample: a lock, a push and a notify, nothing that blocks or panics.
+unsafe extern "C" fn on_data_available(_reader: c::dds_entity_t, arg: *mut c_void) {
+    // SAFETY: `arg` is the reader's `DataHooks`, which the reader's Handle keeps alive until
+    // dds_delete returned; dds_delete first waits for listeners in progress and resets the
+    // listener (dds_entity.c, `really_delete_pinned_closed_locked`).
+    let hooks = unsafe { &*(arg as *const DataHooks) };
+    hooks.raise_all();
+}
+
+/// A `dds_listener_t` with only `on_data_available` set, deleted on drop (Cyclone copies a
+/// listener into the entity it is given to).
+pub(super) struct DataListener(pub(super) *mut c::dds_listener_t);
+
+impl DataListener {
+    /// A listener that raises `hooks`' signals; `hooks` must outlive every entity given it.
+    pub(super) fn new(hooks: &Arc<DataHooks>) -> Result<Self> {
+        // SAFETY: dds_create_listener allocates a listener (NULL default argument); owned by
+        // the returned value and deleted once in Drop.
+        let l = unsafe { c::dds_create_listener(std::ptr::null_mut()) };
+        if l.is_null() {
+            return Err(error("dds_create_listener", "out of memory"));
+        }
+        let listener = Self(l);
+        // SAFETY: live listener; the callback has the signature Cyclone expects; the argument
+        // points to `hooks`, kept alive by the caller as documented. reset_on_invoke: the
+        // DATA_AVAILABLE status is consumed by the listener (nothing waits on it).
+        check("dds_lset_data_available_arg", unsafe {
+            c::dds_lset_data_available_arg(
+                listener.0,
+                Some(on_data_available),
+                Arc::as_ptr(hooks) as *mut c_void,
+                true,
+            )
+        })?;
+        Ok(listener)
+    }
+}
+
+impl Drop for DataListener {
+    fn drop(&mut self) {
+        // SAFETY: we own the listener and delete it once.
+        unsafe { c::dds_delete_listener(self.0) }
+    }
+}
+
+/// While it lives, a reader's arrivals raise one [`Signal`] (see [`Reader::notify`]).
+#[derive(Debug)]
+#[must_use = "dropping the notice detaches the reader from the signal at once"]
+pub struct DataNotice {
+    hooks: Arc<DataHooks>,
+    notice: Arc<Notice>,
+}
+
+impl Drop for DataNotice {
+    fn drop(&mut self) {
+        lock(&self.hooks.0).retain(|n| !Arc::ptr_eq(n, &self.notice));
+    }
 }
 
 impl Reader {
@@ -175,6 +254,36 @@ impl Reader {
         }
     }
 
+    /// Raises `signal` with `token` after each arrival of data (Cyclone stored it and released
+    /// the reader), until the returned notice is dropped; raised at once if samples are already
+    /// there (or if that cannot be told). See [`Signal::wait`].
+    pub fn notify(&self, signal: &Arc<Signal>, token: usize) -> DataNotice {
+        let notice = Notice::new(signal, token);
+        lock(&self.hooks.0).push(Arc::clone(&notice));
+        // After the push: a sample stored from now on raises the notice itself.
+        if self.has_data().unwrap_or(true) {
+            notice.raise();
+        }
+        DataNotice {
+            hooks: Arc::clone(&self.hooks),
+            notice,
+        }
+    }
+
+    /// Whether the reader holds any sample (a read condition asked once).
+    fn has_data(&self) -> Result<bool> {
+        // SAFETY: live reader; the condition is its child, deleted by the Handle right after.
+        let rc = Handle::new(
+            check("dds_create_readcondition", unsafe {
+                c::dds_create_readcondition(self.handle.id, c::DDS_ANY_STATE)
+            })?,
+            Some(&self.handle),
+        );
+        // SAFETY: live read condition.
+        let triggered = check("dds_triggered", unsafe { c::dds_triggered(rc.id) })?;
+        Ok(triggered > 0)
+    }
+
     pub(super) fn writer_guid(&self, ih: u64) -> Option<Guid> {
         if let Some(g) = lock(&self.writers).get(&ih) {
             return Some(*g);
@@ -190,7 +299,11 @@ impl Reader {
             c::dds_builtintopic_free_endpoint(ep);
             Guid(g)
         };
-        lock(&self.writers).insert(ih, guid);
+        let mut writers = lock(&self.writers);
+        if writers.len() >= WRITER_CACHE {
+            writers.clear();
+        }
+        writers.insert(ih, guid);
         Some(guid)
     }
 

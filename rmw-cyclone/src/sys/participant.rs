@@ -109,13 +109,18 @@ impl Participant {
         let mut q = QosBox::new()?;
         q.endpoint(qos);
         q.user_data(user_data);
-        // SAFETY: as for `writer`.
+        let hooks = Arc::new(DataHooks::default());
+        let listener = DataListener::new(&hooks)?;
+        // SAFETY: as for `writer`; the listener is copied by Cyclone, its argument (`hooks`)
+        // is kept alive by the reader's handle until the reader is deleted.
         let h = check("dds_create_reader", unsafe {
-            c::dds_create_reader(self.handle.id, topic.handle.id, q.0, std::ptr::null())
+            c::dds_create_reader(self.handle.id, topic.handle.id, q.0, listener.0)
         })?;
+        let keep: Box<dyn std::any::Any + Send + Sync> = Box::new(Arc::clone(&hooks));
         Ok(Reader {
-            handle: Handle::new(h, Some(&topic.handle)),
+            handle: Handle::keeping(h, Some(&topic.handle), Some(keep)),
             writers: Mutex::new(HashMap::new()),
+            hooks,
         })
     }
 

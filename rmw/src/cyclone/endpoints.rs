@@ -91,10 +91,8 @@ impl Drop for RawWriter {
     }
 }
 
-/// Waiter token of a reader's data.
+/// Signal token of a reader's own data.
 const DATA: usize = 0;
-/// Waiter token of a reader's guard condition.
-const WAKE: usize = 1;
 
 /// A sample taken from a [`RawReader`].
 pub(crate) struct Sample {
@@ -126,12 +124,13 @@ fn keeps_response(head: &[u8], client: u64) -> bool {
     }
 }
 
-/// A raw reader with its own waitset (level-triggered on data), listed with the context's live
-/// endpoints while it exists.
+/// A raw reader with its own [`cyc::Signal`] (raised on data and by its waker), listed with the
+/// context's live endpoints while it exists.
 pub(crate) struct RawReader {
-    waiter: cyc::Waiter,
-    /// Wakes `wait` from other threads (see `crate::raw::RawReaderWaker`).
-    guard: cyc::GuardCondition,
+    signal: Arc<cyc::Signal>,
+    /// The reader's data raising its own signal; `None` once it is attached to a wait set.
+    own: Option<cyc::DataNotice>,
+    ready: Vec<usize>,
     reader: cyc::Reader,
     local_endpoints: Arc<LocalEndpoints>,
     gid: Gid,
@@ -161,15 +160,14 @@ impl RawReader {
             .participant
             .reader(&topic, &qos::endpoint_qos(policies), user_data)
             .map_err(fail)?;
-        let waiter = cyc::Waiter::new().map_err(fail)?;
-        waiter.attach_reader(&reader, DATA).map_err(fail)?;
-        let guard = cyc::GuardCondition::new().map_err(fail)?;
-        waiter.attach_guard(&guard, WAKE).map_err(fail)?;
+        let signal = cyc::Signal::new();
+        let own = Some(reader.notify(&signal, DATA));
         let gid = register(p, &reader.entity(), EndpointKind::Reader)?;
         Ok((
             Self {
-                waiter,
-                guard,
+                signal,
+                own,
+                ready: Vec::new(),
                 reader,
                 local_endpoints: Arc::clone(&p.local_endpoints),
                 gid,
@@ -203,36 +201,23 @@ impl RawReader {
         }))
     }
 
-    /// Attaches this reader's data to another waitset too, under `token` (detach it with
-    /// `waiter.detach(token)`).
-    pub(crate) fn attach_to(&self, waiter: &cyc::Waiter, token: usize) -> Result<(), DdsError> {
-        waiter
-            .attach_reader(&self.reader, token)
-            .map_err(DdsError::Cyclone)
+    /// Reports this reader's data to `signal` under `token` from now on, instead of to its own
+    /// [`wait`](Self::wait) (which then returns only when woken); dropping the notice detaches
+    /// it.
+    pub(crate) fn attach_to(&mut self, signal: &Arc<cyc::Signal>, token: usize) -> cyc::DataNotice {
+        self.own = None;
+        self.reader.notify(signal, token)
     }
 
-    /// The guard condition that wakes [`wait`](Self::wait).
-    pub(crate) fn guard(&self) -> cyc::GuardCondition {
-        self.guard.clone()
+    /// The signal whose [`wake`](cyc::Signal::wake) ends [`wait`](Self::wait).
+    pub(crate) fn signal(&self) -> Arc<cyc::Signal> {
+        Arc::clone(&self.signal)
     }
 
-    /// Waits until a sample is there or the guard condition is triggered (which it resets), at
-    /// most `timeout`.
-    pub(crate) fn wait(&self, timeout: Option<Duration>) -> bool {
-        match self.waiter.wait_for(timeout) {
-            Ok(triggered) => {
-                if triggered.contains(&WAKE) {
-                    if let Err(e) = self.guard.take() {
-                        tracing::debug!("could not reset a reader's guard condition: {e}");
-                    }
-                }
-                !triggered.is_empty()
-            }
-            Err(e) => {
-                tracing::debug!("waiting for data failed: {e}");
-                false
-            }
-        }
+    /// Waits until a sample may be there or the signal was woken, at most `timeout`; returns
+    /// whether something was signalled. Edge-triggered: take until `None` after it.
+    pub(crate) fn wait(&mut self, timeout: Option<Duration>) -> bool {
+        self.signal.wait(timeout, &mut self.ready)
     }
 }
 

@@ -1,6 +1,6 @@
 //! Waiting on rustdds readers without polling: a mio 1 poll per reader (or one for a wait set)
 //! and a waker that ends a wait from any thread. The Cyclone side is `horus_ros_rmw_cyclone`'s
-//! `Waiter` and `GuardCondition`.
+//! `Signal`.
 //!
 //! rustdds' mio 1 sources are drained by take/try_recv, so edge-triggered waking works (its
 //! mio 0.6 readiness fires only once: it is never drained).
