@@ -18,11 +18,16 @@
 //!
 //! Then prints p50 / p99 / calls per second of each, each as a ratio to the raw UDP baseline of
 //! the same run, and the goals: on Cyclone DDS p50 ≤ 1.3× and p99 ≤ 2× raw UDP, on rustdds p50
-//! ≤ 0.5× ros2-client's, and throughput horus / ros2-client ≥ 2.
+//! ≤ 0.5× ros2-client's, and throughput horus / ros2-client ≥ 3.
 //!
 //! Last, the **first call**: a client (context of its own) calls a service whose server does not
 //! exist yet; then a server (another context) starts; the time from the server's `build()` to
 //! the call's reply, 5 times per backend (goals: ≤ 50 ms on Cyclone DDS, ≤ 150 ms on rustdds).
+//!
+//! Then **concurrent clients**: 1, 4 and 16 clients (a thread and a client object each, N
+//! sequential calls each after a warm-up) calling one server at once, server and clients in two
+//! contexts, on each backend and with ros2-client: calls per second over the wall time, and
+//! horus-ros / ros2-client (goal ≥ 3).
 //!
 //! The Cyclone DDS variants run with the environment's `CYCLONEDDS_URI`; when it is unset, the
 //! bench sets a loopback-only configuration (interface `lo`, multicast allowed), since the
@@ -30,8 +35,9 @@
 //!
 //! Environment: `HORUS_BENCH_CALLS` (measured calls per variant, default 30000),
 //! `HORUS_BENCH_ROUNDS` (default 10), `HORUS_BENCH_ONLY` (comma-separated subset of
-//! `udp,horusp,horus2,horus1,cyclonep,cyclone2,cyclone1,ros2,first`, for profiling one variant; the ratio and goal
-//! lines need the baselines).
+//! `udp,horusp,horus2,horus1,cyclonep,cyclone2,cyclone1,ros2,first,concurrent`, for profiling one
+//! variant; the ratio and goal lines need the baselines), `HORUS_BENCH_CONCURRENT_CALLS` (calls
+//! per client of the concurrent part, default 500).
 
 use std::future::Future;
 use std::net::UdpSocket;
@@ -47,6 +53,8 @@ use serde::{Deserialize, Serialize};
 
 const DEFAULT_CALLS: usize = 30_000;
 const DEFAULT_ROUNDS: usize = 10;
+/// Calls per client in the concurrent-clients part.
+const DEFAULT_CONCURRENT_CALLS: usize = 500;
 /// Warm-up calls per variant (after discovery), not measured.
 const WARMUP: usize = 500;
 /// Whole-run limit: a stalled variant aborts the bench instead of hanging it.
@@ -433,142 +441,177 @@ struct Ros2Client {
     _contexts: Vec<ros2_client::Context>,
 }
 
+/// ros2-client's side of a measurement: a server thread in one context, `clients` clients in
+/// another, each answered once.
+struct Ros2Setup {
+    clients: Vec<ros2_client::Client<R2Request, R2Response>>,
+    server_thread: JoinHandle<Result<u64, String>>,
+    client_node: ros2_client::Node,
+    contexts: Vec<ros2_client::Context>,
+}
+
+fn ros2_setup(domain: u16, clients: usize) -> Result<Ros2Setup, String> {
+    use ros2_client::qos::{Durability, History, WhenFull};
+    use ros2_client::{
+        Context, ContextOptions, Name, NodeName, NodeOptions, QosProfile, ServiceMapping,
+        ServiceTypeName,
+    };
+    // rmw `services_default`: reliable, volatile, keep last 10.
+    let qos = QosProfile::publisher_default()
+        .reliability_reliable(WhenFull::DEFAULT)
+        .durability(Durability::Volatile)
+        .history(History::KeepLast { depth: 10 });
+    let name = Name::new("/", "bench_add_two_ints").map_err(|e| format!("name: {e:?}"))?;
+    let type_name = ServiceTypeName::new("example_interfaces", "AddTwoInts");
+    let options = || {
+        NodeOptions::new()
+            .enable_rosout(false)
+            .start_parameter_services(false)
+    };
+    let context = || {
+        Context::with_options(ContextOptions::new().domain_id(domain))
+            .map_err(|e| format!("context: {e:?}"))
+    };
+    let server_context = context()?;
+    let client_context = context()?;
+    let mut server_node = server_context
+        .new_node(
+            NodeName::new("/", "bench_server").map_err(|e| format!("{e:?}"))?,
+            options(),
+        )
+        .map_err(|e| format!("server node: {e:?}"))?;
+    let mut client_node = client_context
+        .new_node(
+            NodeName::new("/", "bench_client").map_err(|e| format!("{e:?}"))?,
+            options(),
+        )
+        .map_err(|e| format!("client node: {e:?}"))?;
+    let server = server_node
+        .create_server::<R2Request, R2Response>(
+            ServiceMapping::Enhanced,
+            &name,
+            &type_name,
+            qos.clone(),
+            qos.clone(),
+        )
+        .map_err(|e| format!("create_server: {e:?}"))?;
+    let clients = (0..clients)
+        .map(|_| {
+            client_node
+                .create_client::<R2Request, R2Response>(
+                    ServiceMapping::Enhanced,
+                    &name,
+                    &type_name,
+                    qos.clone(),
+                    qos.clone(),
+                )
+                .map_err(|e| format!("create_client: {e:?}"))
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    // The server loop: receive, add, reply, until a STOP request (which is answered too).
+    let server_thread = thread::Builder::new()
+        .name("ros2-client-srv".into())
+        .spawn(move || {
+            let _node = server_node;
+            block_on(async {
+                let mut served = 0u64;
+                loop {
+                    let (id, req) = server
+                        .async_receive_request()
+                        .await
+                        .map_err(|e| format!("async_receive_request: {e:?}"))?;
+                    let response = R2Response {
+                        sum: req.a.wrapping_add(req.b),
+                    };
+                    server
+                        .async_send_response(id, response)
+                        .await
+                        .map_err(|e| format!("async_send_response: {e:?}"))?;
+                    if req.a == STOP {
+                        return Ok(served);
+                    }
+                    served += 1;
+                }
+            })
+        })
+        .map_err(|e| format!("spawn: {e}"))?;
+    let setup = Ros2Setup {
+        clients,
+        server_thread,
+        client_node,
+        contexts: vec![server_context, client_context],
+    };
+    for client in &setup.clients {
+        ros2_wait_until_answered(client)?;
+    }
+    Ok(setup)
+}
+
+/// No Spinner runs (it would only add graph processing), so `wait_for_service` cannot be
+/// used: send probes with the non-blocking API until one is answered. Requests written before
+/// the server's reader matched are lost (volatile), hence the repeats.
+fn ros2_wait_until_answered(
+    client: &ros2_client::Client<R2Request, R2Response>,
+) -> Result<(), String> {
+    let deadline = Instant::now() + DISCOVERY_TIMEOUT;
+    while Instant::now() < deadline {
+        let id = client
+            .send_request(R2Request { a: -1, b: 1 })
+            .map_err(|e| format!("send_request: {e:?}"))?;
+        let probe_end = Instant::now() + Duration::from_millis(200);
+        while Instant::now() < probe_end {
+            match client.receive_response() {
+                Ok(Some((rid, _))) if rid == id => return Ok(()),
+                Ok(_) => thread::sleep(Duration::from_millis(1)),
+                Err(e) => return Err(format!("receive_response: {e:?}")),
+            }
+        }
+    }
+    Err(format!(
+        "no reply from the ros2-client server within {DISCOVERY_TIMEOUT:?}"
+    ))
+}
+
+/// One awaited call `i + 1` through ros2-client's async API, checked.
+fn ros2_call(client: &ros2_client::Client<R2Request, R2Response>, i: i64) -> Result<(), String> {
+    let sum = block_on(async {
+        let id = client
+            .async_send_request(R2Request { a: i, b: 1 })
+            .await
+            .map_err(|e| format!("async_send_request: {e:?}"))?;
+        client
+            .async_receive_response(id)
+            .await
+            .map(|r| r.sum)
+            .map_err(|e| format!("async_receive_response: {e:?}"))
+    })?;
+    if sum != i.wrapping_add(1) {
+        return Err(format!("wrong sum {sum} for {i} + 1"));
+    }
+    Ok(())
+}
+
 impl Ros2Client {
     fn start() -> Result<Self, String> {
-        use ros2_client::qos::{Durability, History, WhenFull};
-        use ros2_client::{
-            Context, ContextOptions, Name, NodeName, NodeOptions, QosProfile, ServiceMapping,
-            ServiceTypeName,
-        };
-        // rmw `services_default`: reliable, volatile, keep last 10.
-        let qos = QosProfile::publisher_default()
-            .reliability_reliable(WhenFull::DEFAULT)
-            .durability(Durability::Volatile)
-            .history(History::KeepLast { depth: 10 });
-        let name = Name::new("/", "bench_add_two_ints").map_err(|e| format!("name: {e:?}"))?;
-        let type_name = ServiceTypeName::new("example_interfaces", "AddTwoInts");
-        let options = || {
-            NodeOptions::new()
-                .enable_rosout(false)
-                .start_parameter_services(false)
-        };
-        let context = || {
-            Context::with_options(ContextOptions::new().domain_id(DOMAIN_ROS2_CLIENT))
-                .map_err(|e| format!("context: {e:?}"))
-        };
-        let server_context = context()?;
-        let client_context = context()?;
-        let mut server_node = server_context
-            .new_node(
-                NodeName::new("/", "bench_server").map_err(|e| format!("{e:?}"))?,
-                options(),
-            )
-            .map_err(|e| format!("server node: {e:?}"))?;
-        let mut client_node = client_context
-            .new_node(
-                NodeName::new("/", "bench_client").map_err(|e| format!("{e:?}"))?,
-                options(),
-            )
-            .map_err(|e| format!("client node: {e:?}"))?;
-        let server = server_node
-            .create_server::<R2Request, R2Response>(
-                ServiceMapping::Enhanced,
-                &name,
-                &type_name,
-                qos.clone(),
-                qos.clone(),
-            )
-            .map_err(|e| format!("create_server: {e:?}"))?;
-        let client = client_node
-            .create_client::<R2Request, R2Response>(
-                ServiceMapping::Enhanced,
-                &name,
-                &type_name,
-                qos.clone(),
-                qos,
-            )
-            .map_err(|e| format!("create_client: {e:?}"))?;
-        // The server loop: receive, add, reply, until a STOP request (which is answered too).
-        let server_thread = thread::Builder::new()
-            .name("ros2-client-srv".into())
-            .spawn(move || {
-                let _node = server_node;
-                block_on(async {
-                    let mut served = 0u64;
-                    loop {
-                        let (id, req) = server
-                            .async_receive_request()
-                            .await
-                            .map_err(|e| format!("async_receive_request: {e:?}"))?;
-                        let response = R2Response {
-                            sum: req.a.wrapping_add(req.b),
-                        };
-                        server
-                            .async_send_response(id, response)
-                            .await
-                            .map_err(|e| format!("async_send_response: {e:?}"))?;
-                        if req.a == STOP {
-                            return Ok(served);
-                        }
-                        served += 1;
-                    }
-                })
-            })
-            .map_err(|e| format!("spawn: {e}"))?;
+        let mut setup = ros2_setup(DOMAIN_ROS2_CLIENT, 1)?;
+        let client = setup
+            .clients
+            .pop()
+            .ok_or_else(|| "no ros2-client client".to_owned())?;
         let mut bench = Self {
             client,
-            server_thread: Some(server_thread),
-            _client_node: client_node,
-            _contexts: vec![server_context, client_context],
+            server_thread: Some(setup.server_thread),
+            _client_node: setup.client_node,
+            _contexts: setup.contexts,
         };
-        bench.wait_until_answered()?;
         for i in 0..WARMUP {
             bench.call(i as i64)?;
         }
         Ok(bench)
     }
 
-    /// No Spinner runs (it would only add graph processing), so `wait_for_service` cannot be
-    /// used: send probes with the non-blocking API until one is answered. Requests written
-    /// before the server's reader matched are lost (volatile), hence the repeats.
-    fn wait_until_answered(&mut self) -> Result<(), String> {
-        let deadline = Instant::now() + DISCOVERY_TIMEOUT;
-        while Instant::now() < deadline {
-            let id = self
-                .client
-                .send_request(R2Request { a: -1, b: 1 })
-                .map_err(|e| format!("send_request: {e:?}"))?;
-            let probe_end = Instant::now() + Duration::from_millis(200);
-            while Instant::now() < probe_end {
-                match self.client.receive_response() {
-                    Ok(Some((rid, _))) if rid == id => return Ok(()),
-                    Ok(_) => thread::sleep(Duration::from_millis(1)),
-                    Err(e) => return Err(format!("receive_response: {e:?}")),
-                }
-            }
-        }
-        Err(format!(
-            "no reply from the ros2-client server within {DISCOVERY_TIMEOUT:?}"
-        ))
-    }
-
     fn call(&mut self, i: i64) -> Result<(), String> {
-        let client = &self.client;
-        let sum = block_on(async {
-            let id = client
-                .async_send_request(R2Request { a: i, b: 1 })
-                .await
-                .map_err(|e| format!("async_send_request: {e:?}"))?;
-            client
-                .async_receive_response(id)
-                .await
-                .map(|r| r.sum)
-                .map_err(|e| format!("async_receive_response: {e:?}"))
-        })?;
-        if sum != i.wrapping_add(1) {
-            return Err(format!("wrong sum {sum} for {i} + 1"));
-        }
-        Ok(())
+        ros2_call(&self.client, i)
     }
 }
 
@@ -683,6 +726,150 @@ fn times(value: f64, baseline: f64) -> String {
         }
     } else {
         "n/a".to_owned()
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// 5. Throughput with concurrent clients.
+
+/// How many clients call at once.
+const CONCURRENT_CLIENTS: [usize; 3] = [1, 4, 16];
+/// Domains of the concurrent measurements: horus-ros on rustdds, on Cyclone DDS, ros2-client.
+const DOMAIN_CONCURRENT_RUSTDDS: u32 = 69;
+const DOMAIN_CONCURRENT_CYCLONE: u32 = 70;
+const DOMAIN_CONCURRENT_ROS2: u16 = 71;
+/// Unmeasured calls each client makes first.
+const CONCURRENT_WARMUP: usize = 50;
+
+/// Runs `clients` callers at once, each on a thread of its own: `prepare(k)` builds caller
+/// `k`'s call (unmeasured, warm-up included) and `call(i)` makes its `i`-th call. Returns calls
+/// per second over the wall time from the moment all are prepared.
+fn calls_per_second<C, F>(clients: usize, calls: usize, prepare: F) -> Result<f64, String>
+where
+    F: Fn(usize) -> Result<C, String> + Sync,
+    C: FnMut(i64) -> Result<(), String>,
+{
+    let start_line = std::sync::Barrier::new(clients + 1);
+    let prepare = &prepare;
+    let start_line = &start_line;
+    thread::scope(|scope| {
+        let workers: Vec<_> = (0..clients)
+            .map(|k| {
+                scope.spawn(move || {
+                    let caller = prepare(k);
+                    start_line.wait();
+                    let mut call = caller?;
+                    for i in 0..calls {
+                        call((k * calls + i) as i64)?;
+                    }
+                    Ok::<(), String>(())
+                })
+            })
+            .collect();
+        start_line.wait();
+        let start = Instant::now();
+        for worker in workers {
+            worker
+                .join()
+                .map_err(|_| "a client thread panicked".to_owned())??;
+        }
+        Ok((clients * calls) as f64 / start.elapsed().as_secs_f64())
+    })
+}
+
+/// horus-ros: one server in a context of its own, `clients` `ServiceClient`s in another.
+fn horus_concurrent(backend: Backend, clients: usize, calls: usize) -> Result<f64, String> {
+    let domain = match backend {
+        Backend::RustDds => DOMAIN_CONCURRENT_RUSTDDS,
+        Backend::Cyclone => DOMAIN_CONCURRENT_CYCLONE,
+    };
+    let server_node = context(backend, domain)?
+        .create_node("bench_server", "/")
+        .map_err(|e| format!("node: {e}"))?;
+    let _server = add_two_ints_server(&server_node)?;
+    let client_node = context(backend, domain)?
+        .create_node("bench_clients", "/")
+        .map_err(|e| format!("node: {e}"))?;
+    calls_per_second(clients, calls, |_| {
+        let mut client = ServiceClient::<AddTwoInts>::builder()
+            .node(&client_node)
+            .name(SERVICE)
+            .build()
+            .map_err(|e| format!("client: {e}"))?;
+        if !client.wait_for_service(DISCOVERY_TIMEOUT) {
+            return Err(format!("no server within {DISCOVERY_TIMEOUT:?}"));
+        }
+        let mut call = move |i: i64| {
+            let reply = client
+                .call(AddTwoIntsRequest { a: i, b: 1 }, CALL_TIMEOUT)
+                .map_err(|e| format!("call: {e}"))?;
+            if reply.sum != i.wrapping_add(1) {
+                return Err(format!("wrong sum {} for {i} + 1", reply.sum));
+            }
+            Ok(())
+        };
+        for i in 0..CONCURRENT_WARMUP {
+            call(-(i as i64) - 2)?;
+        }
+        Ok(call)
+    })
+}
+
+/// ros2-client: its server thread in one context, `clients` clients in another.
+fn ros2_concurrent(clients: usize, calls: usize) -> Result<f64, String> {
+    let setup = ros2_setup(DOMAIN_CONCURRENT_ROS2, clients)?;
+    let result = calls_per_second(clients, calls, |k| {
+        let client = &setup.clients[k];
+        for i in 0..CONCURRENT_WARMUP {
+            ros2_call(client, -(i as i64) - 2)?;
+        }
+        Ok(move |i: i64| ros2_call(client, i))
+    });
+    // Answered like any request, then the server thread ends.
+    let stopped = setup
+        .clients
+        .first()
+        .map(|c| ros2_call(c, STOP))
+        .unwrap_or(Ok(()));
+    match setup.server_thread.join() {
+        Ok(Ok(_)) => {}
+        Ok(Err(e)) => eprintln!("ros2-client server thread: {e}"),
+        Err(_) => eprintln!("ros2-client server thread panicked"),
+    }
+    stopped?;
+    result
+}
+
+fn concurrent(calls: usize) {
+    println!();
+    println!(
+        "concurrent clients: N clients (a thread and a client each, {calls} sequential calls \
+         each) on one server, server and clients in two contexts; calls per second over the \
+         wall time"
+    );
+    for clients in CONCURRENT_CLIENTS {
+        let ros2 = ros2_concurrent(clients, calls);
+        match &ros2 {
+            Ok(r) => println!("  {clients:>2} clients: ros2-client Enhanced  {r:>9.0} calls/s"),
+            Err(e) => println!("  {clients:>2} clients: ros2-client Enhanced  failed: {e}"),
+        }
+        for backend in Backend::ALL.iter().copied().filter(|b| b.is_available()) {
+            match (horus_concurrent(backend, clients, calls), &ros2) {
+                (Ok(h), Ok(r)) => println!(
+                    "  {clients:>2} clients: horus-ros {backend:<8}   {h:>9.0} calls/s, \
+                     {:.2}× ros2-client (goal ≥ 3) {}",
+                    h / r,
+                    verdict(h / r >= 3.0)
+                ),
+                (Ok(h), Err(_)) => println!(
+                    "  {clients:>2} clients: horus-ros {backend:<8}   {h:>9.0} calls/s \
+                     (goal ≥ 3× ros2-client) NOT MEASURED"
+                ),
+                (Err(e), _) => {
+                    println!("  {clients:>2} clients: horus-ros {backend:<8}   failed: {e}")
+                }
+            }
+        }
     }
 }
 
@@ -1033,20 +1220,26 @@ fn main() {
     for (s, _, _) in &horus {
         if s.samples.is_empty() || ros2_stats.samples.is_empty() {
             println!(
-                "  throughput ratio horus/ros2-client = n/a (goal ≥ 2) NOT MEASURED   [{}]",
+                "  throughput ratio horus/ros2-client = n/a (goal ≥ 3) NOT MEASURED   [{}]",
                 s.name
             );
             continue;
         }
         let ratio = s.per_second() / ros2_stats.per_second();
         println!(
-            "  throughput ratio horus/ros2-client = {ratio:.2} (goal ≥ 2) {}   [{}]",
-            verdict(ratio >= 2.0),
+            "  throughput ratio horus/ros2-client = {ratio:.2} (goal ≥ 3) {}   [{}]",
+            verdict(ratio >= 3.0),
             s.name
         );
     }
     if wanted("first") {
         first_calls();
+    }
+    if wanted("concurrent") {
+        concurrent(env_usize(
+            "HORUS_BENCH_CONCURRENT_CALLS",
+            DEFAULT_CONCURRENT_CALLS,
+        ));
     }
     if failed_setup {
         std::process::exit(1);
