@@ -433,6 +433,41 @@ fn block_on<F: Future>(future: F) -> F::Output {
     }
 }
 
+/// [`block_on`], giving up (`None`) at `deadline`: ros2-client's awaited calls have no time
+/// limit of their own, and a lost reply must not hang the bench.
+fn block_on_until<F: Future>(future: F, deadline: Instant) -> Option<F::Output> {
+    let mut future = pin!(future);
+    let waker = Waker::from(Arc::new(ThreadWaker(thread::current())));
+    let mut cx = std::task::Context::from_waker(&waker);
+    loop {
+        if let Poll::Ready(output) = future.as_mut().poll(&mut cx) {
+            return Some(output);
+        }
+        let left = deadline.saturating_duration_since(Instant::now());
+        if left.is_zero() {
+            return None;
+        }
+        thread::park_timeout(left);
+    }
+}
+
+/// Ends a ros2-client server thread: a STOP request is answered like any other, then the
+/// thread returns. If it is not answered the thread is left behind (joining it would hang).
+fn stop_ros2_server(
+    client: &ros2_client::Client<R2Request, R2Response>,
+    server_thread: JoinHandle<Result<u64, String>>,
+) {
+    if let Err(e) = ros2_call(client, STOP) {
+        eprintln!("ros2-client server thread not stopped: {e}");
+        return;
+    }
+    match server_thread.join() {
+        Ok(Ok(_)) => {}
+        Ok(Err(e)) => eprintln!("ros2-client server thread: {e}"),
+        Err(_) => eprintln!("ros2-client server thread panicked"),
+    }
+}
+
 struct Ros2Client {
     client: ros2_client::Client<R2Request, R2Response>,
     server_thread: Option<JoinHandle<Result<u64, String>>>,
@@ -574,7 +609,7 @@ fn ros2_wait_until_answered(
 
 /// One awaited call `i + 1` through ros2-client's async API, checked.
 fn ros2_call(client: &ros2_client::Client<R2Request, R2Response>, i: i64) -> Result<(), String> {
-    let sum = block_on(async {
+    let call = async {
         let id = client
             .async_send_request(R2Request { a: i, b: 1 })
             .await
@@ -584,7 +619,9 @@ fn ros2_call(client: &ros2_client::Client<R2Request, R2Response>, i: i64) -> Res
             .await
             .map(|r| r.sum)
             .map_err(|e| format!("async_receive_response: {e:?}"))
-    })?;
+    };
+    let sum = block_on_until(call, Instant::now() + CALL_TIMEOUT)
+        .ok_or_else(|| format!("no reply within {CALL_TIMEOUT:?}"))??;
     if sum != i.wrapping_add(1) {
         return Err(format!("wrong sum {sum} for {i} + 1"));
     }
@@ -618,13 +655,7 @@ impl Ros2Client {
 impl Drop for Ros2Client {
     fn drop(&mut self) {
         if let Some(thread) = self.server_thread.take() {
-            // Answered like any request, then the server thread ends.
-            let _ = self.call(STOP);
-            match thread.join() {
-                Ok(Ok(_)) => {}
-                Ok(Err(e)) => eprintln!("ros2-client server thread: {e}"),
-                Err(_) => eprintln!("ros2-client server thread panicked"),
-            }
+            stop_ros2_server(&self.client, thread);
         }
     }
 }
@@ -825,18 +856,9 @@ fn ros2_concurrent(clients: usize, calls: usize) -> Result<f64, String> {
         }
         Ok(move |i: i64| ros2_call(client, i))
     });
-    // Answered like any request, then the server thread ends.
-    let stopped = setup
-        .clients
-        .first()
-        .map(|c| ros2_call(c, STOP))
-        .unwrap_or(Ok(()));
-    match setup.server_thread.join() {
-        Ok(Ok(_)) => {}
-        Ok(Err(e)) => eprintln!("ros2-client server thread: {e}"),
-        Err(_) => eprintln!("ros2-client server thread panicked"),
+    if let Some(client) = setup.clients.first() {
+        stop_ros2_server(client, setup.server_thread);
     }
-    stopped?;
     result
 }
 
