@@ -1,22 +1,13 @@
 //! Raw endpoints: bodies, sample identities, related_sample_identity and matching.
 
+mod common;
+
 use std::time::{Duration, Instant};
 
-use horus_ros_msgs::{Message, TypeHash};
-use horus_ros_rmw::qos::Qos;
-use horus_ros_rmw::{Context, DdsError, DiscoveryEvent, RawEndpointSpec, SampleError, SampleId};
+use common::{await_matches, spec};
+use horus_ros_rmw::{Context, DdsError, SampleError, SampleId};
 
 const DOMAIN: u32 = 38;
-
-fn spec(topic: &str) -> RawEndpointSpec {
-    RawEndpointSpec {
-        dds_topic_name: topic.to_owned(),
-        dds_type_name: horus_ros_msgs::builtin_interfaces::msg::Time::dds_type_name(),
-        type_hash: TypeHash::ZERO,
-        qos: Qos::services_default(),
-        service_id: None,
-    }
-}
 
 #[test]
 fn raw_samples_carry_identity_and_related_identity() {
@@ -33,27 +24,7 @@ fn raw_samples_carry_identity_and_related_identity() {
         .create_raw_reader(&spec("rq/rawRequest"))
         .expect("reader");
     // The feed reports both sides of the match (writer→reader and reader→writer).
-    let mut matched = (false, false);
-    let deadline = Instant::now() + Duration::from_secs(10);
-    while matched != (true, true) {
-        assert!(
-            Instant::now() < deadline,
-            "no match within 10 s: {matched:?}"
-        );
-        match feed.next_timeout(Duration::from_millis(100)) {
-            Some(DiscoveryEvent::Matched { local, remote })
-                if (local, remote) == (writer.gid(), reader.gid()) =>
-            {
-                matched.0 = true
-            }
-            Some(DiscoveryEvent::Matched { local, remote })
-                if (local, remote) == (reader.gid(), writer.gid()) =>
-            {
-                matched.1 = true
-            }
-            _ => {}
-        }
-    }
+    await_matches(&mut feed, &[(writer.gid(), reader.gid())]);
 
     let related = SampleId {
         writer: reader.gid(),

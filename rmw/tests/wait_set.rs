@@ -1,41 +1,14 @@
 //! `WaitSet` (`rmw_wait` over many readers) on the backend of `HORUS_ROS_BACKEND`: which readers
 //! it reports, once per arrival, data that was there before a reader was attached, and its waker.
 
-use std::collections::HashSet;
-use std::time::{Duration, Instant};
+mod common;
 
-use horus_ros_msgs::{Message, TypeHash};
-use horus_ros_rmw::qos::Qos;
-use horus_ros_rmw::{
-    Context, DiscoveryEvent, DiscoveryFeed, Gid, RawEndpointSpec, RawReader, RawWriter, WaitSet,
-};
+use std::time::Instant;
+
+use common::{await_matches, spec, LIMIT};
+use horus_ros_rmw::{Context, Gid, RawReader, RawWriter, WaitSet};
 
 const DOMAIN: u32 = 39;
-const LIMIT: Duration = Duration::from_secs(10);
-
-fn spec(topic: &str) -> RawEndpointSpec {
-    RawEndpointSpec {
-        dds_topic_name: topic.to_owned(),
-        dds_type_name: horus_ros_msgs::builtin_interfaces::msg::Time::dds_type_name(),
-        type_hash: TypeHash::ZERO,
-        qos: Qos::services_default(),
-        service_id: None,
-    }
-}
-
-/// Waits (on the feed's events) until each writer is matched with its reader, both ways.
-fn await_matches(feed: &mut DiscoveryFeed, pairs: &[(Gid, Gid)]) {
-    let mut missing: HashSet<(Gid, Gid)> =
-        pairs.iter().flat_map(|&(w, r)| [(w, r), (r, w)]).collect();
-    let deadline = Instant::now() + LIMIT;
-    while !missing.is_empty() {
-        let left = deadline.saturating_duration_since(Instant::now());
-        assert!(!left.is_zero(), "not matched within {LIMIT:?}: {missing:?}");
-        if let Some(DiscoveryEvent::Matched { local, remote }) = feed.next_timeout(left) {
-            missing.remove(&(local, remote));
-        }
-    }
-}
 
 /// Waits on `set` and takes from the readers it reports until `want` samples are taken (at
 /// most [`LIMIT`]); returns them with the key of the reader each came from. A report may be
