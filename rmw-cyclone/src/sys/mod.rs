@@ -8,10 +8,10 @@
 //!   Rust, and Cyclone's recursive delete never leaves us holding a stale handle.
 //! - QoS objects ([`QosBox`]), sample references ([`SerdataRef`]) and loans ([`Loan`]) are RAII
 //!   values freed/unref'd/returned on drop, on every path, including errors and panics.
-//! - One listener only: a reader's DATA_AVAILABLE listener raises the [`Signal`](crate::Signal)s the reader is
-//!   attached to ([`Reader::notify`]): a lock, a push and a notify on Cyclone's thread, never
-//!   user code. Other waiting is done with waitsets in the caller's thread ([`Waiter`]); other
-//!   threads wake it with a [`GuardCondition`].
+//! - One listener only: a reader's DATA_AVAILABLE listener raises the
+//!   [`Signal`](crate::Signal)s the reader is attached to ([`Reader::notify`]): a lock, a push
+//!   and a notify on Cyclone's thread, never user code. Other waiting is done with waitsets in
+//!   the caller's thread ([`Waiter`]); other threads wake it with a [`GuardCondition`].
 //!
 //! One concept per file: [`handle`] (entities), [`domain`], [`qos`], [`participant`] (and
 //! topics), [`endpoints`] (writers and readers), [`builtin`] (built-in topic readers) and
