@@ -420,22 +420,10 @@ impl Wake for ThreadWaker {
 }
 
 /// A minimal executor: polls `future` on this thread, parking between wake-ups (what
-/// `futures::executor::block_on` and `smol::block_on` do for one future).
-fn block_on<F: Future>(future: F) -> F::Output {
-    let mut future = pin!(future);
-    let waker = Waker::from(Arc::new(ThreadWaker(thread::current())));
-    let mut cx = std::task::Context::from_waker(&waker);
-    loop {
-        if let Poll::Ready(output) = future.as_mut().poll(&mut cx) {
-            return output;
-        }
-        thread::park();
-    }
-}
-
-/// [`block_on`], giving up (`None`) at `deadline`: ros2-client's awaited calls have no time
-/// limit of their own, and a lost reply must not hang the bench.
-fn block_on_until<F: Future>(future: F, deadline: Instant) -> Option<F::Output> {
+/// `futures::executor::block_on` and `smol::block_on` do for one future), giving up (`None`)
+/// at `deadline` if there is one: ros2-client's awaited calls have no time limit of their own,
+/// and a lost reply must not hang the bench.
+fn block_on<F: Future>(future: F, deadline: Option<Instant>) -> Option<F::Output> {
     let mut future = pin!(future);
     let waker = Waker::from(Arc::new(ThreadWaker(thread::current())));
     let mut cx = std::task::Context::from_waker(&waker);
@@ -443,11 +431,16 @@ fn block_on_until<F: Future>(future: F, deadline: Instant) -> Option<F::Output> 
         if let Poll::Ready(output) = future.as_mut().poll(&mut cx) {
             return Some(output);
         }
-        let left = deadline.saturating_duration_since(Instant::now());
-        if left.is_zero() {
-            return None;
+        match deadline {
+            None => thread::park(),
+            Some(deadline) => {
+                let left = deadline.saturating_duration_since(Instant::now());
+                if left.is_zero() {
+                    return None;
+                }
+                thread::park_timeout(left);
+            }
         }
-        thread::park_timeout(left);
     }
 }
 
@@ -548,7 +541,7 @@ fn ros2_setup(domain: u16, clients: usize) -> Result<Ros2Setup, String> {
         .name("ros2-client-srv".into())
         .spawn(move || {
             let _node = server_node;
-            block_on(async {
+            let serve = async {
                 let mut served = 0u64;
                 loop {
                     let (id, req) = server
@@ -567,7 +560,9 @@ fn ros2_setup(domain: u16, clients: usize) -> Result<Ros2Setup, String> {
                     }
                     served += 1;
                 }
-            })
+            };
+            // No deadline: the server waits for requests until STOP.
+            block_on(serve, None).unwrap_or_else(|| Err("the server loop ended".to_owned()))
         })
         .map_err(|e| format!("spawn: {e}"))?;
     let setup = Ros2Setup {
@@ -620,7 +615,7 @@ fn ros2_call(client: &ros2_client::Client<R2Request, R2Response>, i: i64) -> Res
             .map(|r| r.sum)
             .map_err(|e| format!("async_receive_response: {e:?}"))
     };
-    let sum = block_on_until(call, Instant::now() + CALL_TIMEOUT)
+    let sum = block_on(call, Some(Instant::now() + CALL_TIMEOUT))
         .ok_or_else(|| format!("no reply within {CALL_TIMEOUT:?}"))??;
     if sum != i.wrapping_add(1) {
         return Err(format!("wrong sum {sum} for {i} + 1"));
