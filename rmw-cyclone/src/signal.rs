@@ -13,8 +13,10 @@
 //! [`Reader`]: crate::Reader
 
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::{Arc, Condvar, Mutex, MutexGuard, Weak};
+use std::sync::{Arc, Condvar, Mutex, Weak};
 use std::time::{Duration, Instant};
+
+use crate::sys::lock;
 
 /// Wakes the waiting thread when a reader attached to it may have data, or when
 /// [`wake`](Self::wake) is called. Edge-triggered: a reader is reported once per arrival (or
@@ -66,7 +68,7 @@ impl Notice {
         let Some(signal) = self.signal.upgrade() else {
             return; // nobody waits any more
         };
-        signal.lock().ready.push(Arc::clone(self));
+        lock(&signal.state).ready.push(Arc::clone(self));
         signal.cond.notify_one();
     }
 }
@@ -77,13 +79,9 @@ impl Signal {
         Arc::default()
     }
 
-    fn lock(&self) -> MutexGuard<'_, State> {
-        self.state.lock().unwrap_or_else(|p| p.into_inner())
-    }
-
     /// Makes the current or next [`wait`](Self::wait) return, from any thread.
     pub fn wake(&self) {
-        self.lock().woken = true;
+        lock(&self.state).woken = true;
         self.cond.notify_one();
     }
 
@@ -93,8 +91,8 @@ impl Signal {
     pub fn wait(&self, timeout: Option<Duration>, ready: &mut Vec<usize>) -> bool {
         ready.clear();
         let deadline = timeout.and_then(|t| Instant::now().checked_add(t));
-        let _waiting = self.waiting.lock().unwrap_or_else(|p| p.into_inner());
-        let mut state = self.lock();
+        let _waiting = lock(&self.waiting);
+        let mut state = lock(&self.state);
         while state.ready.is_empty() && !state.woken {
             state = match (timeout, deadline) {
                 (None, _) | (Some(_), None) => {
