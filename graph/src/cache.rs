@@ -10,6 +10,8 @@ use horus_ros_msgs::TypeHash;
 use horus_ros_rmw::names::{is_hidden_name, DemangledTopic};
 use horus_ros_rmw::qos::EndpointKind;
 
+use serde::{Deserialize, Serialize};
+
 use crate::endpoint::{participant_gid_from_prefix, EndpointEntry, GuidPrefix};
 use crate::event::GraphEvent;
 use crate::query::{demangle_service_type, demangle_type};
@@ -32,6 +34,9 @@ fn removed_event(old: EndpointEntry) -> GraphEvent {
 pub(crate) struct Participant {
     /// Its enclave, when its USER_DATA told it.
     pub(crate) enclave: Option<String>,
+    /// Whether its USER_DATA was read and holds no `enclave=` where every ROS participant of its
+    /// DDS puts one: it is not a ROS participant (see [`GraphCache::mark_not_ros`]).
+    pub(crate) not_ros: bool,
     /// Its nodes, as its latest `ros_discovery_info` message lists them.
     pub(crate) nodes: Vec<NodeEntitiesInfo>,
     /// Endpoint GID → (kind, index into `nodes`) of the first node listing it.
@@ -220,20 +225,62 @@ impl Indexes {
     }
 }
 
+/// The DDS topic every ROS participant announces its nodes on (rmw_dds_common).
+const DISCOVERY_INFO_TOPIC: &str = "ros_discovery_info";
+
+/// Whether a participant is a ROS participant — one that announces its nodes on
+/// `ros_discovery_info` — as far as what is known tells (see [`GraphCache::participant_kind`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ParticipantKind {
+    /// A ROS participant: its USER_DATA names its enclave, or its `ros_discovery_info` writer
+    /// or message was seen.
+    Ros,
+    /// Not a ROS participant (a bare DDS application): it never announces nodes.
+    NotRos,
+    /// Not known yet: nothing of it but its SPDP announcement (or readers) without USER_DATA
+    /// that would tell.
+    Undecided,
+}
+
 /// Why a [`GraphCache`] is not consistent yet (see [`GraphCache::unsettled`]).
-#[derive(Debug, Clone, Default, PartialEq, Eq)]
+#[derive(Debug, Clone, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub struct Unsettled {
-    /// Participants (their GIDs, in order) whose `ros_discovery_info` has not arrived, among
+    /// ROS participants (their GIDs, in order) whose `ros_discovery_info` has not arrived, among
     /// those known from DDS discovery or from their endpoints.
     pub unannounced: Vec<Gid>,
-    /// Endpoints listed in announced nodes that DDS discovery has not reported yet.
+    /// Participants (their GIDs, in order) not known yet to be ROS participants or not.
+    pub undecided: Vec<Gid>,
+    /// Announced participants (their GIDs, in order) that list endpoints DDS discovery has not
+    /// reported yet.
+    pub incomplete: Vec<Gid>,
+    /// How many endpoints the `incomplete` participants list that are not discovered yet.
     pub missing_endpoints: usize,
 }
 
 impl Unsettled {
     /// Whether nothing is outstanding.
     pub fn is_empty(&self) -> bool {
-        self.unannounced.is_empty() && self.missing_endpoints == 0
+        self.unannounced.is_empty() && self.undecided.is_empty() && self.incomplete.is_empty()
+    }
+
+    /// Whether something is outstanding of a participant known to be a ROS participant (the
+    /// undecided ones aside).
+    pub fn ros_outstanding(&self) -> bool {
+        !self.unannounced.is_empty() || !self.incomplete.is_empty()
+    }
+
+    /// Every participant with something outstanding, in GID order, each once.
+    pub fn participants(&self) -> Vec<Gid> {
+        let mut all: Vec<Gid> = self
+            .unannounced
+            .iter()
+            .chain(&self.undecided)
+            .chain(&self.incomplete)
+            .copied()
+            .collect();
+        all.sort();
+        all.dedup();
+        all
     }
 }
 
@@ -417,48 +464,113 @@ impl GraphCache {
         true
     }
 
-    /// Whether what is known is consistent: every participant, known from DDS discovery or
-    /// only from its endpoints, has sent its `ros_discovery_info`, and every endpoint its nodes
-    /// list has been discovered. Participants that are not ROS (no `ros_discovery_info`) keep
-    /// this false. A discovery wait can stop once this holds.
+    /// Marks the participant `participant_gid` (added with [`add_participant`](Self::add_participant))
+    /// as not a ROS participant: its USER_DATA was read, holds no `enclave=`, and its DDS is one
+    /// whose ROS participants always put it there (rmw_fastrtps `participant.cpp` and
+    /// rmw_cyclonedds `rmw_context_impl_s::init` write `enclave=<enclave>;` into every
+    /// participant's USER_DATA). Returns whether anything changed.
+    pub fn mark_not_ros(&mut self, participant_gid: Gid) -> bool {
+        match self.participants.get_mut(&participant_gid.prefix()) {
+            Some(p) if !p.not_ros => {
+                p.not_ros = true;
+                true
+            }
+            _ => false,
+        }
+    }
+
+    /// Whether the participant of `prefix` is a ROS participant, as far as known:
+    ///
+    /// - [`Ros`](ParticipantKind::Ros) when it has announced its nodes, its USER_DATA names its
+    ///   enclave, or one of its writers is on `ros_discovery_info`;
+    /// - [`NotRos`](ParticipantKind::NotRos) otherwise when its USER_DATA said so
+    ///   ([`mark_not_ros`](Self::mark_not_ros)), or when one of its writers is known: every rmw
+    ///   creates its `ros_discovery_info` writer before any other (rmw_fastrtps
+    ///   `init_rmw_context_impl.cpp`, rmw_cyclonedds `rmw_context_impl_s::init`, ours at context
+    ///   creation), and SEDP delivers a participant's writers in the order they were announced,
+    ///   so a ROS participant's first writer discovered is that one;
+    /// - [`Undecided`](ParticipantKind::Undecided) otherwise (only its SPDP announcement, or
+    ///   readers, without USER_DATA that tells: the rustdds backend reads none).
+    pub fn participant_kind(&self, prefix: GuidPrefix) -> ParticipantKind {
+        let participant = self.participants.get(&prefix);
+        if participant.is_some_and(|p| p.announced || p.enclave.is_some()) {
+            return ParticipantKind::Ros;
+        }
+        let mut any_writer = false;
+        for gid in self.index.by_participant.get(&prefix).into_iter().flatten() {
+            let Some(e) = self.endpoints.get(gid) else {
+                continue;
+            };
+            if e.kind == EndpointKind::Writer {
+                if e.dds_topic_name == DISCOVERY_INFO_TOPIC {
+                    return ParticipantKind::Ros;
+                }
+                any_writer = true;
+            }
+        }
+        if any_writer || participant.is_some_and(|p| p.not_ros) {
+            ParticipantKind::NotRos
+        } else {
+            ParticipantKind::Undecided
+        }
+    }
+
+    /// Whether what is known is consistent: every ROS participant, known from DDS discovery or
+    /// only from its endpoints, has sent its `ros_discovery_info`, every endpoint its nodes
+    /// list has been discovered, and no participant is left whose kind is
+    /// [undecided](ParticipantKind::Undecided). Participants that are not ROS participants
+    /// ([`participant_kind`](Self::participant_kind)) never announce nodes and do not count.
+    /// A discovery wait can stop once this holds.
     pub fn is_consistent(&self) -> bool {
         self.unsettled().is_empty()
     }
 
-    /// What keeps the cache from being [consistent](Self::is_consistent): the participants not
-    /// announced yet, and how many endpoints announced ones list that are not discovered yet.
+    /// What keeps the cache from being [consistent](Self::is_consistent): the ROS participants
+    /// not announced yet, the participants not known to be ROS participants or not, and the
+    /// announced ones that list endpoints not discovered yet (and how many).
     pub fn unsettled(&self) -> Unsettled {
-        let mut unannounced: Vec<Gid> = self
+        let mut unsettled = Unsettled::default();
+        // Endpoints can be discovered before their participant is reported (DDS delivers the
+        // two in any order): such a participant has not announced its nodes either.
+        let unannounced = self
             .participants
             .iter()
             .filter(|(_, p)| !p.announced)
-            .map(|(prefix, _)| participant_gid_from_prefix(*prefix))
-            .collect();
-        // Endpoints can be discovered before their participant is reported (DDS delivers the
-        // two in any order): such a participant has not announced its nodes either.
-        unannounced.extend(
-            self.index
-                .by_participant
-                .keys()
-                .filter(|prefix| !self.participants.contains_key(*prefix))
-                .map(|prefix| participant_gid_from_prefix(*prefix)),
-        );
-        unannounced.sort();
-        let missing_endpoints = self
-            .participants
-            .values()
-            .filter(|p| p.announced)
-            .map(|p| {
-                p.owner
+            .map(|(prefix, _)| *prefix)
+            .chain(
+                self.index
+                    .by_participant
                     .keys()
-                    .filter(|gid| !self.endpoints.contains_key(gid))
-                    .count()
-            })
-            .sum();
-        Unsettled {
-            unannounced,
-            missing_endpoints,
+                    .filter(|prefix| !self.participants.contains_key(*prefix))
+                    .copied(),
+            );
+        for prefix in unannounced {
+            match self.participant_kind(prefix) {
+                ParticipantKind::Ros => unsettled
+                    .unannounced
+                    .push(participant_gid_from_prefix(prefix)),
+                ParticipantKind::Undecided => unsettled
+                    .undecided
+                    .push(participant_gid_from_prefix(prefix)),
+                ParticipantKind::NotRos => {}
+            }
         }
+        unsettled.unannounced.sort();
+        unsettled.undecided.sort();
+        for (prefix, p) in self.participants.iter().filter(|(_, p)| p.announced) {
+            let missing = p
+                .owner
+                .keys()
+                .filter(|gid| !self.endpoints.contains_key(gid))
+                .count();
+            if missing > 0 {
+                unsettled
+                    .incomplete
+                    .push(participant_gid_from_prefix(*prefix));
+                unsettled.missing_endpoints += missing;
+            }
+        }
+        unsettled
     }
 
     /// Records the hash of a service type (e.g. `example_interfaces/srv/AddTwoInts`) for

@@ -30,7 +30,7 @@ mod subscription;
 #[cfg(test)]
 mod tests;
 
-pub use cache::{GraphCache, Unsettled};
+pub use cache::{GraphCache, ParticipantKind, Unsettled};
 pub use endpoint::{participant_gid_from_prefix, EndpointEntry, GuidPrefix};
 pub use endpoint_role::{EndpointRole, RosEndpoint};
 pub use error::GraphError;

@@ -54,6 +54,8 @@ pub fn apply_discovery_event(cache: &mut GraphCache, event: DiscoveryEvent) -> b
 
 struct State {
     cache: GraphCache,
+    /// Whether the feed reads participants' USER_DATA (an enclave it does not report is absent).
+    reads_user_data: bool,
     /// Vendor of each participant seen by SPDP, by GUID prefix (the cache keeps no vendors).
     vendors: BTreeMap<[u8; 12], VendorId>,
     /// For each of our endpoints, the endpoints it is matched with, and since when.
@@ -177,6 +179,7 @@ impl Graph {
         let shared = Arc::new(Shared {
             state: Mutex::new(State {
                 cache,
+                reads_user_data: context.backend().reads_participant_user_data(),
                 vendors: BTreeMap::new(),
                 matches: HashMap::new(),
                 generation: 0,
@@ -409,6 +412,14 @@ fn apply(state: &mut State, event: DiscoveryEvent) -> bool {
     match &event {
         DiscoveryEvent::ParticipantDiscovered(p) => {
             state.vendors.insert(p.gid.prefix(), p.vendor_id);
+            // USER_DATA read without `enclave=`: not a ROS participant, unless its DDS is
+            // RustDDS, whose ROS participants (ours on the rustdds backend, ros2-client) cannot
+            // announce USER_DATA at all.
+            if state.reads_user_data && p.enclave.is_none() && p.vendor_id != VendorId::RUSTDDS {
+                let gid = p.gid;
+                let added = apply_discovery_event(&mut state.cache, event);
+                return state.cache.mark_not_ros(gid) || added;
+            }
         }
         DiscoveryEvent::ParticipantLost { gid } => {
             let prefix = gid.prefix();

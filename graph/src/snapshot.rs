@@ -17,6 +17,10 @@ pub struct ParticipantSnapshot {
     pub gid: Gid,
     /// Its enclave, when its USER_DATA told it.
     pub enclave: Option<String>,
+    /// Whether its USER_DATA said it is not a ROS participant
+    /// ([`GraphCache::mark_not_ros`]).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub not_ros: bool,
     /// Its nodes as its latest `ros_discovery_info` listed them; `None` while it has not sent
     /// one.
     pub nodes: Option<Vec<NodeEntitiesInfo>>,
@@ -44,6 +48,7 @@ impl GraphCache {
             .map(|(prefix, p)| ParticipantSnapshot {
                 gid: participant_gid_from_prefix(*prefix),
                 enclave: p.enclave.clone(),
+                not_ros: p.not_ros,
                 nodes: p.announced.then(|| p.nodes.clone()),
             })
             .collect();
@@ -68,6 +73,9 @@ impl GraphCache {
         let mut cache = Self::new();
         for p in snapshot.participants {
             cache.add_participant(p.gid, p.enclave);
+            if p.not_ros {
+                cache.mark_not_ros(p.gid);
+            }
             if let Some(nodes) = p.nodes {
                 cache.update_participant_entities(ParticipantEntitiesInfo {
                     gid: p.gid,

@@ -86,6 +86,13 @@ impl Backend {
         matches!(self, Self::Cyclone)
     }
 
+    /// Whether the discovery feed reads other participants' USER_DATA (so a
+    /// [`DiscoveredParticipant`](crate::DiscoveredParticipant) without an enclave announced
+    /// none). RustDDS 0.15 does not expose it.
+    pub const fn reads_participant_user_data(self) -> bool {
+        matches!(self, Self::Cyclone)
+    }
+
     /// The rmw implementation this backend stands in for, as `RMW_IMPLEMENTATION` names it:
     /// `rmw_fastrtps_cpp` (Jazzy's default) for RustDDS, `rmw_cyclonedds_cpp` for Cyclone DDS.
     pub const fn rmw_implementation(self) -> &'static str {

@@ -125,3 +125,4 @@ pub fn sample_graph() -> GraphCache {
     ));
     g
 }
+pub const INFO: &str = "rmw_dds_common::msg::dds_::ParticipantEntitiesInfo_";

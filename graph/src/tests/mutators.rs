@@ -5,8 +5,8 @@ use horus_ros_rmw::qos::EndpointKind;
 
 use super::fixtures::*;
 use crate::{
-    participant_gid_from_prefix, EndpointRole, GraphCache, GraphEvent, RosEndpoint,
-    CREATED_BY_BARE_DDS_APP, NODE_NAME_UNKNOWN,
+    participant_gid_from_prefix, EndpointRole, GraphCache, GraphEvent, ParticipantKind,
+    RosEndpoint, CREATED_BY_BARE_DDS_APP, NODE_NAME_UNKNOWN,
 };
 
 fn node_added(name: &str, namespace: &str) -> GraphEvent {
@@ -280,17 +280,18 @@ fn consistency_needs_every_participant_announced_and_its_endpoints_known() {
 #[test]
 fn endpoints_of_a_participant_not_reported_yet_keep_the_cache_unsettled() {
     let mut c = GraphCache::new();
-    // DDS reported the endpoint before its participant: that participant has not announced.
+    // DDS reported the participant's ros_discovery_info writer before the participant: that
+    // participant has not announced its nodes either.
+    c.add_entity(writer("info", "p1", "ros_discovery_info", INFO));
     c.add_entity(writer("w1", "p1", "rt/b", "std_msgs::msg::dds_::String_"));
+    let p1 = participant_gid_from_prefix(gid("p1").prefix());
     let unsettled = c.unsettled();
-    assert_eq!(
-        unsettled.unannounced,
-        vec![participant_gid_from_prefix(gid("p1").prefix())]
-    );
+    assert_eq!(unsettled.unannounced, vec![p1]);
     assert_eq!(unsettled.missing_endpoints, 0);
     assert!(!c.is_consistent());
     c.update_participant_entities(msg("p1", vec![node("/", "n", &["r1"], &["w1"])]));
     assert_eq!(c.unsettled().unannounced, vec![]);
+    assert_eq!(c.unsettled().incomplete, vec![p1]);
     assert_eq!(
         c.unsettled().missing_endpoints,
         1,
@@ -298,4 +299,56 @@ fn endpoints_of_a_participant_not_reported_yet_keep_the_cache_unsettled() {
     );
     c.add_entity(reader("r1", "p1", "rt/a", "std_msgs::msg::dds_::String_"));
     assert!(c.unsettled().is_empty());
+}
+
+#[test]
+fn participants_that_are_not_ros_do_not_keep_the_cache_unsettled() {
+    let prefix = |s: &str| gid(s).prefix();
+    let p = |s: &str| participant_gid_from_prefix(prefix(s));
+    let mut c = GraphCache::new();
+    // SPDP alone, no USER_DATA read: undecided.
+    c.add_participant(p("bare"), None);
+    assert_eq!(
+        c.participant_kind(prefix("bare")),
+        ParticipantKind::Undecided
+    );
+    assert_eq!(c.unsettled().undecided, vec![p("bare")]);
+    assert!(!c.is_consistent());
+    // Readers tell nothing (a ROS participant's readers can come before its writers)...
+    c.add_entity(reader("r", "bare", "rt/x", STRING));
+    assert_eq!(
+        c.participant_kind(prefix("bare")),
+        ParticipantKind::Undecided
+    );
+    // ...a writer that is not on ros_discovery_info does: an rmw creates that one first.
+    c.add_entity(writer("w", "bare", "pong", "DDSPerf::Pong"));
+    assert_eq!(c.participant_kind(prefix("bare")), ParticipantKind::NotRos);
+    assert!(c.is_consistent(), "{:?}", c.unsettled());
+
+    // USER_DATA without an enclave: not ROS at once.
+    c.add_participant(p("plain"), None);
+    assert!(c.mark_not_ros(p("plain")));
+    assert!(!c.mark_not_ros(p("plain")), "no change the second time");
+    assert_eq!(c.participant_kind(prefix("plain")), ParticipantKind::NotRos);
+    assert!(c.is_consistent());
+    // ...unless it turns out to have a ros_discovery_info writer after all.
+    c.add_entity(writer("plain_info", "plain", "ros_discovery_info", INFO));
+    assert_eq!(c.participant_kind(prefix("plain")), ParticipantKind::Ros);
+    assert_eq!(c.unsettled().unannounced, vec![p("plain")]);
+
+    // An enclave makes a ROS participant, awaited until it announces.
+    c.add_participant(p("ros"), Some("/".to_owned()));
+    assert_eq!(c.participant_kind(prefix("ros")), ParticipantKind::Ros);
+    assert_eq!(c.unsettled().unannounced, vec![p("plain"), p("ros")]);
+    assert!(c.unsettled().ros_outstanding());
+    c.update_participant_entities(msg("ros", vec![]));
+    c.update_participant_entities(msg("plain", vec![]));
+    assert!(c.is_consistent());
+    // The snapshot keeps what USER_DATA said.
+    let rebuilt = GraphCache::from_snapshot(c.snapshot());
+    assert_eq!(
+        rebuilt.participant_kind(prefix("bare")),
+        ParticipantKind::NotRos
+    );
+    assert!(rebuilt.is_consistent());
 }
