@@ -6,6 +6,7 @@ mod args;
 mod daemon;
 mod error;
 mod session;
+mod settle;
 mod verb;
 
 use std::io::IsTerminal;
@@ -29,10 +30,12 @@ Examples:
   horus-ros --json service list
   horus-ros daemon start
 
-Every command joins the DDS domain (ROS_DOMAIN_ID, or --domain-id) as a hidden node and waits up
-to --spin-time seconds for discovery. With `horus-ros daemon start`, a background process keeps
-the graph discovered: the query commands (node/topic/service list and info, service type/find,
-graph) then answer at once from it (--no-daemon: discover anyway). Logs: RUST_LOG=debug.";
+Every command joins the DDS domain (ROS_DOMAIN_ID, or --domain-id) as a hidden node and waits for
+discovery until the graph is complete: every ROS node announced, with its endpoints. The query
+commands (node/topic/service list and info, service type/find, graph) ask the daemon, a
+background process that keeps the graph discovered, and start it when it is not running, as
+ros2cli does: the next queries answer at once (--no-daemon: neither; discover directly;
+`horus-ros daemon stop` ends it). Logs: RUST_LOG=debug.";
 
 /// horus-ros: join a ROS 2 (Jazzy) graph over DDS and work with it from the shell.
 #[derive(Debug, Parser)]
@@ -58,8 +61,10 @@ pub struct Global {
     )]
     pub domain_id: Option<u32>,
 
-    /// Longest wait for discovery, in seconds (as ros2cli's --spin-time; we stop earlier once
-    /// the graph is quiet). Through the daemon: the longest wait for its graph to be consistent.
+    /// Discovery wait, in seconds (as ros2cli's --spin-time): the answer comes once the graph is
+    /// complete and quiet; while a ROS node or endpoint is known to be missing, the wait goes on
+    /// up to what a real Fast DDS node needs (4.6 s), or this if longer. Through the daemon: the
+    /// same wait on its graph.
     #[arg(
         long,
         global = true,
@@ -70,7 +75,7 @@ pub struct Global {
     )]
     pub spin_time: f64,
 
-    /// Do not use a running daemon (`horus-ros daemon start`): discover the graph directly.
+    /// Do not use nor start the daemon (`horus-ros daemon`): discover the graph directly.
     #[arg(long, global = true)]
     pub no_daemon: bool,
 

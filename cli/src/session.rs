@@ -1,23 +1,14 @@
-//! [`Session`]: the CLI's own hidden node on the graph, and the wait for discovery.
+//! [`Session`]: the CLI's own hidden node on the graph, and where the query verbs read the
+//! graph from ([`GraphSource`]: the daemon's, or a session's own).
 
 use std::sync::Arc;
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
-use horus_ros_graph::{Graph, GraphCache, Unsettled};
+use horus_ros_graph::{Graph, GraphCache};
 use horus_ros_rmw::{BackendError, Context, ContextError, Node};
 
+use crate::settle::{incomplete_warning, spin_time, Outstanding, Wait};
 use crate::{CliError, Global};
-
-/// The shortest discovery wait: peers answer a new participant's announcement within a few
-/// milliseconds, but not at once.
-const MIN_DISCOVERY: Duration = Duration::from_millis(120);
-/// The part of `--spin-time` always waited (when more than [`MIN_DISCOVERY`]): a peer that
-/// answers our announcement late (a loaded machine, a slow network) is not taken for absent
-/// when the user gave discovery more time.
-const MIN_DISCOVERY_SHARE: u32 = 10;
-/// Once what is known is consistent, the wait ends when nothing has changed for this long
-/// (participants not seen yet get this long to show up).
-const GRACE: Duration = Duration::from_millis(30);
 
 /// A context, a hidden node (`_horus_ros_<pid>`, as ros2cli's `_ros2cli_<pid>`), and the live
 /// graph seen from it.
@@ -30,12 +21,14 @@ pub struct Session {
     pub graph: Arc<Graph>,
     /// When the graph started following discovery.
     pub joined: Instant,
+    /// Which participants have been outstanding since when, until the session has settled.
+    outstanding: Option<Arc<Outstanding>>,
 }
 
 impl Session {
     /// Joins the domain and waits for discovery to settle (at most `--spin-time`).
     pub fn open(global: &Global) -> Result<Self, CliError> {
-        let session = Self::join(global)?;
+        let mut session = Self::join(global)?;
         session.settle(global);
         Ok(session)
     }
@@ -65,79 +58,46 @@ impl Session {
         })?;
         let node = context.create_node(node_name, "/")?;
         let graph = Graph::shared(&context)?;
+        let outstanding = Some(Outstanding::watch(&graph));
         Ok(Self {
             context,
             node,
             graph,
             joined: Instant::now(),
+            outstanding,
         })
     }
 
-    /// Waits for discovery, never longer than `--spin-time` (ros2cli always waits the whole
-    /// spin time; see [`wait_settled`]). When `--spin-time` runs out first, one line on stderr
-    /// says what is missing, so an incomplete answer is never silent.
-    pub fn settle(&self, global: &Global) {
-        let limit = spin_time(global);
-        let deadline = deadline_after(Instant::now(), limit);
-        let unsettled = wait_settled(&self.graph, self.joined, deadline);
-        if !unsettled.is_empty() {
-            eprintln!(
-                "{}",
-                incomplete_warning(limit, &unsettled, Hint::StartDaemon)
-            );
+    /// Waits for discovery (see [`crate::settle`]): until the graph is complete and quiet, at
+    /// most until its bounds. When a bound is hit first, one line on stderr says what is
+    /// missing, so an incomplete answer is never silent. The tracking of outstanding
+    /// participants ends here.
+    pub fn settle(&mut self, global: &Global) {
+        let outstanding = self
+            .outstanding
+            .take()
+            .unwrap_or_else(|| Outstanding::watch(&self.graph));
+        let wait = Wait {
+            graph: &self.graph,
+            outstanding: &outstanding,
+            joined: self.joined,
+            start: self.joined,
+            spin: spin_time(global),
+        };
+        if let Some(incomplete) = wait.run() {
+            eprintln!("{}", incomplete_warning(&incomplete));
         }
+    }
+
+    /// The tracker of outstanding participants, for a session that keeps waiting for its graph
+    /// (the daemon's).
+    pub fn outstanding(&self) -> Option<&Arc<Outstanding>> {
+        self.outstanding.as_ref()
     }
 }
 
-/// `--spin-time` as a duration (negative: none; too large for one: the longest there is).
-pub fn spin_time(global: &Global) -> Duration {
-    Duration::try_from_secs_f64(global.spin_time.max(0.0)).unwrap_or(Duration::MAX)
-}
-
-/// `start + limit`, or a moment far enough away when that cannot be represented.
-pub fn deadline_after(start: Instant, limit: Duration) -> Instant {
-    const FAR: Duration = Duration::from_secs(100 * 365 * 24 * 3600);
-    start
-        .checked_add(limit.min(FAR))
-        .unwrap_or(start + Duration::from_secs(24 * 3600))
-}
-
-/// Waits until `graph` (following discovery since `joined`) has settled, never past
-/// `deadline`, and returns what is still unsettled (nothing when it settled): at least
-/// [`MIN_DISCOVERY`] after `joined` (or a tenth of the time to `deadline`, if more), then until what is known is consistent (every
-/// participant, including one known only from its endpoints, has sent its
-/// `ros_discovery_info`, and every endpoint it lists is discovered) and has not changed for
-/// [`GRACE`]. Every wait is on the graph's change notification. A graph that has been
-/// consistent and quiet for a while (the daemon's) answers at once.
-pub fn wait_settled(graph: &Graph, joined: Instant, deadline: Instant) -> Unsettled {
-    loop {
-        let now = Instant::now();
-        if now >= deadline {
-            break;
-        }
-        let left = deadline - now;
-        let discovering_until = joined
-            + MIN_DISCOVERY.max(deadline.saturating_duration_since(joined) / MIN_DISCOVERY_SHARE);
-        if now < discovering_until {
-            graph.wait_for_graph_change((discovering_until - now).min(left));
-            continue;
-        }
-        if graph.read(|c| c.is_consistent()) {
-            let quiet_from = graph.last_change() + GRACE;
-            if now >= quiet_from {
-                return Unsettled::default();
-            }
-            graph.wait_for_graph_change((quiet_from - now).min(left));
-        } else {
-            // Woken by the change that may settle it, or at the deadline.
-            graph.wait_until(left, |c| c.is_consistent());
-        }
-    }
-    graph.read(|c| c.unsettled())
-}
-
-/// Where the query verbs read the graph from: a snapshot from the daemon when one runs for this
-/// domain and these discovery settings (`horus-ros daemon start`), else discovery of their own.
+/// Where the query verbs read the graph from: a snapshot from the daemon of this domain and
+/// these discovery settings (started on first use), else discovery of their own.
 pub enum GraphSource {
     /// This process's own participant and the graph it discovered.
     Direct(Box<Session>),
@@ -151,20 +111,17 @@ pub enum GraphSource {
 }
 
 impl GraphSource {
-    /// The daemon's graph when it runs (and `--no-daemon` is not given) and answers, else a
-    /// [`Session`] of our own, settled as [`Session::open`] does. A daemon that does not answer
-    /// properly costs one warning line on stderr, then discovery as without it; an incomplete
-    /// answer of the daemon (its graph did not settle within `--spin-time`) costs the same one
-    /// line as an incomplete discovery of our own.
+    /// The daemon's graph unless `--no-daemon` is given: from the daemon that runs for these
+    /// options, else from one started now (as ros2cli starts its daemon on first use; see
+    /// [`crate::daemon::client::graph_or_spawn`]). Else (`--no-daemon`, or a daemon that could
+    /// not be started or used, which costs one line on stderr) a [`Session`] of our own,
+    /// settled as [`Session::open`] does. An incomplete answer of the daemon (its wait hit a
+    /// bound) costs the same one line as an incomplete discovery of our own.
     pub fn open(global: &Global) -> Result<Self, CliError> {
         if !global.no_daemon {
-            if let Some(answer) = crate::daemon::client::graph(global) {
-                let unsettled = answer.cache.unsettled();
-                if !unsettled.is_empty() {
-                    eprintln!(
-                        "{}",
-                        incomplete_warning(spin_time(global), &unsettled, Hint::RaiseSpinTime)
-                    );
+            if let Some(answer) = crate::daemon::client::graph_or_spawn(global) {
+                if let Some(incomplete) = &answer.incomplete {
+                    eprintln!("{}", incomplete_warning(incomplete));
                 }
                 return Ok(Self::Daemon {
                     cache: answer.cache,
@@ -190,50 +147,4 @@ impl GraphSource {
             Self::Daemon { domain_id, .. } => *domain_id,
         }
     }
-}
-
-/// What an incomplete answer suggests.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Hint {
-    /// A longer wait, or the daemon (whose graph is warm).
-    StartDaemon,
-    /// A longer wait (the daemon already answers).
-    RaiseSpinTime,
-}
-
-/// The one stderr line for a discovery wait that ran out before the graph was consistent.
-pub fn incomplete_warning(limit: Duration, unsettled: &Unsettled, hint: Hint) -> String {
-    let mut missing = Vec::new();
-    match unsettled.unannounced.as_slice() {
-        [] => {}
-        [one] => missing.push(format!(
-            "participant {one} has not announced its nodes (ros_discovery_info)"
-        )),
-        many => missing.push(format!(
-            "{} participants have not announced their nodes",
-            many.len()
-        )),
-    }
-    match unsettled.missing_endpoints {
-        0 => {}
-        1 => missing.push("1 endpoint listed by a node is not discovered yet".to_owned()),
-        n => missing.push(format!(
-            "{n} endpoints listed by nodes are not discovered yet"
-        )),
-    }
-    format!(
-        "WARNING: discovery incomplete after --spin-time {}: {}; the answer may be incomplete \
-         ({})",
-        seconds(limit),
-        missing.join(", "),
-        match hint {
-            Hint::StartDaemon => "raise --spin-time, or run 'horus-ros daemon start'",
-            Hint::RaiseSpinTime => "raise --spin-time",
-        }
-    )
-}
-
-/// Seconds as `--spin-time` takes them (`0.5 s`).
-fn seconds(d: Duration) -> String {
-    format!("{} s", d.as_secs_f64())
 }

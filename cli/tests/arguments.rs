@@ -109,7 +109,15 @@ fn logs_written_to_a_pipe_are_plain_text() {
     // An unsupported RMW is reported through the error path; a warning from the library goes
     // through the log: ask for debug logs and read them from a pipe.
     let mut child = Command::new(env!("CARGO_BIN_EXE_horus-ros"))
-        .args(["--domain-id", "132", "--spin-time", "0.1", "node", "list"])
+        .args([
+            "--domain-id",
+            "132",
+            "--spin-time",
+            "0.1",
+            "--no-daemon",
+            "node",
+            "list",
+        ])
         .env("RUST_LOG", "debug")
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())

@@ -186,7 +186,13 @@ fn unsupported_rmw_implementation_is_a_clear_error() {
         (&["--backend", "cyclone", "node", "list", "-a"][..], None),
     ] {
         let mut command = horus_command(args, env_backend, Some("rmw_zenoh_cpp"));
-        command.args(["--domain-id", &D_OVERRIDE.to_string(), "--spin-time", "0.2"]);
+        command.args([
+            "--domain-id",
+            &D_OVERRIDE.to_string(),
+            "--spin-time",
+            "0.2",
+            "--no-daemon",
+        ]);
         let mut child = command
             .stdout(Stdio::piped())
             .stderr(Stdio::piped())

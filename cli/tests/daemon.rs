@@ -1,21 +1,24 @@
 //! `horus-ros daemon`: its lifecycle and messages (ros2cli's), answers through it equal to direct
 //! discovery's, a Fast DDS node answered at once, nodes leaving, the idle timeout, the daemon's
-//! settings keeping it to its own graph, and the fallback to direct discovery when the daemon is
-//! dead or does not answer.
+//! settings keeping it to its own graph, a query starting it when none runs, and the fallback to
+//! direct discovery when the daemon is dead or does not answer.
 //!
-//! Every daemon a test starts becomes a child of the test process (it is made the reaper of
-//! orphans), is found by its command line and guarded: it is killed by its pid and reaped when
-//! the guard drops, whatever the test's outcome. Each test has its own DDS domain. Run inside the
-//! private network namespace: `scripts/isolated cargo test -p horus-ros-cli --test daemon`.
+//! Commands run as a user types them (a query uses the daemon, and starts one when none runs).
+//! Every daemon a test starts, explicitly or by a query, becomes a child of the test process (it
+//! is made the reaper of orphans), is found by its command line and guarded: it is killed by its
+//! pid and reaped when the guard drops, whatever the test's outcome (`common::daemon`). Each test
+//! has its own DDS domain. Run inside the private network namespace:
+//! `scripts/isolated cargo test -p horus-ros-cli --test daemon`.
 
 mod common;
 
-use std::process::{Child, Command, Stdio};
-use std::sync::mpsc::{self, Receiver};
-use std::sync::Once;
+use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-use common::{expect, horus, Peer, Run, LINGER, RUN_LIMIT, SETTLE};
+use common::daemon::{adopt_orphans, daemon_children, DaemonGuard, EXIT_LIMIT};
+use common::{
+    expect_as_typed as expect, horus_as_typed as horus, Peer, Run, LINGER, RUN_LIMIT, SETTLE,
+};
 use horus_ros_msgs::builtin_interfaces::msg::Time;
 use horus_ros_msgs::example_interfaces::srv::AddTwoInts;
 use horus_ros_msgs::Message;
@@ -24,126 +27,12 @@ use horus_ros_rmw::Context;
 use horus_ros_services::ServiceServerBuilder;
 use horus_ros_test_support::wait_with_output;
 use interop_tests::fastdds::FastDdsPeer;
-use nix::sys::signal::{kill, Signal};
-use nix::sys::wait::{waitpid, WaitStatus};
+use nix::sys::signal::Signal;
+use nix::sys::wait::WaitStatus;
 use nix::unistd::Pid;
 use serde_json::Value;
-
-/// How long a daemon may take to exit once it should.
-const EXIT_LIMIT: Duration = Duration::from_secs(20);
 /// How long a daemon's graph may take to show a Fast DDS peer's node.
 const FAST_DDS_WARM_UP: Duration = Duration::from_secs(20);
-
-/// Makes this process the reaper of its descendants' orphans, so that a daemon (left by
-/// `daemon start` when it exits) becomes its child: it can then be waited for and reaped, and
-/// its pid cannot be reused while the guard holds it.
-fn adopt_orphans() {
-    static ONCE: Once = Once::new();
-    ONCE.call_once(|| {
-        nix::sys::prctl::set_child_subreaper(true).expect("PR_SET_CHILD_SUBREAPER");
-    });
-}
-
-/// A daemon process of this test: killed (SIGKILL, by pid) and reaped when dropped, unless it
-/// has exited and been reaped already.
-struct DaemonGuard {
-    pid: u32,
-    exit: Receiver<WaitStatus>,
-    reaped: Option<WaitStatus>,
-}
-
-impl DaemonGuard {
-    /// The daemon of `domain` among this process's children (there must be exactly one).
-    fn adopt(domain: u32) -> Self {
-        let pids = daemon_children(domain);
-        assert_eq!(
-            pids.len(),
-            1,
-            "daemons of domain {domain} among our children: {pids:?}"
-        );
-        let pid = pids[0];
-        let (tx, exit) = mpsc::channel();
-        std::thread::spawn(move || loop {
-            match waitpid(Pid::from_raw(pid as i32), None) {
-                Ok(status @ (WaitStatus::Exited(..) | WaitStatus::Signaled(..))) => {
-                    let _ = tx.send(status);
-                    return;
-                }
-                Ok(_) | Err(nix::errno::Errno::EINTR) => {}
-                Err(_) => return,
-            }
-        });
-        Self {
-            pid,
-            exit,
-            reaped: None,
-        }
-    }
-
-    /// Waits at most `limit` for the daemon to exit; its exit status if it did.
-    fn wait_exit(&mut self, limit: Duration) -> Option<WaitStatus> {
-        if self.reaped.is_none() {
-            self.reaped = self.exit.recv_timeout(limit).ok();
-        }
-        self.reaped
-    }
-
-    /// Sends `signal` to the daemon (it must not have been reaped).
-    fn signal(&self, signal: Signal) {
-        assert!(self.reaped.is_none(), "the daemon was reaped already");
-        kill(Pid::from_raw(self.pid as i32), signal).expect("signal the daemon");
-    }
-}
-
-impl Drop for DaemonGuard {
-    fn drop(&mut self) {
-        if self.reaped.is_none() {
-            let pid = Pid::from_raw(self.pid as i32);
-            // Not reaped, so the pid is still this daemon (a zombie at worst).
-            let _ = kill(pid, Signal::SIGKILL);
-            let _ = kill(pid, Signal::SIGCONT);
-            let _ = self.exit.recv_timeout(EXIT_LIMIT);
-        }
-    }
-}
-
-/// The pids of this process's children that are `horus-ros … daemon _run` of `domain`.
-fn daemon_children(domain: u32) -> Vec<u32> {
-    let me = std::process::id();
-    let domain = domain.to_string();
-    let mut found = Vec::new();
-    for entry in std::fs::read_dir("/proc").expect("/proc").flatten() {
-        let Ok(pid) = entry.file_name().to_string_lossy().parse::<u32>() else {
-            continue;
-        };
-        let Ok(stat) = std::fs::read_to_string(entry.path().join("stat")) else {
-            continue;
-        };
-        // `pid (comm) state ppid …`: the command may hold spaces and parentheses.
-        let Some((_, rest)) = stat.rsplit_once(')') else {
-            continue;
-        };
-        let ppid = rest.split_whitespace().nth(1).and_then(|p| p.parse().ok());
-        if ppid != Some(me) {
-            continue;
-        }
-        let Ok(cmdline) = std::fs::read(entry.path().join("cmdline")) else {
-            continue;
-        };
-        let args: Vec<String> = cmdline
-            .split(|b| *b == 0)
-            .map(|a| String::from_utf8_lossy(a).into_owned())
-            .collect();
-        let is_run = args.windows(2).any(|w| w[0] == "daemon" && w[1] == "_run");
-        let in_domain = args
-            .windows(2)
-            .any(|w| w[0] == "--domain-id" && w[1] == domain);
-        if is_run && in_domain {
-            found.push(pid);
-        }
-    }
-    found
-}
 
 /// `horus-ros --domain-id <domain> <args…>` with `env` added.
 fn horus_env(domain: u32, env: &[(&str, &str)], args: &[&str]) -> Run {
@@ -444,7 +333,7 @@ fn idle_timeout_ends_it() {
 }
 
 #[test]
-fn killed_daemon_means_direct_discovery() {
+fn killed_daemon_is_replaced_by_the_next_query() {
     const D: u32 = 186;
     let ctx = context(D);
     let _node = ctx.create_node("here", "/").expect("node");
@@ -456,9 +345,13 @@ fn killed_daemon_means_direct_discovery() {
         Some(WaitStatus::Signaled(_, Signal::SIGKILL, _))
     ));
     // Its socket went with it: the daemon is simply not running, as if never started.
-    let run = horus(D, &["node", "list", "-a"]);
-    assert_eq!(run.code, Some(0), "{run:?}");
-    assert_eq!(run.stderr, "", "{run:?}");
+    assert_eq!(
+        horus(D, &["daemon", "status"]).stdout,
+        "The daemon is not running\n"
+    );
+    // `--no-daemon` discovers directly, says nothing more, and starts no daemon.
+    let run = horus(D, &["--no-daemon", "node", "list", "-a"]);
+    assert_eq!((run.code, run.stderr.as_str()), (Some(0), ""), "{run:?}");
     // Our own node in the list: this answer is our own discovery's.
     assert!(
         run.stdout
@@ -467,11 +360,22 @@ fn killed_daemon_means_direct_discovery() {
         "{run:?}"
     );
     assert_eq!(
-        horus(D, &["daemon", "status"]).stdout,
-        "The daemon is not running\n"
+        daemon_children(D),
+        Vec::<u32>::new(),
+        "--no-daemon started one"
     );
-    // And a new one can start.
-    let _again = start_daemon(D, &[], &[]);
+    // The next query starts a new daemon (as ros2cli does on first use) and is answered by it,
+    // completely: the new daemon waited for its graph before answering.
+    let run = horus(D, &["node", "list", "-a"]);
+    let again = DaemonGuard::adopt(D);
+    assert_ne!(again.pid, daemon.pid);
+    assert_eq!((run.code, run.stderr.as_str()), (Some(0), ""), "{run:?}");
+    let node = status_json(D, &[])["node_name"]
+        .as_str()
+        .expect("node_name")
+        .to_owned();
+    assert_eq!(run.stdout, format!("/{node}\n/here\n"), "{run:?}");
+    assert_eq!(status_json(D, &[])["pid"], Value::from(again.pid));
     assert_eq!(
         horus(D, &["daemon", "stop"]).stdout,
         "The daemon has been stopped\n"
@@ -554,67 +458,67 @@ fn daemon_serves_only_its_discovery_settings() {
     // Whatever range the environment sets (scripts/test may set LOCALHOST), static peers make
     // another graph.
     let peers = [("ROS_STATIC_PEERS", "127.0.0.1")];
-    let _daemon = start_daemon(D, &peers, &[]);
+    let daemon = start_daemon(D, &peers, &[]);
     let status = status_json(D, &peers);
     assert_eq!(
         status["static_peers"],
         serde_json::json!(["127.0.0.1"]),
         "{status}"
     );
+    // The same settings use it.
+    let node = status["node_name"].as_str().expect("node_name").to_owned();
+    let run = horus_env(D, &peers, &["node", "list", "-a"]);
+    assert_eq!(run.stdout, format!("/{node}\n"), "{run:?}");
     // Other discovery settings are another graph: that daemon is not this command's.
     let run = horus(D, &["daemon", "status"]);
     assert_eq!(run.stdout, "The daemon is not running\n");
+    // A query with them starts a daemon of their own, which answers it.
     let run = horus(D, &["node", "list", "-a"]);
-    assert_eq!(run.stderr, "", "{run:?}");
-    assert!(
-        run.stdout
-            .lines()
-            .any(|l| l == format!("/_horus_ros_{}", run.pid)),
-        "not answered by its own discovery: {run:?}"
+    let other = DaemonGuard::adopt_except(D, &[daemon.pid]);
+    assert_eq!((run.code, run.stderr.as_str()), (Some(0), ""), "{run:?}");
+    let other_status = status_json(D, &[]);
+    assert_eq!(
+        other_status["pid"],
+        Value::from(other.pid),
+        "{other_status}"
     );
-    // The same settings use it.
-    let node = status["node_name"].as_str().expect("node_name").to_owned();
-    // The direct run above has left; the daemon may hear of it (its participant's dispose) a
-    // little after this command asks.
-    let want = format!("/{node}\n");
-    let deadline = Instant::now() + SETTLE;
-    let run = loop {
-        let run = horus_env(D, &peers, &["node", "list", "-a"]);
-        if run.stdout == want || Instant::now() >= deadline {
-            break run;
-        }
-    };
-    assert_eq!(run.stdout, want, "{run:?}");
-    let run = horus_env(D, &peers, &["daemon", "stop"]);
-    assert_eq!(run.stdout, "The daemon has been stopped\n");
+    assert_eq!(other_status["static_peers"], serde_json::json!([]));
+    let other_node = other_status["node_name"].as_str().expect("node_name");
+    assert!(
+        run.stdout.lines().any(|l| l == format!("/{other_node}")),
+        "not answered by its own daemon: {run:?}"
+    );
+    for env in [&[][..], &peers[..]] {
+        let run = horus_env(D, env, &["daemon", "stop"]);
+        assert_eq!(run.stdout, "The daemon has been stopped\n", "{env:?}");
+    }
 }
 
-/// A DDS participant that never announces nodes (a bare Cyclone DDS application).
-struct BareParticipant(Child);
-
-impl Drop for BareParticipant {
-    fn drop(&mut self) {
-        let _ = self.0.kill();
-        let _ = self.0.wait();
-    }
+/// The warning of an answer given before a ROS participant announced its nodes, after the
+/// wait's bound (`--spin-time 0.2` is shorter: the bound is what the protocol needs).
+fn is_unannounced_warning(stderr: &str, gid: &str) -> bool {
+    stderr
+        == format!(
+            "WARNING: discovery incomplete after 4.605 s: participant {gid} has not announced \
+             its nodes (ros_discovery_info); the answer may be incomplete (raise --spin-time)\n"
+        )
 }
 
 #[test]
 fn incomplete_daemon_graph_gives_the_same_warning() {
     const D: u32 = 180;
     let _daemon = start_daemon(D, &[], &[]);
-    // It reads ros_discovery_info but publishes none, so the graph cannot become consistent.
-    let _bare = BareParticipant(
-        Command::new(common::python())
-            .arg(common::peer_script("cyclone_discovery_info.py"))
-            .args([&D.to_string(), "/", "never_there", "0", "0", "60"])
-            .env("CYCLONEDDS_URI", common::cyclone_config())
-            .stdout(Stdio::null())
-            .stderr(Stdio::inherit())
-            .spawn()
-            .expect("start the bare participant"),
+    // It says it is a ROS participant (enclave, ros_discovery_info writer) but never announces
+    // its nodes, so the graph cannot become complete.
+    let d = D.to_string();
+    let silent = Peer::start_path(
+        &common::cli_peer_script("bare_participant.py"),
+        &[&d, "silent_ros", LINGER],
+        common::PEER_START,
     );
-    let deadline = Instant::now() + SETTLE;
+    let gid = silent.field("/gid");
+    // Once the daemon has seen it, its answer waits for it up to the bound, then says so.
+    let deadline = Instant::now() + SETTLE.saturating_mul(3);
     let run = loop {
         let run = horus(D, &["--spin-time", "0.2", "node", "list"]);
         if !run.stderr.is_empty() || Instant::now() >= deadline {
@@ -623,13 +527,14 @@ fn incomplete_daemon_graph_gives_the_same_warning() {
         std::thread::sleep(Duration::from_millis(100));
     };
     assert_eq!(run.code, Some(0), "{run:?}");
-    assert!(
-        run.stderr
-            .starts_with("WARNING: discovery incomplete after --spin-time 0.2 s: participant ")
-            && run.stderr.ends_with(
-                " has not announced its nodes (ros_discovery_info); the answer may be \
-                 incomplete (raise --spin-time)\n"
-            ),
-        "{run:?}"
-    );
+    assert!(is_unannounced_warning(&run.stderr, &gid), "{run:?}");
+    // Past its bound the participant no longer holds the daemon's answers; each still says it
+    // is incomplete.
+    let run = horus(D, &["node", "list"]);
+    assert_eq!(run.code, Some(0), "{run:?}");
+    assert!(is_unannounced_warning(&run.stderr, &gid), "{run:?}");
+    // The same wait and warning without the daemon.
+    let run = horus(D, &["--no-daemon", "--spin-time", "0.2", "node", "list"]);
+    assert_eq!(run.code, Some(0), "{run:?}");
+    assert!(is_unannounced_warning(&run.stderr, &gid), "{run:?}");
 }

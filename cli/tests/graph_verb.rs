@@ -103,6 +103,8 @@ fn run(domain: u32, args: &[&str]) -> Run {
     let mut command = horus_ros();
     command
         .args(["--domain-id", &domain.to_string(), "--spin-time", SPIN_TIME])
+        // Its own discovery: no daemon used or started.
+        .arg("--no-daemon")
         .args(args);
     run_command(command)
 }

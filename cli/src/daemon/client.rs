@@ -16,12 +16,14 @@ use nix::sys::socket::{self, sockopt, AddressFamily, SockFlag, SockType, UnixAdd
 use super::protocol::{
     self, FrameError, Request, RequestFrame, Response, ResponseFrame, Status, MAX_RESPONSE,
 };
+use super::spawn::{spawn, SpawnError, Spawned};
 use super::DaemonKey;
-use crate::session::{deadline_after, spin_time};
+use super::DEFAULT_IDLE_TIMEOUT;
+use crate::settle::{deadline_after, longest_wait, spin_time, Incomplete};
 use crate::Global;
 
-/// How long a daemon may take to answer beyond the wait it was asked for (`--spin-time` for a
-/// graph request; nothing for the others).
+/// How long a daemon may take to answer beyond the wait it was asked for (its discovery wait
+/// for a graph request; nothing for the others).
 const ANSWER_MARGIN: Duration = Duration::from_secs(2);
 /// How long sending a request may block.
 const WRITE_TIMEOUT: Duration = Duration::from_secs(2);
@@ -189,15 +191,64 @@ pub struct DaemonGraph {
     pub cache: GraphCache,
     /// Its domain.
     pub domain_id: u16,
+    /// What was missing when the daemon's wait hit a bound (`None`: complete).
+    pub incomplete: Option<Incomplete>,
 }
 
-/// The daemon's graph for these options, if a daemon runs for them: `None` when none runs (or
-/// the options name no valid domain: the direct path reports that), and `None` after one line
-/// on stderr when it does not answer properly.
-pub fn graph(global: &Global) -> Option<DaemonGraph> {
+/// How asking for the daemon's graph went.
+#[derive(Debug)]
+pub enum GraphAnswer {
+    /// It answered.
+    Answered(Box<DaemonGraph>),
+    /// No daemon runs for these options (or they name no valid graph: the direct path reports
+    /// that).
+    NotRunning,
+    /// It runs but could not be used; one line on stderr said why.
+    Unusable,
+}
+
+/// The daemon's graph for these options, as ros2cli's `NodeStrategy` gets it: from the daemon
+/// when one runs; when none does, from one started now (as `daemon start` would, with its
+/// default idle timeout). `None` after one line on stderr when the daemon could not be started
+/// or used: the caller then discovers the graph itself.
+pub fn graph_or_spawn(global: &Global) -> Option<DaemonGraph> {
+    match graph(global) {
+        GraphAnswer::Answered(graph) => return Some(*graph),
+        GraphAnswer::Unusable => return None,
+        GraphAnswer::NotRunning => {}
+    }
     let key = DaemonKey::of(global).ok()?;
+    match spawn(&key, DEFAULT_IDLE_TIMEOUT, false) {
+        Ok(Spawned::Ready(_) | Spawned::AlreadyRunning) => match graph(global) {
+            GraphAnswer::Answered(graph) => Some(*graph),
+            GraphAnswer::Unusable => None,
+            GraphAnswer::NotRunning => {
+                eprintln!(
+                    "WARNING: the daemon stopped as it was started; discovering the graph directly"
+                );
+                None
+            }
+        },
+        Err(e) => {
+            spawn_failed(&e);
+            None
+        }
+    }
+}
+
+/// The one line for a daemon that could not be started.
+fn spawn_failed(e: &SpawnError) {
+    eprintln!("WARNING: could not start the daemon ({e}); discovering the graph directly");
+}
+
+/// The daemon's graph for these options, if a daemon runs for them (after one line on stderr
+/// when it does not answer properly).
+pub fn graph(global: &Global) -> GraphAnswer {
+    let Ok(key) = DaemonKey::of(global) else {
+        return GraphAnswer::NotRunning;
+    };
     match ask_graph(&key, spin_time(global)) {
-        Ok(Some(cache)) => {
+        Ok(Some((cache, incomplete))) => {
             // What the context would have warned about (ROS_LOCALHOST_ONLY's deprecation…).
             if let Ok(environment) =
                 horus_ros_rmw::context::env::read_environment(|k| std::env::var(k).ok())
@@ -206,29 +257,39 @@ pub fn graph(global: &Global) -> Option<DaemonGraph> {
                     tracing::warn!("{w}");
                 }
             }
-            Some(DaemonGraph {
+            GraphAnswer::Answered(Box::new(DaemonGraph {
                 cache,
                 domain_id: key.domain_id,
-            })
+                incomplete,
+            }))
         }
-        Ok(None) => None,
+        Ok(None) => GraphAnswer::NotRunning,
         Err(e) => {
             eprintln!("WARNING: {e}; discovering the graph directly");
-            None
+            GraphAnswer::Unusable
         }
     }
 }
 
-/// Asks the daemon of `key` for its graph, letting it wait up to `spin` for the graph to be
-/// consistent.
-fn ask_graph(key: &DaemonKey, spin: Duration) -> Result<Option<GraphCache>, ClientError> {
+/// Asks the daemon of `key` for its graph, letting it wait for completeness as a command with
+/// `--spin-time` `spin` would.
+fn ask_graph(
+    key: &DaemonKey,
+    spin: Duration,
+) -> Result<Option<(GraphCache, Option<Incomplete>)>, ClientError> {
     let Some(mut connection) = connect(key)? else {
         return Ok(None);
     };
     let spin_time_ms = u64::try_from(spin.as_millis()).unwrap_or(u64::MAX);
-    let deadline = deadline_after(Instant::now(), spin.saturating_add(ANSWER_MARGIN));
+    let deadline = deadline_after(
+        Instant::now(),
+        longest_wait(spin).saturating_add(ANSWER_MARGIN),
+    );
     match connection.ask(key, Request::Graph { spin_time_ms }, deadline)? {
-        Response::Graph { snapshot } => Ok(Some(GraphCache::from_snapshot(snapshot))),
+        Response::Graph {
+            snapshot,
+            incomplete,
+        } => Ok(Some((GraphCache::from_snapshot(snapshot), incomplete))),
         _ => Err(ClientError::Unexpected {
             pid: connection.pid,
         }),

@@ -15,6 +15,7 @@
 pub mod client;
 pub mod protocol;
 pub mod server;
+pub mod spawn;
 
 use std::os::linux::net::SocketAddrExt;
 use std::os::unix::net::SocketAddr;

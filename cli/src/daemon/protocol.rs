@@ -12,9 +12,10 @@ use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 
 use super::DaemonKey;
+use crate::settle::Incomplete;
 
 /// The protocol version; a daemon answers only requests of its own version.
-pub const VERSION: u32 = 1;
+pub const VERSION: u32 = 2;
 /// The largest request frame.
 pub const MAX_REQUEST: usize = 64 * 1024;
 /// The largest response frame (a graph of tens of thousands of endpoints fits).
@@ -37,7 +38,8 @@ pub struct RequestFrame {
 pub enum Request {
     /// Who the daemon is (does not count as activity, as ros2cli's `system.listMethods`).
     Status,
-    /// The graph, once consistent: the daemon waits at most `spin_time_ms` for that.
+    /// The graph, once complete: the daemon waits for that as a command does for its own
+    /// graph (`crate::settle`), with the client's `--spin-time`.
     Graph {
         /// The client's `--spin-time`, in milliseconds.
         spin_time_ms: u64,
@@ -66,6 +68,8 @@ pub enum Response {
     Graph {
         /// Everything its graph holds.
         snapshot: GraphSnapshot,
+        /// What was still missing when its wait hit a bound (`None`: complete).
+        incomplete: Option<Incomplete>,
     },
     /// It is stopping.
     ShuttingDown,
@@ -230,6 +234,13 @@ mod tests {
             version: VERSION,
             response: Response::Graph {
                 snapshot: GraphSnapshot::default(),
+                incomplete: Some(Incomplete {
+                    unsettled: horus_ros_graph::Unsettled {
+                        missing_endpoints: 2,
+                        ..Default::default()
+                    },
+                    bound_ms: 4605,
+                }),
             },
         };
         write_frame(&mut b, &response).expect("write");
@@ -251,11 +262,11 @@ mod tests {
         let (mut a, mut b) = UnixStream::pair().expect("pair");
         write_frame(
             &mut a,
-            &serde_json::json!({"version": 2, "anything": "else"}),
+            &serde_json::json!({"version": 1, "anything": "else"}),
         )
         .expect("write");
         let got = read_frame::<RequestFrame>(&mut b, MAX_REQUEST, soon());
-        assert!(matches!(got, Err(FrameError::Version(2))), "{got:?}");
+        assert!(matches!(got, Err(FrameError::Version(1))), "{got:?}");
     }
 
     #[test]

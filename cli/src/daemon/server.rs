@@ -21,7 +21,8 @@ use super::protocol::{
     self, FrameError, Request, RequestFrame, Response, ResponseFrame, Status, MAX_REQUEST,
 };
 use super::DaemonKey;
-use crate::session::{deadline_after, wait_settled, Session};
+use crate::session::Session;
+use crate::settle::{deadline_after, Outstanding, Wait};
 use crate::{CliError, Global};
 
 /// What the daemon prints on its stdout (a pipe `daemon start` reads) once it serves.
@@ -80,6 +81,10 @@ pub fn run(global: &Global, idle_timeout: Duration) -> Result<(), CliError> {
         },
         started,
         joined: session.joined,
+        outstanding: session
+            .outstanding()
+            .cloned()
+            .unwrap_or_else(|| Outstanding::watch(&session.graph)),
         graph: Mutex::new(Some(Arc::clone(&session.graph))),
         state: Mutex::new(State {
             last_activity: Instant::now(),
@@ -164,6 +169,8 @@ struct Shared {
     started: Instant,
     /// When its graph started following discovery.
     joined: Instant,
+    /// Which participants of the graph have been outstanding since when.
+    outstanding: Arc<Outstanding>,
     /// The live graph; `None` once stopping.
     graph: Mutex<Option<Arc<Graph>>>,
     /// What changes.
@@ -374,19 +381,31 @@ fn serve_client(shared: &Shared, mut stream: UnixStream) {
                 );
                 return;
             };
-            let wait = Duration::from_millis(spin_time_ms).min(MAX_GRAPH_WAIT);
             let asked = Instant::now();
-            let unsettled = wait_settled(&graph, shared.joined, deadline_after(asked, wait));
+            let incomplete = Wait {
+                graph: &graph,
+                outstanding: &shared.outstanding,
+                joined: shared.joined,
+                start: asked,
+                spin: Duration::from_millis(spin_time_ms).min(MAX_GRAPH_WAIT),
+            }
+            .run();
             let snapshot = graph.read(|c| c.snapshot());
             drop(graph);
             drop(in_progress);
             tracing::info!(
                 waited_ms = asked.elapsed().as_secs_f64() * 1e3,
-                settled = unsettled.is_empty(),
+                complete = incomplete.is_none(),
                 endpoints = snapshot.endpoints.len(),
                 "graph"
             );
-            answer(&mut stream, Response::Graph { snapshot });
+            answer(
+                &mut stream,
+                Response::Graph {
+                    snapshot,
+                    incomplete,
+                },
+            );
         }
         Request::Shutdown => {
             tracing::info!("Remote shutdown requested");

@@ -1,9 +1,6 @@
 //! `horus-ros daemon start|stop|status` (ros2cli `verb/daemon/{start,stop,status}.py`, Jazzy):
 //! the daemon that keeps the graph discovered for the query verbs (see `crate::daemon`).
 
-use std::io::{BufRead, BufReader};
-use std::process::{Command, Stdio};
-use std::sync::mpsc::{self, RecvTimeoutError};
 use std::time::{Duration, Instant};
 
 use clap::Subcommand;
@@ -11,6 +8,7 @@ use serde_json::json;
 
 use crate::daemon::client::{self, ClientError};
 use crate::daemon::protocol::{Request, Response, Status};
+use crate::daemon::spawn::{spawn, Spawned};
 use crate::daemon::{server, DaemonKey, DEFAULT_IDLE_TIMEOUT, START_STOP_TIMEOUT};
 use crate::verb::names;
 use crate::{CliError, Global};
@@ -20,9 +18,10 @@ use crate::{CliError, Global};
 #[command(after_help = "\
 One daemon runs per user, domain, backend and discovery settings (ROS_AUTOMATIC_DISCOVERY_RANGE,
 ROS_STATIC_PEERS, ROS_LOCALHOST_ONLY, CYCLONEDDS_URI on Cyclone DDS): `start`, `stop` and
-`status` act on the one these options and this environment name. While it runs, `node list|info`,
-`topic list|info`, `service list|type|find|info` and `graph` answer from its graph (--no-daemon:
-discover directly). It stops by itself after --idle-timeout seconds without such a query.")]
+`status` act on the one these options and this environment name. `node list|info`,
+`topic list|info`, `service list|type|find|info` and `graph` answer from its graph, and start it
+when it does not run, as ros2cli does (--no-daemon: neither; discover directly). It stops by
+itself after --idle-timeout seconds without such a query.")]
 pub enum DaemonCommand {
     /// Start the daemon if it isn't running.
     Start(StartArgs),
@@ -153,7 +152,9 @@ fn start(global: &Global, args: &StartArgs) -> Result<(), CliError> {
     let key = DaemonKey::of(global)?;
     let (started, pid) = match client::status(&key).map_err(unusable)? {
         Some(status) => (false, status.pid),
-        None => match spawn(&key, args)? {
+        None => match spawn(&key, Duration::from_secs(args.idle_timeout), args.debug)
+            .map_err(|e| CliError::new(e.to_string()))?
+        {
             Spawned::Ready(pid) => (true, pid),
             // Another `daemon start` won the socket meanwhile.
             Spawned::AlreadyRunning => match client::status(&key).map_err(unusable)? {
@@ -174,85 +175,4 @@ fn start(global: &Global, args: &StartArgs) -> Result<(), CliError> {
         }
     );
     Ok(())
-}
-
-/// How spawning the daemon went.
-enum Spawned {
-    /// It serves, with this process id.
-    Ready(u32),
-    /// Another daemon held the socket.
-    AlreadyRunning,
-}
-
-/// Starts `horus-ros daemon _run` for this graph, detached (it makes itself a session leader;
-/// stdin and stderr on `/dev/null` unless `--debug`), and waits for its first line.
-fn spawn(key: &DaemonKey, args: &StartArgs) -> Result<Spawned, CliError> {
-    let exe = std::env::current_exe()
-        .map_err(|e| CliError::new(format!("could not find the horus-ros binary: {e}")))?;
-    let mut command = Command::new(exe);
-    command
-        .arg("--domain-id")
-        .arg(key.domain_id.to_string())
-        .arg("--backend")
-        .arg(&key.backend)
-        .args(["daemon", "_run", "--idle-timeout"])
-        .arg(args.idle_timeout.to_string())
-        .stdin(Stdio::null())
-        .stdout(Stdio::piped());
-    if args.debug {
-        command.stderr(Stdio::inherit());
-        if std::env::var_os("RUST_LOG").is_none() {
-            command.env("RUST_LOG", "info");
-        }
-    } else {
-        command.stderr(Stdio::null());
-    }
-    let mut child = command
-        .spawn()
-        .map_err(|e| CliError::new(format!("could not start the daemon: {e}")))?;
-    let stdout = child
-        .stdout
-        .take()
-        .ok_or_else(|| CliError::new("could not read the daemon's output"))?;
-    let (tx, rx) = mpsc::channel();
-    std::thread::spawn(move || {
-        let mut line = String::new();
-        let read = BufReader::new(stdout).read_line(&mut line).map(|_| line);
-        let _ = tx.send(read);
-    });
-    let line = match rx.recv_timeout(START_STOP_TIMEOUT) {
-        Ok(Ok(line)) => line,
-        Ok(Err(e)) => {
-            let _ = child.kill();
-            let _ = child.wait();
-            return Err(CliError::new(format!(
-                "could not read the daemon's output: {e}"
-            )));
-        }
-        Err(RecvTimeoutError::Timeout | RecvTimeoutError::Disconnected) => {
-            let _ = child.kill();
-            let _ = child.wait();
-            return Err(CliError::new(
-                "Timed out waiting for daemon to become ready",
-            ));
-        }
-    };
-    let line = line.trim_end();
-    if line == server::READY {
-        // Left running: it is reparented when this process exits.
-        return Ok(Spawned::Ready(child.id()));
-    }
-    let status = child.wait();
-    if line == server::ALREADY_RUNNING {
-        return Ok(Spawned::AlreadyRunning);
-    }
-    if let Some(reason) = line.strip_prefix(server::FAILED) {
-        return Err(CliError::new(format!(
-            "The daemon could not start: {reason}"
-        )));
-    }
-    Err(CliError::new(match status.ok().and_then(|s| s.code()) {
-        Some(code) => format!("Daemon process died with returncode {code}"),
-        None => "Daemon process died".to_owned(),
-    }))
 }

@@ -5,6 +5,8 @@
 
 #![allow(dead_code)]
 
+pub mod daemon;
+
 use std::io::{BufRead, BufReader};
 use std::path::PathBuf;
 use std::process::{Child, Command, Stdio};
@@ -41,6 +43,13 @@ pub fn peer_script(name: &str) -> PathBuf {
         .join(name)
 }
 
+/// `cli/tests/peers/<name>`: the CLI's own peers (a real rclpy node, bare DDS participants).
+pub fn cli_peer_script(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/peers")
+        .join(name)
+}
+
 /// Cyclone DDS configuration for the peers: loopback only, with multicast (a copy of
 /// `interop_tests::cyclone_config()`).
 pub fn cyclone_config() -> String {
@@ -50,26 +59,36 @@ pub fn cyclone_config() -> String {
         .to_owned()
 }
 
-/// A running Cyclone DDS peer and the JSON line it printed at start (its GIDs); killed when
-/// dropped.
+/// A running peer (a Python program) and the JSON line it printed at start (its GIDs); its stdin
+/// is a pipe held open while it runs; killed when dropped.
 pub struct Peer {
     child: Child,
+    _stdin: Option<std::process::ChildStdin>,
     /// The peer's first line, parsed.
     pub created: Value,
     lines: mpsc::Receiver<String>,
 }
 
 impl Peer {
-    /// Starts `script` with `args` and waits for its first JSON line.
+    /// Starts `interop-tests/peers/<script>` with `args` and waits for its first JSON line.
     pub fn start(script: &str, args: &[&str]) -> Self {
+        Self::start_path(&peer_script(script), args, PEER_START)
+    }
+
+    /// Starts the Python program at `path` with `args` and waits at most `limit` for its first
+    /// JSON line.
+    pub fn start_path(path: &std::path::Path, args: &[&str], limit: Duration) -> Self {
+        let script = path.display();
         let mut child = Command::new(python())
-            .arg(peer_script(script))
+            .arg(path)
             .args(args)
             .env("CYCLONEDDS_URI", cyclone_config())
+            .stdin(Stdio::piped())
             .stdout(Stdio::piped())
             .stderr(Stdio::inherit())
             .spawn()
             .unwrap_or_else(|e| panic!("start {script} with {:?}: {e}", python()));
+        let stdin = child.stdin.take();
         let stdout = child.stdout.take().expect("piped stdout");
         let (tx, rx) = mpsc::channel();
         std::thread::spawn(move || {
@@ -80,18 +99,19 @@ impl Peer {
                 }
             }
         });
-        let line = match rx.recv_timeout(PEER_START) {
+        let line = match rx.recv_timeout(limit) {
             Ok(line) => line,
             Err(_) => {
                 let _ = child.kill();
                 let _ = child.wait();
-                panic!("{script} printed nothing within {PEER_START:?}");
+                panic!("{script} printed nothing within {limit:?}");
             }
         };
         let created = serde_json::from_str(line.trim())
             .unwrap_or_else(|e| panic!("{script} printed {line:?}: {e}"));
         Self {
             child,
+            _stdin: stdin,
             created,
             lines: rx,
         }
@@ -142,9 +162,19 @@ pub struct Run {
 /// far above any `--spin-time` or `--timeout` the tests give.
 pub const RUN_LIMIT: Duration = Duration::from_secs(120);
 
-/// Runs `horus-ros --domain-id <domain> <args…>` (inside the test's namespace), at most
-/// [`RUN_LIMIT`].
+/// Runs `horus-ros --domain-id <domain> --no-daemon <args…>` (inside the test's namespace), at
+/// most [`RUN_LIMIT`]: a command that discovers the graph itself and neither uses nor starts a
+/// daemon (what a query did before queries started the daemon).
 pub fn horus(domain: u32, args: &[&str]) -> Run {
+    let mut all = vec!["--no-daemon"];
+    all.extend_from_slice(args);
+    horus_as_typed(domain, &all)
+}
+
+/// Runs `horus-ros --domain-id <domain> <args…>` as a user types it: a query uses the daemon of
+/// its graph and starts one when none runs (guard it: [`daemon::DaemonGuard`]). At most
+/// [`RUN_LIMIT`].
+pub fn horus_as_typed(domain: u32, args: &[&str]) -> Run {
     let mut child = Command::new(env!("CARGO_BIN_EXE_horus-ros"))
         .arg("--domain-id")
         .arg(domain.to_string())
@@ -169,9 +199,20 @@ pub fn horus(domain: u32, args: &[&str]) -> Run {
 /// Runs the command until its stdout is `expected(run)` (the graph may still be settling),
 /// at most [`SETTLE`]; then asserts it line for line and returns the run.
 pub fn expect_stdout(domain: u32, args: &[&str], expected: impl Fn(&Run) -> String) -> Run {
+    expect_stdout_of(horus, domain, args, expected)
+}
+
+/// [`expect_stdout`] with the command run by `run` ([`horus`] or [`horus_as_typed`]).
+pub fn expect_stdout_of(
+    run: fn(u32, &[&str]) -> Run,
+    domain: u32,
+    args: &[&str],
+    expected: impl Fn(&Run) -> String,
+) -> Run {
+    let command = run;
     let deadline = Instant::now() + SETTLE;
     loop {
-        let run = horus(domain, args);
+        let run = command(domain, args);
         let want = expected(&run);
         if run.stdout == want || Instant::now() >= deadline {
             assert_lines(&run, &want, args);
@@ -184,6 +225,11 @@ pub fn expect_stdout(domain: u32, args: &[&str], expected: impl Fn(&Run) -> Stri
 /// Like [`expect_stdout`] with a fixed text.
 pub fn expect(domain: u32, args: &[&str], expected: &str) -> Run {
     expect_stdout(domain, args, |_| expected.to_owned())
+}
+
+/// Like [`expect`], the command run as typed ([`horus_as_typed`]: through the daemon).
+pub fn expect_as_typed(domain: u32, args: &[&str], expected: &str) -> Run {
+    expect_stdout_of(horus_as_typed, domain, args, |_| expected.to_owned())
 }
 
 /// Asserts stdout equals `want`, line by line, with a readable failure.

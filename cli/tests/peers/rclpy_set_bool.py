@@ -1,0 +1,97 @@
+"""A real ROS 2 Jazzy node (rclpy on rmw_fastrtps_cpp, Fast DDS) for the CLI's tests.
+
+It serves std_srvs/srv/SetBool on SERVICE (answering `success = data`, message "set" or "unset")
+from a node named NODE. With `--client`, the same node also calls SERVICE every 0.2 s (a new call
+once the last one was answered). With `--introspection contents`, service introspection is on
+with contents for the server and the client (`configure_introspection`), so their service events
+are published on SERVICE/_service_event.
+
+Once serving, it prints one JSON line on stdout:
+  {"node": "/NAMESPACE/NODE", "service": SERVICE, "pid": PID}
+then runs until LINGER seconds have passed, stdin closes, or it is signalled. The loop wakes on its
+own every 0.1 s (rclpy 7.1's executor can miss a shutdown signal otherwise).
+
+usage: rclpy_set_bool.py DOMAIN NODE SERVICE LINGER [--namespace NS] [--client]
+                         [--introspection off|metadata|contents]
+The domain goes to ROS_DOMAIN_ID before rclpy starts (the environment wins otherwise).
+"""
+
+import argparse
+import json
+import os
+import sys
+import threading
+import time
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser()
+    parser.add_argument("domain", type=int)
+    parser.add_argument("node")
+    parser.add_argument("service")
+    parser.add_argument("linger", type=float)
+    parser.add_argument("--namespace", default="/")
+    parser.add_argument("--client", action="store_true")
+    parser.add_argument("--introspection", default="off", choices=["off", "metadata", "contents"])
+    args = parser.parse_args()
+    os.environ["ROS_DOMAIN_ID"] = str(args.domain)
+
+    import rclpy
+    from rclpy.qos import qos_profile_system_default
+    from rclpy.service_introspection import ServiceIntrospectionState
+    from std_srvs.srv import SetBool
+
+    rclpy.init()
+    node = rclpy.create_node(args.node, namespace=args.namespace)
+
+    def handle(request, response):
+        response.success = request.data
+        response.message = "set" if request.data else "unset"
+        return response
+
+    server = node.create_service(SetBool, args.service, handle)
+    client = node.create_client(SetBool, args.service) if args.client else None
+    state = {
+        "off": ServiceIntrospectionState.OFF,
+        "metadata": ServiceIntrospectionState.METADATA,
+        "contents": ServiceIntrospectionState.CONTENTS,
+    }[args.introspection]
+    if state != ServiceIntrospectionState.OFF:
+        clock = node.get_clock()
+        server.configure_introspection(clock, qos_profile_system_default, state)
+        if client is not None:
+            client.configure_introspection(clock, qos_profile_system_default, state)
+
+    print(json.dumps({"node": node.get_fully_qualified_name(), "service": args.service,
+                      "pid": os.getpid()}), flush=True)
+
+    # Ends the loop when the test closes our stdin (or dies).
+    stdin_closed = threading.Event()
+
+    def watch_stdin():
+        try:
+            sys.stdin.read()
+        finally:
+            stdin_closed.set()
+
+    threading.Thread(target=watch_stdin, daemon=True).start()
+
+    deadline = time.monotonic() + args.linger
+    pending = None
+    next_call = time.monotonic()
+    flip = False
+    while rclpy.ok() and time.monotonic() < deadline and not stdin_closed.is_set():
+        rclpy.spin_once(node, timeout_sec=0.1)
+        if client is not None and (pending is None or pending.done()):
+            now = time.monotonic()
+            if now >= next_call and client.service_is_ready():
+                flip = not flip
+                pending = client.call_async(SetBool.Request(data=flip))
+                next_call = now + 0.2
+    node.destroy_node()
+    rclpy.try_shutdown()
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
