@@ -3,6 +3,7 @@
 //! when no daemon answers, unless `--no-daemon`).
 
 use std::io::{self, BufRead, BufReader};
+use std::path::Path;
 use std::process::{Command, Stdio};
 use std::sync::mpsc::{self, RecvTimeoutError};
 use std::time::Duration;
@@ -46,7 +47,17 @@ pub enum SpawnError {
 /// most [`START_STOP_TIMEOUT`].
 pub fn spawn(key: &DaemonKey, idle_timeout: Duration, debug: bool) -> Result<Spawned, SpawnError> {
     let exe = std::env::current_exe().map_err(SpawnError::Binary)?;
-    let mut command = Command::new(exe);
+    spawn_program(&exe, key, idle_timeout, debug)
+}
+
+/// [`spawn`] with `program` standing for this binary.
+fn spawn_program(
+    program: &Path,
+    key: &DaemonKey,
+    idle_timeout: Duration,
+    debug: bool,
+) -> Result<Spawned, SpawnError> {
+    let mut command = Command::new(program);
     command
         .arg("--domain-id")
         .arg(key.domain_id.to_string())
@@ -104,4 +115,38 @@ pub fn spawn(key: &DaemonKey, idle_timeout: Duration, debug: bool) -> Result<Spa
         return Err(SpawnError::Failed(reason.to_owned()));
     }
     Err(SpawnError::Died(status.ok().and_then(|s| s.code())))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn key() -> DaemonKey {
+        DaemonKey {
+            domain_id: 7,
+            backend: "rustdds".to_owned(),
+            discovery_range: "SUBNET".to_owned(),
+            static_peers: Vec::new(),
+            cyclonedds_uri: None,
+        }
+    }
+
+    fn spawn_with(program: &str) -> Result<Spawned, SpawnError> {
+        spawn_program(Path::new(program), &key(), Duration::from_secs(1), false)
+    }
+
+    #[test]
+    fn a_daemon_that_cannot_start_is_an_error_naming_why() {
+        // Exits at once, saying nothing.
+        let e = spawn_with("false").expect_err("false is no daemon");
+        assert!(matches!(e, SpawnError::Died(Some(1))), "{e:?}");
+        assert_eq!(e.to_string(), "Daemon process died with returncode 1");
+        // Does not exist.
+        let e = spawn_with("/nonexistent/horus-ros").expect_err("no such program");
+        assert!(matches!(e, SpawnError::Start(_)), "{e:?}");
+        assert!(
+            e.to_string().starts_with("could not start the daemon: "),
+            "{e}"
+        );
+    }
 }
