@@ -26,7 +26,7 @@ pub struct Session {
 }
 
 impl Session {
-    /// Joins the domain and waits for discovery to settle (at most `--spin-time`).
+    /// Joins the domain and waits for discovery to settle ([`settle`](Self::settle)).
     pub fn open(global: &Global) -> Result<Self, CliError> {
         let mut session = Self::join(global)?;
         session.settle(global);
