@@ -1,7 +1,8 @@
 //! Time to a complete graph: how long after it starts `horus-ros node list` answers with a
 //! peer's node complete (its name on every endpoint, no "discovery incomplete" warning), for a
-//! Fast DDS 2.9 ROS participant (the DDS of rmw_fastrtps_cpp) and a Cyclone DDS ROS participant
-//! (the DDS of rmw_cyclonedds_cpp) that were up before, on each of our backends.
+//! real ROS 2 Jazzy node on Fast DDS (rclpy 7.1.6 on rmw_fastrtps_cpp 8.4.3 / Fast DDS 2.14.5,
+//! interop-tests' rclpy peer) and a Cyclone DDS ROS participant (the DDS of rmw_cyclonedds_cpp)
+//! that were up before, on each of our backends.
 //!
 //! Each series starts the peer, waits until it has created everything, lets it run for
 //! `HORUS_ROS_BENCH_PEER_AGE_MS` (default 1500 ms: past Fast DDS' initial announcements, so the
@@ -11,7 +12,7 @@
 //! complete; then the same through `horus-ros daemon` (the first complete answer after
 //! `daemon start`, then warm answers), and Cyclone DDS's own view (interop-tests'
 //! `cyclone_discovery_info.py`: Cyclone DDS discovery plus `ros_discovery_info` read as
-//! rmw_dds_common does, Python start-up included; no Fast DDS graph tool is installable here).
+//! rmw_dds_common does, Python start-up included; ros2cli is not installable here).
 //! Against the same-run baseline of a run next to a peer-less domain (the CLI's own
 //! start-up and quiet wait), so the figures read as "discovery cost".
 //!
@@ -27,7 +28,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Child, Command, ExitCode, Stdio};
 use std::time::{Duration, Instant};
 
-use interop_tests::fastdds::FastDdsPeer;
+use interop_tests::rclpy::RclpyPeer;
 
 const DOMAIN: u32 = 150;
 const WARNING: &str = "WARNING: discovery incomplete";
@@ -301,20 +302,18 @@ fn main() -> ExitCode {
         let domain = DOMAIN + 3 * i as u32;
         let baseline = series("no peer (baseline)", backend, domain, "", runs);
 
-        match FastDdsPeer::start(
-            domain + 1,
-            "/fast_ns",
-            "fast_node",
-            "/fast_ns/add_two_ints",
-            Duration::from_secs(600),
-        ) {
+        match RclpyPeer::start(&serde_json::json!({
+            "domain": domain + 1, "namespace": "/fast_ns", "name": "fast_node",
+            "servers": [{"service": "/fast_ns/set", "type": "std_srvs/srv/SetBool"}],
+            "clients": [{"service": "/fast_ns/set", "type": "std_srvs/srv/SetBool"}],
+        })) {
             Ok(mut peer) => {
-                if let Err(e) = peer.created(Duration::from_secs(30)) {
-                    eprintln!("bench: Fast DDS peer: {e}");
+                if let Err(e) = peer.ready(Duration::from_secs(30)) {
+                    eprintln!("bench: rclpy peer: {e}");
                 } else {
                     wait_out(age);
                     let p50 = series(
-                        "Fast DDS 2.9 node",
+                        "rclpy node (Fast DDS 2.14)",
                         backend,
                         domain + 1,
                         "/fast_ns/fast_node",
@@ -335,7 +334,7 @@ fn main() -> ExitCode {
                     }
                 }
             }
-            Err(e) => eprintln!("bench: Fast DDS peer: {e}"),
+            Err(e) => eprintln!("bench: rclpy peer: {e}"),
         }
         if let Some(mut peer) = cyclone_peer(domain + 2) {
             wait_out(age);

@@ -4,8 +4,9 @@
 //! the daemon (`horus-ros daemon start`), on each backend built in: rustdds (domain 139) and
 //! Cyclone DDS (domain 140). Each backend gets its own warm graph on that backend, and the CLI is
 //! chosen with `HORUS_ROS_BACKEND` in its environment. Then `node list` cold and through the
-//! daemon once more on a graph whose only node is a Fast DDS 2.9 one (the peer of
-//! `interop-tests`, domains 141 and 142): Fast DDS answers a new participant's discovery slowly,
+//! daemon once more on a graph whose only node is a Fast DDS one (interop-tests' rclpy peer:
+//! rclpy 7.1.6 on rmw_fastrtps_cpp 8.4.3 / Fast DDS 2.14.5, domains 141 and 142): Fast DDS
+//! answers a new participant's discovery slowly,
 //! so a cold answer is often incomplete. Cyclone DDS runs with the environment's
 //! `CYCLONEDDS_URI`, else a loopback-only configuration.
 //!
@@ -39,7 +40,7 @@ use horus_ros_msgs::builtin_interfaces::msg::Time;
 use horus_ros_rmw::qos::Qos;
 use horus_ros_rmw::{Backend, BACKEND_ENV};
 use horus_ros_services::prelude::*;
-use interop_tests::fastdds::FastDdsPeer;
+use interop_tests::rclpy::RclpyPeer;
 
 /// The domain of the first backend; the next ones use the following domains.
 const DOMAIN: u32 = 139;
@@ -56,7 +57,7 @@ const GOAL: Duration = Duration::from_millis(300);
 const DAEMON_GOAL: Duration = Duration::from_millis(20);
 /// The first domain of the Fast DDS series (one per backend).
 const FAST_DDS_DOMAIN: u32 = 141;
-/// The node of the Fast DDS peer.
+/// The node of the Fast DDS (rclpy) peer.
 const FAST_DDS_NODE: &str = "/fast_ns/fast_node";
 
 /// Network interfaces other than `lo` that are up: none inside `scripts/isolated`'s namespace.
@@ -418,14 +419,12 @@ fn run_fast_dds(
     domain: u32,
     runs: usize,
 ) -> Result<(Series, Series), String> {
-    let mut peer = FastDdsPeer::start(
-        domain,
-        "/fast_ns",
-        "fast_node",
-        "/fast_ns/add_two_ints",
-        Duration::from_secs(3600),
-    )?;
-    peer.created(Duration::from_secs(20))?;
+    let mut peer = RclpyPeer::start(&serde_json::json!({
+        "domain": domain, "namespace": "/fast_ns", "name": "fast_node",
+        "servers": [{"service": "/fast_ns/set", "type": "std_srvs/srv/SetBool"}],
+        "clients": [{"service": "/fast_ns/set", "type": "std_srvs/srv/SetBool"}],
+    }))?;
+    peer.ready(Duration::from_secs(20))?;
     let expected = format!("{FAST_DDS_NODE}\n");
     // Fast DDS may take a few of its heartbeat periods to answer the daemon's participant.
     node_list_series(

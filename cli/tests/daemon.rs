@@ -26,7 +26,7 @@ use horus_ros_rmw::qos::Qos;
 use horus_ros_rmw::Context;
 use horus_ros_services::ServiceServerBuilder;
 use horus_ros_test_support::wait_with_output;
-use interop_tests::fastdds::FastDdsPeer;
+use interop_tests::rclpy::RclpyPeer;
 use nix::sys::signal::Signal;
 use nix::sys::wait::WaitStatus;
 use nix::unistd::Pid;
@@ -243,16 +243,14 @@ fn answers_equal_direct_discovery() {
 #[test]
 fn fast_dds_node_is_answered_at_once() {
     const D: u32 = 183;
-    let mut peer = FastDdsPeer::start(
-        D,
-        "/fast_ns",
-        "fast_node",
-        "/fast_ns/add_two_ints",
-        Duration::from_secs(60),
-    )
-    .expect("start the Fast DDS peer");
-    peer.created(Duration::from_secs(20))
-        .expect("the peer's start-up line");
+    let mut peer = RclpyPeer::start(&serde_json::json!({
+        "domain": D, "namespace": "/fast_ns", "name": "fast_node",
+        "servers": [{"service": "/fast_ns/set", "type": "std_srvs/srv/SetBool"}],
+        "clients": [{"service": "/fast_ns/set", "type": "std_srvs/srv/SetBool"}],
+    }))
+    .expect("start the rclpy peer");
+    peer.ready(Duration::from_secs(20))
+        .expect("the rclpy node is up");
     let _daemon = start_daemon(D, &[], &[]);
     // The daemon's graph warms up: Fast DDS answers a new participant's discovery slowly (a
     // reader matched just after one of its heartbeats gets ros_discovery_info at the next).
@@ -269,21 +267,18 @@ fn fast_dds_node_is_answered_at_once() {
     let info = horus(D, &["node", "info", "/fast_ns/fast_node"]);
     assert_eq!(info.stderr, "");
     assert!(
-        info.stdout.contains(
-            "  Service Servers:\n    /fast_ns/add_two_ints: example_interfaces/srv/AddTwoInts\n"
-        ),
+        info.stdout
+            .contains("  Service Servers:\n    /fast_ns/fast_node/describe_parameters: "),
         "{info:?}"
     );
     assert!(
-        info.stdout.contains(
-            "  Service Clients:\n    /fast_ns/add_two_ints: example_interfaces/srv/AddTwoInts\n"
-        ),
+        info.stdout.contains("    /fast_ns/set: std_srvs/srv/SetBool\n  Service Clients:\n    /fast_ns/set: std_srvs/srv/SetBool\n"),
         "{info:?}"
     );
-    let servers = horus(D, &["service", "info", "/fast_ns/add_two_ints"]);
+    let servers = horus(D, &["service", "info", "/fast_ns/set"]);
     assert_eq!(
         servers.stdout,
-        "Type: example_interfaces/srv/AddTwoInts\nClients count: 1\nServices count: 1\n"
+        "Type: std_srvs/srv/SetBool\nClients count: 1\nServices count: 1\n"
     );
 }
 

@@ -61,10 +61,16 @@ impl GraphCache {
                 TopicEndpointInfo {
                     node_name: node_name.to_owned(),
                     node_namespace: node_namespace.to_owned(),
-                    topic_type: topic.types.get(e.dds_type_name.as_str()).map_or_else(
-                        || demangle_type(&e.dds_type_name),
-                        |u| u.message_type.clone(),
-                    ),
+                    // rmw_fastrtps / rmw_cyclonedds (jazzy) `__rmw_get_publishers_info_by_topic`:
+                    // `_identity_demangle` with `no_mangle`, else `_demangle_if_ros_type`.
+                    topic_type: if no_mangle {
+                        e.dds_type_name.clone()
+                    } else {
+                        topic.types.get(e.dds_type_name.as_str()).map_or_else(
+                            || demangle_type(&e.dds_type_name),
+                            |u| u.message_type.clone(),
+                        )
+                    },
                     topic_type_hash: e.type_hash,
                     endpoint_type,
                     endpoint_gid: e.gid,
@@ -74,8 +80,10 @@ impl GraphCache {
             .collect()
     }
 
-    /// Publishers of a topic, in GID order. `topic` is a ROS name (`/chatter`), or the DDS
-    /// topic name itself when `no_mangle`. An unknown topic gives an empty list.
+    /// Publishers of a topic, in GID order. `topic` is a ROS name (`/chatter`) and each type is
+    /// demangled (`std_msgs/msg/String`); with `no_mangle`, `topic` is the DDS topic name
+    /// itself and each type the DDS type name as is, as in rmw. An unknown topic gives an empty
+    /// list.
     pub fn publishers_info_by_topic(&self, topic: &str, no_mangle: bool) -> Vec<TopicEndpointInfo> {
         self.topic_endpoints_info(topic, no_mangle, EndpointKind::Writer)
     }

@@ -1,16 +1,17 @@
 //! Helpers for tests against independent DDS implementations.
 //!
-//! The peers are small Python programs on the Eclipse Cyclone DDS Python binding (`peers/`), run
-//! with the interpreter named by `HORUS_ROS_INTEROP_PYTHON` (set by `scripts/test` to a private
-//! virtual environment that `scripts/setup` creates), else `python3`.
+//! The peers are Python programs (`peers/`): small DDS participants on the Eclipse Cyclone DDS
+//! Python binding, and real ROS 2 Jazzy nodes on rclpy ([`rclpy`]), run with the interpreter
+//! named by `HORUS_ROS_INTEROP_PYTHON` (set by `scripts/test` to the private virtual environment
+//! that `scripts/setup` creates), else `python3`.
 
-pub mod fastdds;
+pub mod rclpy;
 
 use std::path::PathBuf;
 use std::process::{Child, Command, Stdio};
 use std::time::Duration;
 
-/// The Python interpreter that has the `cyclonedds` package.
+/// The Python interpreter that has the `cyclonedds` package and the ROS 2 wheels.
 pub fn python() -> PathBuf {
     std::env::var_os("HORUS_ROS_INTEROP_PYTHON")
         .map_or_else(|| PathBuf::from("python3"), PathBuf::from)

@@ -1,23 +1,26 @@
 //! The `tokio` feature against independent peers: our awaited client
-//! (`AsyncServiceClient::call`) calls a Cyclone DDS server (rmw_cyclonedds convention) and a Fast
-//! DDS 2.9 server (rmw_fastrtps convention); their clients call our async server
-//! (`ServiceServerBuilder::on_request_async`). As in `cyclone_services.rs` and
-//! `fastdds_services.rs`, on the Cyclone backend the rmw_fastrtps convention cannot be spoken:
-//! there the awaited call is refused at once with `Transport`, and the Fast DDS client gets no
+//! (`AsyncServiceClient::call`) calls a Cyclone DDS server (rmw_cyclonedds convention) and a real
+//! ROS 2 Jazzy rclpy server (rmw_fastrtps_cpp: rmw_fastrtps convention); their clients call our
+//! async server (`ServiceServerBuilder::on_request_async`). As in `cyclone_services.rs` and
+//! `rclpy_services.rs`, on the Cyclone backend the rmw_fastrtps convention cannot be spoken:
+//! there the awaited call is refused at once with `Transport`, and the rclpy client gets no
 //! answer.
 
 use std::process::{Command, Stdio};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
+use horus_ros_msgs::std_srvs::srv::{SetBool, SetBoolRequest, SetBoolResponse};
 use horus_ros_services::prelude::*;
 use horus_ros_services::AsyncServiceServer;
-use interop_tests::fastdds::{FastDdsPeer, Served};
+use interop_tests::rclpy::RclpyPeer;
 use interop_tests::{cyclone_config, peer_script, python, Peer};
-use serde_json::Value;
+use serde_json::{json, Value};
 use tokio::task::JoinSet;
 
 const SECOND: Duration = Duration::from_secs(1);
+/// Calls each rclpy test makes.
+const CALLS: usize = 5;
 
 fn node(domain: u32, name: &str) -> (Context, Node) {
     let context = Context::builder()
@@ -170,43 +173,42 @@ async fn a_cyclone_client_calls_our_async_server() {
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
-async fn our_awaited_calls_reach_a_fastdds_server() {
+async fn our_awaited_calls_reach_an_rclpy_server() {
     const DOMAIN: u32 = 222;
-    const SERVICE: &str = "/fast_async/add_two_ints";
-    const CALLS: i64 = 5;
+    const SERVICE: &str = "/rclpy_async/set";
     let (context, node) = node(DOMAIN, "horus_async_caller");
     let refusing = !context.backend().carries_sample_identity();
     let mut peer = tokio::task::spawn_blocking(move || {
-        let mut peer = FastDdsPeer::start(
-            DOMAIN,
-            "/fast_async",
-            "fast_server",
-            SERVICE,
-            Duration::from_secs(if refusing { 8 } else { 15 }),
-        )
-        .expect("build and start the Fast DDS peer");
-        peer.created(10 * SECOND)
-            .expect("the peer says what it created");
+        let mut peer = RclpyPeer::start(&json!({
+            "domain": DOMAIN, "namespace": "/rclpy_async", "name": "rclpy_server",
+            "servers": [{"service": SERVICE, "type": "std_srvs/srv/SetBool",
+                         "introspection": true}],
+        }))
+        .expect("start the rclpy peer");
+        peer.ready(20 * SECOND).expect("the rclpy node is up");
         peer
     })
     .await
     .expect("join");
-    let client = async_client(&node, SERVICE);
-    let (request_writer, reply_reader) = client.gids();
+    let client = Arc::new(
+        AsyncServiceClient::<SetBool>::builder()
+            .node(&node)
+            .name(SERVICE)
+            .build_async()
+            .expect("client"),
+    );
+    let (_, reply_reader) = client.gids();
     if refusing {
         // Once the server is on the graph, the awaited call fails at once, naming why.
         let graph = horus_ros_graph::Graph::shared(&context).expect("graph");
         let seen =
-            tokio::task::spawn_blocking(move || graph.wait_for_service(SERVICE, 10 * SECOND));
+            tokio::task::spawn_blocking(move || graph.wait_for_service(SERVICE, 20 * SECOND));
         assert!(
             seen.await.expect("join"),
-            "the Fast DDS server never showed up"
+            "the rclpy server never showed up"
         );
         let asked = Instant::now();
-        match client
-            .call(AddTwoIntsRequest { a: 1, b: 1 }, 5 * SECOND)
-            .await
-        {
+        match client.call(SetBoolRequest { data: true }, 5 * SECOND).await {
             Err(ServiceError::Transport(m)) => {
                 assert!(m.contains("rmw_fastrtps") && m.contains("rustdds"), "{m}")
             }
@@ -222,118 +224,120 @@ async fn our_awaited_calls_reach_a_fastdds_server() {
         return;
     }
     assert!(
-        client.wait_for_service_async(10 * SECOND).await,
-        "the Fast DDS server never became usable; peer output:\n{}",
+        client.wait_for_service_async(20 * SECOND).await,
+        "the rclpy server never became usable; {}",
         peer.output()
     );
+    // All in flight at once.
     let mut calls = JoinSet::new();
-    for i in 1..=CALLS {
+    for i in 0..CALLS {
         let client = Arc::clone(&client);
         calls.spawn(async move {
+            let data = i % 2 == 0;
             (
-                i,
-                client
-                    .call(
-                        AddTwoIntsRequest {
-                            a: i,
-                            b: 100 * i + 7,
-                        },
-                        10 * SECOND,
-                    )
-                    .await,
+                data,
+                client.call(SetBoolRequest { data }, 10 * SECOND).await,
             )
         });
     }
     while let Some(joined) = calls.join_next().await {
-        let (i, reply) = joined.expect("task");
+        let (data, reply) = joined.expect("task");
         assert_eq!(
-            reply,
-            Ok(AddTwoIntsResponse { sum: 101 * i + 7 }),
-            "peer output:\n{}",
+            reply.map(|r| (r.success, r.message)),
+            Ok((
+                data,
+                format!("set to {}", if data { "True" } else { "False" })
+            )),
+            "{}",
             peer.output()
         );
     }
     assert_eq!(client.pending_requests(), 0);
-    // The peer saw rmw_fastrtps requests, answered once our reply reader was matched.
-    let served = tokio::task::spawn_blocking(move || {
-        let mut served = Vec::new();
-        let deadline = Instant::now() + 5 * SECOND;
-        while served.len() < CALLS as usize && Instant::now() < deadline {
-            if let Some(line) = peer.next_line(Duration::from_millis(100)) {
-                if let Some(s) = Served::parse(&line) {
-                    served.push(s);
-                }
-            }
-        }
-        (served, peer.output())
+    // rmw_fastrtps took each request with the request id that names our reply reader, and
+    // the sequence numbers of our CALLS requests.
+    let events = tokio::task::spawn_blocking(move || {
+        peer.wait_for(
+            20 * SECOND,
+            "the server's REQUEST_RECEIVED events",
+            |lines| {
+                let got: Vec<serde_json::Value> = lines
+                    .iter()
+                    .filter_map(|l| l.get("event"))
+                    .filter(|e| e["event_type"] == 1)
+                    .cloned()
+                    .collect();
+                (got.len() == CALLS).then_some(got)
+            },
+        )
     })
     .await
-    .expect("join");
-    let (served, output) = served;
-    assert_eq!(served.len(), CALLS as usize, "peer output:\n{output}");
-    for s in &served {
-        assert_eq!(s.sum, s.a + s.b, "{s:?}");
-        // rmw_fastrtps' request id names our reply reader (related_sample_identity).
-        assert_eq!(s.sample_writer, request_writer.to_string(), "{s:?}");
-        assert_eq!(s.related_guid, reply_reader.to_string(), "{s:?}");
-        assert_eq!(s.request_id_guid, reply_reader.to_string(), "{s:?}");
-        assert_eq!(s.client_present, "YES", "{s:?}");
-        assert!(s.sent, "{s:?}");
-    }
+    .expect("join")
+    .unwrap_or_else(|e| panic!("{e}"));
+    let mut sequence_numbers: Vec<i64> = events
+        .iter()
+        .map(|e| {
+            assert_eq!(e["client_gid"], reply_reader.to_string(), "{e}");
+            e["sequence_number"].as_i64().unwrap_or_default()
+        })
+        .collect();
+    sequence_numbers.sort_unstable();
+    assert_eq!(sequence_numbers, (1..=CALLS as i64).collect::<Vec<_>>());
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
-async fn a_fastdds_client_calls_our_async_server() {
+async fn an_rclpy_client_calls_our_async_server() {
     const DOMAIN: u32 = 223;
-    const SERVICE: &str = "/horus_async/add_two_ints";
-    const CALLS: u32 = 5;
+    const SERVICE: &str = "/horus_async/set";
     let (context, node) = node(DOMAIN, "horus_async_server");
     let refusing = !context.backend().carries_sample_identity();
-    let server = async_adder(&node, SERVICE);
-    let (code, lines, output) = tokio::task::spawn_blocking(move || {
-        let mut peer = FastDdsPeer::start_calling(
-            DOMAIN,
-            "/fast_async",
-            "fast_client",
-            SERVICE,
-            Duration::from_secs(if refusing { 6 } else { 12 }),
-            CALLS,
-        )
-        .expect("build and start the Fast DDS peer");
-        peer.created(10 * SECOND)
-            .expect("the peer says what it created");
-        let (code, lines) = peer.finish(15 * SECOND).expect("wait for the peer");
-        (code, lines, peer.output())
+    let server = ServiceServerBuilder::<SetBool>::new()
+        .node(&node)
+        .name(SERVICE)
+        .on_request_async(|r| async move {
+            tokio::task::yield_now().await;
+            Ok(SetBoolResponse {
+                success: !r.data,
+                message: format!("async {}", r.data),
+            })
+        })
+        .build()
+        .expect("async server");
+    let (code, replies, output) = tokio::task::spawn_blocking(move || {
+        let calls: Vec<serde_json::Value> =
+            (0..CALLS).map(|i| json!({"data": i % 2 == 0})).collect();
+        let mut peer = RclpyPeer::start(&json!({
+            "domain": DOMAIN, "namespace": "/rclpy_async", "name": "rclpy_client",
+            "clients": [{"service": SERVICE, "type": "std_srvs/srv/SetBool", "wait_s": 20,
+                         "timeout_s": if refusing { 1.0 } else { 10.0 }, "calls": calls}],
+            "leave_when_done": true,
+        }))
+        .expect("start the rclpy peer");
+        let code = peer.wait_exit(60 * SECOND).expect("the peer's exit");
+        let replies: Vec<serde_json::Value> = peer.all("reply").into_iter().cloned().collect();
+        (code, replies, peer.output())
     })
     .await
     .expect("join");
-    let parsed: Vec<Value> = lines
-        .iter()
-        .map(|l| serde_json::from_str(l).unwrap_or(Value::Null))
-        .collect();
-    let replies: Vec<&Value> = parsed.iter().filter(|v| v.get("sum").is_some()).collect();
     if refusing {
         assert_eq!(
             code,
             Some(1),
-            "the Fast DDS client must get no reply; output:\n{output}"
+            "the rclpy client must get no reply: {output}"
         );
-        assert!(replies.is_empty(), "output:\n{output}");
+        assert!(replies.is_empty(), "{output}");
         assert_eq!(server.served_count(), 0);
         return;
     }
-    assert_eq!(
-        code,
-        Some(0),
-        "the Fast DDS client failed; output:\n{output}"
-    );
-    assert_eq!(replies.len(), CALLS as usize, "output:\n{output}");
-    for (k, reply) in replies.iter().enumerate() {
-        let i = k as i64 + 1;
-        assert_eq!(reply["sum"], 11 * i, "output:\n{output}");
-        // Our reply's related_sample_identity carried the request's sequence number back.
-        assert_eq!(reply["sequence_number"], i, "output:\n{output}");
+    assert_eq!(code, Some(0), "the rclpy client failed: {output}");
+    assert_eq!(replies.len(), CALLS, "{output}");
+    for (i, reply) in replies.iter().enumerate() {
+        let data = i % 2 == 0;
+        assert_eq!(
+            reply["response"],
+            json!({"success": !data, "message": format!("async {data}")}),
+            "{output}"
+        );
     }
-    assert_eq!(server.served_count(), u64::from(CALLS));
+    assert_eq!(server.served_count(), CALLS as u64);
     assert_eq!(server.failed_count(), 0);
 }

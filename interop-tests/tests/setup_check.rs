@@ -1,5 +1,6 @@
 //! `scripts/setup --check` against fake machines: directory trees laid out as Debian lays out the
-//! packages (`HORUS_ROS_SETUP_ROOT`), each missing one thing, and the exact list of packages the
+//! packages (`HORUS_ROS_SETUP_ROOT`), with the test environment at `/venv` laid out as pip lays it
+//! out (`HORUS_ROS_SETUP_VENV`), each missing one thing, and the exact list of packages the
 //! script would install for it. No DDS, no network, nothing installed.
 
 use std::fs;
@@ -11,6 +12,53 @@ use tempfile::TempDir;
 
 /// Debian's multiarch directory of the fake machines.
 const MULTIARCH: &str = "x86_64-linux-gnu";
+/// Where the fake machines have the Python test environment.
+const VENV: &str = "/venv";
+/// The pinned packages of the environment, in the order `--check` lists them: Cyclone DDS's
+/// Python binding, rosbags, and real ROS 2 Jazzy (rclpy on rmw_fastrtps_cpp / Fast DDS, and the
+/// interface packages).
+const PIP_PINS: [&str; 17] = [
+    "cyclonedds==11.0.1",
+    "rosbags==0.11.9",
+    "ros-jazzy-rclpy[fastrtps]==7.1.6",
+    "ros-rmw-fastrtps-cpp==8.4.3",
+    "ros-fastrtps==2.14.5",
+    "ros-jazzy-std-msgs==5.3.6",
+    "ros-jazzy-std-srvs==5.3.6",
+    "ros-jazzy-test-msgs==2.0.3",
+    "ros-jazzy-rcl-interfaces==2.0.3",
+    "ros-jazzy-service-msgs==2.0.3",
+    "ros-jazzy-lifecycle-msgs==2.0.3",
+    "ros-jazzy-action-msgs==2.0.3",
+    "ros-jazzy-builtin-interfaces==2.0.3",
+    "ros-jazzy-type-description-interfaces==2.0.3",
+    "ros-jazzy-unique-identifier-msgs==2.5.0",
+    "ros-jazzy-rosgraph-msgs==2.0.3",
+    "ros-jazzy-common-interfaces==5.3.6",
+];
+
+/// The `.dist-info` directory pip makes for a pin: `<name>-<version>.dist-info`, the name's runs
+/// of `-_.` as one `_`, extras dropped.
+fn dist_info(pin: &str) -> String {
+    let (name, version) = pin.split_once("==").expect("a pinned version");
+    let name = name.split('[').next().unwrap_or(name);
+    let mut normal = String::new();
+    for c in name.chars() {
+        if matches!(c, '-' | '_' | '.') {
+            if !normal.ends_with('_') {
+                normal.push('_');
+            }
+        } else {
+            normal.push(c);
+        }
+    }
+    format!("{VENV}/lib/python3.11/site-packages/{normal}-{version}.dist-info")
+}
+
+/// The `pip:` lines `--check` prints for `pins`.
+fn pip_lines(pins: &[&str]) -> Vec<String> {
+    pins.iter().map(|p| format!("pip:{p}")).collect()
+}
 
 /// The start of an ELF file of this target's class (what clang-sys checks of a libclang).
 fn elf_header() -> Vec<u8> {
@@ -110,16 +158,6 @@ impl Tree {
             .exe("/usr/bin/kill")
             .exe("/usr/sbin/nft");
         t.libclang_cpp_14().libclang1_14().clang_headers_14();
-        // libfastrtps-dev / libfastrtps2.9, libfastcdr-dev / libfastcdr1.
-        t.text("/usr/include/fastdds/dds/domain/DomainParticipant.hpp")
-            .text("/usr/include/fastcdr/Cdr.h");
-        let lib = format!("/usr/lib/{MULTIARCH}");
-        t.elf(&format!("{lib}/libfastrtps.so.2.9.1"))
-            .link(&format!("{lib}/libfastrtps.so.2.9"), "libfastrtps.so.2.9.1")
-            .link(&format!("{lib}/libfastrtps.so"), "libfastrtps.so.2.9")
-            .elf(&format!("{lib}/libfastcdr.so.1.0.26"))
-            .link(&format!("{lib}/libfastcdr.so.1"), "libfastcdr.so.1.0.26")
-            .link(&format!("{lib}/libfastcdr.so"), "libfastcdr.so.1");
         // python3, python3.11-venv, python3-pip-whl, python3-setuptools-whl.
         t.exe("/usr/bin/python3.11")
             .link("/usr/bin/python3", "python3.11")
@@ -127,6 +165,11 @@ impl Tree {
             .text("/usr/lib/python3.11/ensurepip/__init__.py")
             .text("/usr/share/python-wheels/pip-23.0.1-py3-none-any.whl")
             .text("/usr/share/python-wheels/setuptools-66.1.1-py3-none-any.whl");
+        // The Python environment with every pinned package.
+        t.link(&format!("{VENV}/bin/python"), "/usr/bin/python3.11");
+        for pin in PIP_PINS {
+            t.text(&format!("{}/METADATA", dist_info(pin)));
+        }
         t
     }
 
@@ -216,7 +259,7 @@ fn setup(root: &Path, args: &[&str]) -> std::process::Output {
         .arg(script)
         .args(args)
         .env("HORUS_ROS_SETUP_ROOT", root)
-        .env("HORUS_ROS_SETUP_MULTIARCH", MULTIARCH)
+        .env("HORUS_ROS_SETUP_VENV", VENV)
         .env_remove("LIBCLANG_PATH")
         .env_remove("LLVM_CONFIG_PATH")
         .env_remove("LD_LIBRARY_PATH")
@@ -232,7 +275,7 @@ fn a_complete_machine_needs_nothing() {
 
 #[test]
 fn an_empty_machine_needs_everything() {
-    Tree::empty().assert_missing(&[
+    let mut everything: Vec<String> = [
         "iproute2",
         "gcc",
         "libc6-dev",
@@ -241,14 +284,17 @@ fn an_empty_machine_needs_everything() {
         "g++",
         "libclang1-14",
         "libclang-common-14-dev",
-        "libfastrtps-dev",
-        "libfastcdr-dev",
         "valgrind",
         "procps",
         "nftables",
         "python3",
         "python3-venv",
-    ]);
+    ]
+    .map(str::to_owned)
+    .to_vec();
+    everything.extend(pip_lines(&PIP_PINS));
+    let everything: Vec<&str> = everything.iter().map(String::as_str).collect();
+    Tree::empty().assert_missing(&everything);
 }
 
 #[test]
@@ -375,26 +421,54 @@ fn a_libclang_of_another_origin_needs_its_own_builtin_headers() {
 }
 
 #[test]
-fn fast_dds_needs_headers_and_linkable_libraries() {
-    let lib = format!("/usr/lib/{MULTIARCH}");
-    // Headers without the development link (-lfastrtps finds nothing).
+fn the_python_environment_needs_each_pinned_package_in_its_version() {
+    // Each package missing is listed alone, with its pin.
+    for pin in PIP_PINS {
+        let t = Tree::complete();
+        t.remove(&format!("{}/METADATA", dist_info(pin)));
+        t.assert_missing_for(&[&format!("pip:{pin}")], pin);
+    }
+    // Another version does not count: rclpy 7.1.5, Fast DDS 2.14.4.
     let t = Tree::complete();
-    t.remove(&format!("{lib}/libfastrtps.so"));
-    t.assert_missing(&["libfastrtps-dev"]);
-    // The development link left dangling: the runtime library is gone.
+    t.remove(&format!(
+        "{}/METADATA",
+        dist_info("ros-jazzy-rclpy[fastrtps]==7.1.6")
+    ))
+    .text(&format!("{}/METADATA", dist_info("ros-jazzy-rclpy==7.1.5")))
+    .remove(&format!("{}/METADATA", dist_info("ros-fastrtps==2.14.5")))
+    .text(&format!("{}/METADATA", dist_info("ros-fastrtps==2.14.4")));
+    t.assert_missing(&[
+        "pip:ros-jazzy-rclpy[fastrtps]==7.1.6",
+        "pip:ros-fastrtps==2.14.5",
+    ]);
+    // Without its interpreter the environment is not there at all.
     let t = Tree::complete();
-    t.remove(&format!("{lib}/libfastcdr.so.1.0.26"));
-    t.assert_missing(&["libfastcdr-dev"]);
-    // Libraries without headers.
+    t.remove(&format!("{VENV}/bin/python"));
+    let all = pip_lines(&PIP_PINS);
+    t.assert_missing(&all.iter().map(String::as_str).collect::<Vec<_>>());
+}
+
+#[test]
+fn python3_must_be_cpython_3_11() {
+    // Debian 13's python3 is 3.13: no Debian package helps, so it is a note (exit 1), naming
+    // the version found and the one the wheels need.
     let t = Tree::complete();
-    t.remove("/usr/include/fastdds/dds/domain/DomainParticipant.hpp")
-        .remove("/usr/include/fastcdr/Cdr.h");
-    t.assert_missing(&["libfastrtps-dev", "libfastcdr-dev"]);
-    // The libraries in /usr/lib link as well.
-    let t = Tree::complete();
-    t.remove(&format!("{lib}/libfastrtps.so"))
-        .elf("/usr/lib/libfastrtps.so");
-    t.assert_missing(&[]);
+    t.exe("/usr/bin/python3.13")
+        .link("/usr/bin/python3", "python3.13")
+        .text("/usr/lib/python3.13/venv/__init__.py")
+        .text("/usr/lib/python3.13/ensurepip/__init__.py");
+    let out = setup(t.dir.path(), &["--check"]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(
+        out.stdout.is_empty(),
+        "{:?}",
+        String::from_utf8_lossy(&out.stdout)
+    );
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.starts_with("setup: python3 is 3.13;") && stderr.contains("need CPython 3.11"),
+        "{stderr}"
+    );
 }
 
 #[test]

@@ -226,9 +226,14 @@ fn topic_info_no_mangle_uses_raw_name() {
     assert!(g.publishers_info_by_topic("/chatter", true).is_empty());
     let raw = g.publishers_info_by_topic("ros_discovery_info", true);
     assert_eq!(raw.len(), 1);
+    // The DDS type name as is (rmw's `_identity_demangle` with no_mangle).
     assert_eq!(
         raw[0].topic_type,
-        "rmw_dds_common/msg/ParticipantEntitiesInfo"
+        "rmw_dds_common::msg::dds_::ParticipantEntitiesInfo_"
+    );
+    assert_eq!(
+        g.publishers_info_by_topic("rt/chatter", true)[0].topic_type,
+        "std_msgs::msg::dds_::String_"
     );
     assert_eq!(raw[0].node_name, NODE_NAME_UNKNOWN);
 }

@@ -8,8 +8,8 @@ use std::time::SystemTime;
 use horus_ros_graph::{EndpointRole as Role, Gid, GraphCache, GraphEvent, RecvError, RosEndpoint};
 use horus_ros_msgs::TypeHash;
 use horus_ros_rmw::names::{
-    is_hidden_name, ROS_SERVICE_REQUESTER_PREFIX, ROS_SERVICE_RESPONSE_PREFIX, ROS_TOPIC_PREFIX,
-    SERVICE_REPLY_SUFFIX, SERVICE_REQUEST_SUFFIX,
+    is_hidden_name, RosTypeName, ROS_SERVICE_REQUESTER_PREFIX, ROS_SERVICE_RESPONSE_PREFIX,
+    ROS_TOPIC_PREFIX, SERVICE_REPLY_SUFFIX, SERVICE_REQUEST_SUFFIX,
 };
 use horus_ros_rmw::qos::EndpointKind;
 use serde_json::{json, Value};
@@ -263,7 +263,12 @@ impl Watcher {
                     gid: info.endpoint_gid,
                     role,
                     name: name.clone(),
-                    ty: endpoint_type(role, info.topic_type),
+                    // Asked with no_mangle, the type is the DDS one.
+                    ty: endpoint_type(
+                        role,
+                        RosTypeName::from_dds_type_name(&info.topic_type)
+                            .map_or(info.topic_type, |t| t.as_str().to_owned()),
+                    ),
                     type_hash: info.topic_type_hash,
                     dds_topic: dds_topic.clone(),
                 };

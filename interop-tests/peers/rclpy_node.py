@@ -1,0 +1,378 @@
+"""A real ROS 2 Jazzy node: rclpy 7.1 on rmw_fastrtps_cpp 8.4 / Fast DDS 2.14 (the PyPI wheels that
+scripts/setup installs into the test environment), built from a JSON spec so that one test can
+give it everything it needs at once (interop-tests/src/rclpy/peer.rs writes the spec):
+
+  {"domain": 7, "namespace": "/ns", "name": "node",
+   "servers": [{"service": "/ns/set", "type": "std_srvs/srv/SetBool", "introspection": true}],
+   "clients": [{"service": "/x", "type": "std_srvs/srv/SetBool", "calls": [{"data": true}],
+                "wait_s": 20, "timeout_s": 5, "introspection": true}],
+   "publishers": [{"topic": "/chatter", "type": "std_msgs/msg/String", "count": 0,
+                   "period_s": 0.05}],
+   "subscriptions": [{"topic": "/chatter", "type": "std_msgs/msg/String"}],
+   "parameters": {"gain": 1.5},
+   "parameter_client": {"node": "/horus_node", "list": true, "get": ["p"], "set": {"p": 2},
+                        "wait_s": 20, "timeout_s": 5},
+   "graph": true, "info_heartbeat_s": 3600, "leave_when_done": false}
+
+Every key but domain, namespace and name is optional. What it prints on stdout, one JSON object a
+line:
+- {"ready": {"node": "/ns/node"}} once every entity is created;
+- {"graph": {...}} at start and whenever rclpy's own view of the graph changed ("graph": true):
+  nodes with enclaves, topic and service names and types, and for every DDS topic its publishers
+  and subscriptions as rclpy's TopicEndpointInfo prints them (`ros2 topic info -v`);
+- {"served": {"service", "request"}} per request a server took; {"event": {"service",
+  "event_type", "client_gid", "sequence_number"}} per introspection event of its own servers and
+  clients (their `_service_event` topics, read by a subscription of this node);
+- {"reply": {"service", "index", "response"}} per call answered, {"no_reply": {...}} per call not
+  answered within timeout_s, {"calls_done": {"service", "available", "answered", "calls"}};
+- {"published": data} per message published, {"heard": {"topic", "data", "publisher_gid"}} per
+  message taken;
+- {"parameters": {"list": [...], "get": [...], "set": [...]}} with what the parameter client got
+  ({"parameters": {"unavailable": true}} if the services never showed up within wait_s,
+  {"parameters": {"timeout": "list"|"get"|"set"}} naming the first request not answered within
+  timeout_s).
+
+rclpy offers no event for graph changes (ros2/rclpy#929), and its executor can miss a shutdown
+signal, so the node is spun by `spin_once(timeout_sec=0.1)` in a loop that wakes on its own: each
+wake re-reads the graph view, the clients' progress and whether to leave. It leaves (destroying
+its node, then its context, so that peers see it go) when its standard input ends, on SIGINT or
+SIGTERM, or once its clients and publishers are done if leave_when_done. Exit status 0 iff every
+call was answered (and the parameter client got its answers).
+
+usage: rclpy_node.py SPEC_JSON
+"""
+
+import array
+import importlib
+import json
+import os
+import sys
+import tempfile
+import threading
+import time
+
+import rclpy
+from rclpy.node import Node
+from rclpy.parameter import Parameter
+from rclpy.parameter_client import AsyncParameterClient
+from rclpy.qos import qos_profile_services_default, QoSProfile
+from rclpy.service_introspection import ServiceIntrospectionState
+
+
+def emit(key, value):
+    print(json.dumps({key: value}, sort_keys=True), flush=True)
+
+
+def ros_type(name):
+    """The Python class of `pkg/msg/Name` or `pkg/srv/Name`."""
+    package, kind, leaf = name.split('/')
+    return getattr(importlib.import_module(f'{package}.{kind}'), leaf)
+
+
+def gid_text(gid):
+    """A GID as rclpy's TopicEndpointInfo prints it."""
+    return '.'.join(format(b, '02x') for b in gid)
+
+
+def to_plain(value):
+    """A message as JSON-friendly data (bytes as lists of numbers; rclpy gives sequences of
+    numbers as array.array, arrays as numpy arrays)."""
+    if hasattr(value, 'get_fields_and_field_types'):
+        return {f: to_plain(getattr(value, f)) for f in value.get_fields_and_field_types()}
+    if isinstance(value, (bytes, bytearray)):
+        return list(value)
+    if isinstance(value, (list, tuple, array.array)) or type(value).__name__ == 'ndarray':
+        return [to_plain(v) for v in value]
+    return value
+
+
+def fill(message, fields):
+    """Sets message fields from JSON data (a `byte` field from a number)."""
+    types = message.get_fields_and_field_types()
+    for field, value in fields.items():
+        if types[field] == 'octet' and isinstance(value, int):
+            value = bytes([value])
+        setattr(message, field, value)
+    return message
+
+
+def answer(service_type, request, response):
+    """What the servers answer: SetBool says what it was set to, Trigger triggers, every other
+    type echoes the request's fields that the response has (test_msgs' BasicTypes, Arrays, …)."""
+    name = service_type.__name__
+    if name == 'SetBool':
+        response.success = request.data
+        response.message = f'set to {request.data}'
+    elif name == 'Trigger':
+        response.success = True
+        response.message = 'triggered'
+    else:
+        for field in response.get_fields_and_field_types():
+            if hasattr(request, field):
+                setattr(response, field, getattr(request, field))
+    return response
+
+
+def graph_view(node):
+    """rclpy's own view of the graph, through its graph API."""
+    endpoints = {}
+    for topic, _ in node.get_topic_names_and_types(no_demangle=True):
+        endpoints[topic] = {
+            'publishers': sorted(
+                str(i) for i in node.get_publishers_info_by_topic(topic, no_mangle=True)),
+            'subscriptions': sorted(
+                str(i) for i in node.get_subscriptions_info_by_topic(topic, no_mangle=True)),
+        }
+    return {
+        'nodes': sorted(
+            [ns, name, enclave]
+            for name, ns, enclave in node.get_node_names_and_namespaces_with_enclaves()),
+        'topics': {name: sorted(types) for name, types in node.get_topic_names_and_types()},
+        'services': {name: sorted(types) for name, types in node.get_service_names_and_types()},
+        'endpoints': endpoints,
+    }
+
+
+def info_heartbeat_profile(seconds):
+    """A Fast DDS XML profile giving the `ros_discovery_info` writer a periodic heartbeat of
+    `seconds` (rmw_fastrtps_cpp jazzy `publisher.cpp` loads the data_writer profile named after
+    the topic from FASTRTPS_DEFAULT_PROFILES_FILE; Fast DDS' default period is 3 s)."""
+    xml = f'''<?xml version="1.0" encoding="UTF-8"?>
+<profiles xmlns="http://www.eprosima.com/XMLSchemas/fastRTPS_Profiles">
+  <data_writer profile_name="ros_discovery_info">
+    <times><heartbeatPeriod><sec>{int(seconds)}</sec></heartbeatPeriod></times>
+  </data_writer>
+</profiles>
+'''
+    fd, path = tempfile.mkstemp(prefix='rclpy-peer-', suffix='.xml')
+    with os.fdopen(fd, 'w') as f:
+        f.write(xml)
+    return path
+
+
+class Peer:
+    def __init__(self, spec):
+        self.spec = spec
+        self.node = Node(spec['name'], namespace=spec.get('namespace', '/'))
+        self.leaving = threading.Event()
+        self.last_view = None
+        self.ok = True
+        self.keep = []
+        for s in spec.get('servers', []):
+            self.add_server(s)
+        self.clients = [self.add_client(c) for c in spec.get('clients', [])]
+        self.publishers = [self.add_publisher(p) for p in spec.get('publishers', [])]
+        for s in spec.get('subscriptions', []):
+            self.add_subscription(s)
+        for name, value in spec.get('parameters', {}).items():
+            self.node.declare_parameter(name, value)
+        self.parameter_client = spec.get('parameter_client')
+        if self.parameter_client:
+            self.parameter_client['client'] = AsyncParameterClient(
+                self.node, self.parameter_client['node'])
+
+    def watch_events(self, service, service_type):
+        """Reads the introspection events of `service` (ours, of servers and clients)."""
+        def on_event(event):
+            emit('event', {
+                'service': service,
+                'event_type': event.info.event_type,
+                'client_gid': gid_text(event.info.client_gid),
+                'sequence_number': event.info.sequence_number,
+            })
+        self.keep.append(self.node.create_subscription(
+            service_type.Event, service + '/_service_event', on_event, 100))
+
+    def add_server(self, s):
+        service_type = ros_type(s['type'])
+
+        def on_request(request, response):
+            emit('served', {'service': s['service'], 'request': to_plain(request)})
+            return answer(service_type, request, response)
+        server = self.node.create_service(service_type, s['service'], on_request)
+        if s.get('introspection'):
+            server.configure_introspection(
+                self.node.get_clock(), qos_profile_services_default,
+                ServiceIntrospectionState.METADATA)
+            self.watch_events(s['service'], service_type)
+        self.keep.append(server)
+
+    def add_client(self, c):
+        service_type = ros_type(c['type'])
+        client = self.node.create_client(service_type, c['service'])
+        if c.get('introspection'):
+            client.configure_introspection(
+                self.node.get_clock(), qos_profile_services_default,
+                ServiceIntrospectionState.METADATA)
+            self.watch_events(c['service'], service_type)
+        return {'spec': c, 'type': service_type, 'client': client, 'index': 0,
+                'future': None, 'answered': 0, 'available': False, 'done': not c.get('calls'),
+                'since': time.monotonic()}
+
+    def add_publisher(self, p):
+        publisher = self.node.create_publisher(ros_type(p['type']), p['topic'], 10)
+        state = {'spec': p, 'publisher': publisher, 'count': 0, 'done': False}
+
+        def publish():
+            if state['done']:
+                return
+            state['count'] += 1
+            message = ros_type(p['type'])()
+            message.data = f"Hello World: {state['count']}"
+            publisher.publish(message)
+            emit('published', message.data)
+            if p.get('count') and state['count'] >= p['count']:
+                state['done'] = True
+        self.keep.append(self.node.create_timer(p.get('period_s', 0.05), publish))
+        return state
+
+    def add_subscription(self, s):
+        def on_message(message):
+            emit('heard', {'topic': s['topic'], 'data': message.data})
+        self.keep.append(self.node.create_subscription(
+            ros_type(s['type']), s['topic'], on_message, QoSProfile(depth=10)))
+
+    def step_client(self, c):
+        """Advances one client: waits for its server, then makes its calls one at a time."""
+        spec = c['spec']
+        if c['done']:
+            return
+        now = time.monotonic()
+        if not c['available']:
+            if c['client'].service_is_ready():
+                c['available'] = True
+                c['since'] = now
+            elif now - c['since'] > spec.get('wait_s', 20):
+                self.finish_client(c)
+            return
+        if c['future'] is None:
+            request = fill(c['type'].Request(), spec['calls'][c['index']])
+            c['future'] = c['client'].call_async(request)
+            c['since'] = now
+            return
+        if c['future'].done():
+            emit('reply', {'service': spec['service'], 'index': c['index'],
+                           'response': to_plain(c['future'].result())})
+            c['answered'] += 1
+        elif now - c['since'] > spec.get('timeout_s', 5):
+            emit('no_reply', {'service': spec['service'], 'index': c['index']})
+            c['client'].remove_pending_request(c['future'])
+        else:
+            return
+        c['future'] = None
+        c['index'] += 1
+        if c['index'] == len(spec['calls']):
+            self.finish_client(c)
+
+    def finish_client(self, c):
+        c['done'] = True
+        calls = len(c['spec']['calls'])
+        self.ok = self.ok and c['answered'] == calls
+        emit('calls_done', {'service': c['spec']['service'], 'available': c['available'],
+                            'answered': c['answered'], 'calls': calls})
+
+    def step_parameter_client(self):
+        """Waits for the remote node's parameter services, then asks them one request after
+        the other: list, get, set."""
+        p = self.parameter_client
+        if not p or p.get('done'):
+            return
+        client = p['client']
+        now = time.monotonic()
+        p.setdefault('since', now)
+        if 'steps' not in p:
+            if client.services_are_ready():
+                p['steps'] = [k for k in ('list', 'get', 'set') if p.get(k)]
+                p['results'] = {}
+                p['future'] = None
+            elif now - p['since'] > p.get('wait_s', 20):
+                emit('parameters', {'unavailable': True})
+                p['done'] = True
+                self.ok = False
+            return
+        if p['future'] is None:
+            if not p['steps']:
+                emit('parameters', p['results'])
+                p['done'] = True
+                return
+            key = p['steps'][0]
+            if key == 'list':
+                p['future'] = client.list_parameters()
+            elif key == 'get':
+                p['future'] = client.get_parameters(p['get'])
+            else:
+                p['future'] = client.set_parameters(
+                    [Parameter(n, value=v) for n, v in p['set'].items()])
+            p['since'] = now
+            return
+        if p['future'].done():
+            key = p['steps'].pop(0)
+            result = p['future'].result()
+            if key == 'list':
+                p['results'][key] = sorted(result.result.names)
+            elif key == 'get':
+                p['results'][key] = [to_plain(v) for v in result.values]
+            else:
+                p['results'][key] = [to_plain(r) for r in result.results]
+            p['future'] = None
+        elif now - p['since'] > p.get('timeout_s', 5):
+            emit('parameters', {'timeout': p['steps'][0]})
+            p['done'] = True
+            self.ok = False
+
+    def done(self):
+        return (all(c['done'] for c in self.clients)
+                and all(p['done'] for p in self.publishers)
+                and (not self.parameter_client or self.parameter_client.get('done')))
+
+    def run(self):
+        emit('ready', {'node': self.node.get_fully_qualified_name()})
+        while rclpy.ok() and not self.leaving.is_set():
+            try:
+                rclpy.spin_once(self.node, timeout_sec=0.1)
+            except Exception:
+                # A signal shut the context down while the node was spun: that is leaving.
+                if rclpy.ok():
+                    raise
+                break
+            if self.spec.get('graph'):
+                view = graph_view(self.node)
+                if view != self.last_view:
+                    self.last_view = view
+                    emit('graph', view)
+            for c in self.clients:
+                self.step_client(c)
+            self.step_parameter_client()
+            if self.spec.get('leave_when_done') and self.done():
+                break
+
+
+def main():
+    spec = json.loads(sys.argv[1])
+    if spec.get('info_heartbeat_s'):
+        os.environ['FASTRTPS_DEFAULT_PROFILES_FILE'] = info_heartbeat_profile(
+            spec['info_heartbeat_s'])
+    # No log files: rcl's external logging (spdlog) would write under ~/.ros/log.
+    rclpy.init(args=[sys.argv[0], '--ros-args', '--disable-external-lib-logs'],
+               domain_id=spec['domain'])
+    peer = Peer(spec)
+
+    def watch_stdin():
+        for _ in sys.stdin:
+            pass
+        peer.leaving.set()
+    threading.Thread(target=watch_stdin, daemon=True).start()
+    try:
+        peer.run()
+    except KeyboardInterrupt:
+        pass
+    finally:
+        peer.node.destroy_node()
+        rclpy.try_shutdown()
+        if os.environ.get('FASTRTPS_DEFAULT_PROFILES_FILE', '').startswith(tempfile.gettempdir()):
+            os.unlink(os.environ['FASTRTPS_DEFAULT_PROFILES_FILE'])
+    sys.exit(0 if peer.ok else 1)
+
+
+if __name__ == '__main__':
+    main()

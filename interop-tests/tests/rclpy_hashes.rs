@@ -1,0 +1,156 @@
+//! Every RIHS01 type hash horus-ros computes equals the one the ROS 2 Jazzy wheels ship
+//! (`<venv>/share/<pkg>/{msg,srv,action}/<Name>.json`, written by
+//! rosidl_generator_type_description when the packages were built): the hash of each type
+//! compiled into horus-ros-msgs (messages, services with their request, response and event), and
+//! the hash our REP-2011 code computes from each type description the wheels ship — every type
+//! of every installed package (test_msgs' arrays, bounded and nested sequences, defaults,
+//! constants, actions…). No DDS.
+
+use horus_ros_msgs::{
+    builtin_interfaces, geometry_msgs, rcl_interfaces, rmw_dds_common, sensor_msgs, service_msgs,
+    std_msgs, std_srvs, type_description_interfaces, Message, Service, TypeDescription,
+};
+use horus_ros_services::dynamic::sub_description;
+use interop_tests::rclpy::wheels;
+
+/// `(type name, our RIHS01 string)` of each listed message type.
+macro_rules! messages {
+    ($($t:ty),* $(,)?) => {
+        vec![$((<$t as Message>::TYPE_NAME.to_owned(), <$t as Message>::type_hash().to_string())),*]
+    };
+}
+
+/// `(type name, our RIHS01 string)` of each listed service type, its request, response and
+/// event.
+macro_rules! services {
+    ($($t:ty),* $(,)?) => {{
+        let mut v = Vec::new();
+        $(
+            let name = <$t as Service>::TYPE_NAME;
+            v.push((name.to_owned(), <$t as Service>::type_hash().to_string()));
+            v.push((
+                format!("{name}_Request"),
+                <<$t as Service>::Request as Message>::type_hash().to_string(),
+            ));
+            v.push((
+                format!("{name}_Response"),
+                <<$t as Service>::Response as Message>::type_hash().to_string(),
+            ));
+            v.push((format!("{name}_Event"), <$t as Service>::event_type_hash().to_string()));
+        )*
+        v
+    }};
+}
+
+#[test]
+fn every_compiled_type_hashes_as_the_wheels() {
+    let mut ours = messages![
+        builtin_interfaces::msg::Time,
+        builtin_interfaces::msg::Duration,
+        geometry_msgs::msg::Vector3,
+        geometry_msgs::msg::Point,
+        geometry_msgs::msg::Quaternion,
+        geometry_msgs::msg::Pose,
+        geometry_msgs::msg::PoseStamped,
+        geometry_msgs::msg::Twist,
+        geometry_msgs::msg::TwistStamped,
+        rcl_interfaces::msg::ParameterType,
+        rcl_interfaces::msg::ParameterValue,
+        rcl_interfaces::msg::Parameter,
+        rcl_interfaces::msg::FloatingPointRange,
+        rcl_interfaces::msg::IntegerRange,
+        rcl_interfaces::msg::ParameterDescriptor,
+        rcl_interfaces::msg::SetParametersResult,
+        rcl_interfaces::msg::ListParametersResult,
+        rcl_interfaces::msg::Log,
+        rcl_interfaces::msg::ParameterEvent,
+        rmw_dds_common::Gid,
+        rmw_dds_common::NodeEntitiesInfo,
+        rmw_dds_common::ParticipantEntitiesInfo,
+        sensor_msgs::msg::LaserScan,
+        sensor_msgs::msg::Imu,
+        sensor_msgs::msg::JointState,
+        service_msgs::msg::ServiceEventInfo,
+        std_msgs::msg::String,
+        std_msgs::msg::Header,
+        std_msgs::msg::Empty,
+        std_msgs::msg::Bool,
+        std_msgs::msg::Byte,
+        std_msgs::msg::Char,
+        std_msgs::msg::Int8,
+        std_msgs::msg::Int16,
+        std_msgs::msg::Int32,
+        std_msgs::msg::Int64,
+        std_msgs::msg::UInt8,
+        std_msgs::msg::UInt16,
+        std_msgs::msg::UInt32,
+        std_msgs::msg::UInt64,
+        std_msgs::msg::Float32,
+        std_msgs::msg::Float64,
+        type_description_interfaces::msg::FieldType,
+        type_description_interfaces::msg::Field,
+        type_description_interfaces::msg::IndividualTypeDescription,
+        type_description_interfaces::msg::TypeDescription,
+        type_description_interfaces::msg::KeyValue,
+        type_description_interfaces::msg::TypeSource,
+    ];
+    ours.extend(services![
+        std_srvs::srv::Empty,
+        std_srvs::srv::Trigger,
+        std_srvs::srv::SetBool,
+        rcl_interfaces::srv::ListParameters,
+        rcl_interfaces::srv::GetParameters,
+        rcl_interfaces::srv::GetParameterTypes,
+        rcl_interfaces::srv::SetParameters,
+        rcl_interfaces::srv::SetParametersAtomically,
+        rcl_interfaces::srv::DescribeParameters,
+        type_description_interfaces::srv::GetTypeDescription,
+    ]);
+    let differing: Vec<String> = ours
+        .iter()
+        .filter_map(|(name, hash)| {
+            let theirs = wheels::wheel_hash(name);
+            (theirs.as_ref() != Ok(hash)).then(|| format!("{name}: ours {hash}, wheels {theirs:?}"))
+        })
+        .collect();
+    assert!(differing.is_empty(), "{differing:#?}");
+}
+
+#[test]
+fn every_description_the_wheels_ship_hashes_as_they_say() {
+    let files = wheels::interface_files().unwrap_or_else(|e| panic!("{e}"));
+    let mut compared = 0;
+    let mut differing = Vec::new();
+    for file in &files {
+        let json = wheels::read_json(file).unwrap_or_else(|e| panic!("{e}"));
+        let description: TypeDescription =
+            serde_json::from_value(json["type_description_msg"].clone())
+                .unwrap_or_else(|e| panic!("{}: type_description_msg: {e}", file.display()));
+        for entry in json["type_hashes"].as_array().into_iter().flatten() {
+            let (Some(name), Some(theirs)) =
+                (entry["type_name"].as_str(), entry["hash_string"].as_str())
+            else {
+                panic!(
+                    "{}: a type_hashes entry without name or hash",
+                    file.display()
+                );
+            };
+            let ours = sub_description(&description, name)
+                .unwrap_or_else(|e| panic!("{}: {name}: {e}", file.display()))
+                .compute_type_hash()
+                .to_string();
+            if ours != theirs {
+                differing.push(format!("{name}: ours {ours}, wheels {theirs}"));
+            }
+            compared += 1;
+        }
+    }
+    assert!(differing.is_empty(), "{differing:#?}");
+    // std_msgs, std_srvs, test_msgs, rcl_interfaces, … : hundreds of types.
+    assert!(
+        files.len() > 150 && compared > 500,
+        "only {} files, {compared} types",
+        files.len()
+    );
+    eprintln!("{compared} types of {} interfaces", files.len());
+}
