@@ -13,12 +13,12 @@
 //!   registered for it.
 //! - If the program handles shutdown — a hook is registered, or one of those contexts is
 //!   watched: asked [`ok`](crate::Context::ok), waited on, or given an `on_shutdown` callback —
-//!   it is left to end on its own (it drops its contexts, and each participant's deletion tells
-//!   the peers). Otherwise, and on any signal while an earlier one is being handled, each of
-//!   those contexts says goodbye at once (its DDS participant is deleted: rustdds and Cyclone DDS
-//!   both send the participant's dispose), and the signal is raised again with its default
-//!   action: the process ends as signalled (exit status 130 / 143 in a shell), like an rclpy
-//!   program on an unhandled `KeyboardInterrupt`.
+//!   it is left to end on its own (it drops its contexts, which takes them off the graph).
+//!   Otherwise, and on any signal after one was left to the program, each of those contexts
+//!   says goodbye at once — its nodes withdrawn on `ros_discovery_info` (acknowledged by the
+//!   peers, 1 s at most), then its DDS participant deleted with all on it (its disposes) — and
+//!   the signal is raised again with its default action: the process ends as signalled (exit
+//!   status 130 / 143 in a shell), like an rclpy program on an unhandled `KeyboardInterrupt`.
 //! - Opting out: [`ContextBuilder::signal_handler`](crate::ContextBuilder::signal_handler) per
 //!   context, [`set_default_signal_handler_options`] for every context built without it (e.g.
 //!   the process's default node in `horus-ros-services`). A signal no context and no hook asked

@@ -421,9 +421,10 @@ impl Context {
 }
 
 impl ContextInner {
-    /// Deletes the DDS participant now, with everything on it, so that every peer sees it leave
-    /// (the goodbye of a process ending on a signal; see [`signal_handler`]). The context's
-    /// entities fail from then on.
+    /// Takes the context off every peer's graph now, while its nodes and endpoints may still be
+    /// held (the goodbye of a process ending on a signal; see [`signal_handler`]): announces no
+    /// nodes on `ros_discovery_info`, waits (bounded) for the peers' acknowledgments, then deletes
+    /// the DDS participant with everything on it. The context's entities fail from then on.
     pub(crate) fn goodbye(&self) {
         // Under the lock, so that no later announcement overtakes the last one.
         let _local = self.local();
