@@ -40,6 +40,10 @@ pub enum DdsError {
     #[cfg(feature = "cyclone")]
     #[error(transparent)]
     Cyclone(horus_ros_rmw_cyclone::Error),
+    /// The context's participant was deleted (the process is ending on a signal: see
+    /// [`signal_handler`](crate::signal_handler)).
+    #[error("the participant was deleted")]
+    ParticipantDeleted,
     /// A sample taken is shorter than its 4-byte CDR encapsulation header (it is consumed).
     #[error("sample of {len} bytes is shorter than its encapsulation header")]
     ShortSample {

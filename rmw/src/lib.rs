@@ -7,6 +7,8 @@
 //! - [`names`]: ROS name validation, expansion and DDS mangling.
 //! - [`qos`]: QoS profiles and their DDS mapping.
 //! - [`Gid`]: 16-byte global ids.
+//! - [`signal_handler`]: SIGINT and SIGTERM shut contexts down and take their participants off
+//!   every peer's graph at once, as rclcpp's and rclpy's signal handlers do.
 //! - [`service`]: request/reply (`rmw_send_request`, `rmw_take_request`, `rmw_send_response`,
 //!   `rmw_take_response`) in each peer's wire convention.
 
@@ -32,6 +34,7 @@ pub mod qos;
 pub mod queue;
 pub mod raw;
 pub mod service;
+pub mod signal_handler;
 #[cfg(feature = "tokio")]
 pub mod stream;
 pub mod wait_set;
@@ -43,6 +46,7 @@ pub use backend::{
 pub use context::{
     env::{DiscoveryOptions, DiscoveryRange, DomainId},
     Context, ContextBuilder, ContextError, DiscoveryFeed, DiscoveryFeedError, FeedWaker,
+    ShutdownFuture,
 };
 pub use dds_error::DdsError;
 pub use discovery::{DiscoveredEndpoint, DiscoveredParticipant, DiscoveryEvent, VendorId};
@@ -54,6 +58,7 @@ pub use raw::{
     RawEndpointSpec, RawReader, RawReaderWaker, RawSample, RawWriter, SampleId, ServiceEndpointId,
     ServiceEndpointRole,
 };
+pub use signal_handler::{ShutdownSignal, SignalHandlerOptions};
 #[cfg(feature = "tokio")]
 pub use stream::SubscriptionStream;
 pub use wait_set::{WaitSet, WaitSetError};

@@ -11,7 +11,9 @@
 //! ```
 //!
 //! Usage: `add_two_ints_server [-s SERVICE] [--count N] [--introspection STATE]`. It serves until
-//! Ctrl+C, or, with `--count N`, until it has answered N requests. The domain comes from
+//! SIGINT (Ctrl+C) or SIGTERM shuts its context down, then leaves the graph and exits with 0 (as
+//! rclcpp's demo does after `rclcpp::spin` returns), or, with `--count N`, until it has answered
+//! N requests. The domain comes from
 //! `ROS_DOMAIN_ID`. `--introspection metadata|contents` publishes service events on
 //! `/add_two_ints/_service_event` as Jazzy's `demo_nodes_cpp` `introspection_service` does with
 //! `service_configure_introspection` set (same states, system-default QoS); watch them with
@@ -63,10 +65,11 @@ fn main() -> horus_ros_services::Result<()> {
         .build()?;
 
     match options.count {
-        // Like `rclcpp::spin`: serve until the process is interrupted (Ctrl+C).
-        None => loop {
-            std::thread::park();
-        },
+        // Like `rclcpp::spin`: serve until SIGINT or SIGTERM shuts the context down; the
+        // participant leaves every peer's graph as `context` and the rest are dropped below.
+        None => {
+            context.wait_for_shutdown(None);
+        }
         Some(count) => {
             for _ in 0..count {
                 if requests_served.recv().is_err() {

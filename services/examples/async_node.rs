@@ -16,7 +16,8 @@
 //! - `wait_for_service_async` resolves when `/add_two_ints` is usable; the node then calls it
 //!   once (`2 + 3 = 5 from /add_two_ints`).
 //!
-//! It runs until Ctrl+C. The domain comes from `ROS_DOMAIN_ID`.
+//! It runs until SIGINT (Ctrl+C) or SIGTERM shuts its context down, then says how much it served
+//! and leaves the graph. The domain comes from `ROS_DOMAIN_ID`.
 
 use std::sync::Arc;
 
@@ -29,6 +30,9 @@ const CALL_TIMEOUT: Duration = Duration::from_secs(5);
 #[tokio::main]
 async fn main() -> Result<()> {
     let context = Context::from_env()?;
+    // Waited on at the end; made first, so that a signal from now on is left to this program
+    // (it says goodbye itself) rather than ending the process at once.
+    let shutdown = context.wait_for_shutdown_async();
     let node = context.create_node("async_node", "/")?;
 
     // Graph changes, as they happen.
@@ -87,9 +91,7 @@ async fn main() -> Result<()> {
         .await?;
     println!("2 + 3 = {} from /add_two_ints", reply.sum);
 
-    tokio::signal::ctrl_c()
-        .await
-        .map_err(horus_ros_services::SetupError::from)?;
+    shutdown.await;
     println!(
         "served {} requests ({} failed); bye",
         server.served_count(),

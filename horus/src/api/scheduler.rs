@@ -3,8 +3,10 @@
 //! policies, and shuts them down in registration order.
 
 use std::panic::{catch_unwind, AssertUnwindSafe};
-use std::sync::{mpsc, Arc, Mutex, OnceLock, Weak};
+use std::sync::{mpsc, Arc};
 use std::time::Duration;
+
+use horus_ros_rmw::signal_handler::{self, ShutdownSignal, SignalHook};
 
 use crate::api::clock::{Clock, StopHandle, SystemClock};
 use crate::api::error::{BuildError, Error, Result, SchedulerError};
@@ -308,7 +310,7 @@ impl Scheduler {
     /// (registration order) and prints the timing report. Returns the error that stopped it, if
     /// a node's failure or deadline policy did.
     pub fn run(&mut self) -> Result<()> {
-        register_signals(&self.stop);
+        let _signals = stop_on_signals(&self.stop);
         let mut outcome = self.start();
         while outcome.is_ok() && !self.stop.is_stopped() {
             outcome = self.cycle(false);
@@ -922,28 +924,25 @@ impl NodeBuilder<'_> {
     }
 }
 
-/// Ctrl+C / SIGTERM stop every scheduler that is running `run` (one handler per process).
-fn register_signals(stop: &StopHandle) {
-    type Registry = Mutex<Vec<Weak<crate::api::clock::StopState>>>;
-    static REGISTRY: OnceLock<Registry> = OnceLock::new();
-    static INSTALLED: OnceLock<()> = OnceLock::new();
-    let registry = REGISTRY.get_or_init(|| Mutex::new(Vec::new()));
-    registry
-        .lock()
-        .unwrap_or_else(|p| p.into_inner())
-        .push(stop.downgrade());
-    INSTALLED.get_or_init(|| {
-        let result = ctrlc::set_handler(|| {
-            if let Some(registry) = REGISTRY.get() {
-                let mut handles = registry.lock().unwrap_or_else(|p| p.into_inner());
-                handles.retain(|w| w.strong_count() > 0);
-                for h in handles.iter().filter_map(Weak::upgrade) {
-                    StopHandle::from_inner(h).stop();
-                }
+/// SIGINT (Ctrl+C), SIGTERM and SIGHUP stop the scheduler while the returned hook lives: through
+/// the process's one signal thread (`horus_ros_rmw::signal_handler`), which also shuts the ROS
+/// contexts down. The hook tells it that the program handles these signals, so every node's
+/// `shutdown` runs (and may still publish) before the process leaves the graph; a second signal
+/// ends the process at once, after the participants' goodbye.
+fn stop_on_signals(stop: &StopHandle) -> Option<SignalHook> {
+    let state = stop.downgrade();
+    let hook = signal_handler::on_signal(
+        &[
+            ShutdownSignal::Interrupt,
+            ShutdownSignal::Terminate,
+            ShutdownSignal::Hangup,
+        ],
+        move |_| {
+            if let Some(state) = state.upgrade() {
+                StopHandle::from_inner(state).stop();
             }
-        });
-        if let Err(err) = result {
-            tracing::warn!("Ctrl+C/SIGTERM will not stop the scheduler: {err}");
-        }
-    });
+        },
+    );
+    hook.inspect_err(|e| tracing::warn!("signals will not stop the scheduler: {e}"))
+        .ok()
 }

@@ -71,13 +71,32 @@ impl Domain {
     pub fn id(&self) -> u32 {
         self.id
     }
+
+    /// Deletes the domain now, with every entity in it, waiting until Cyclone has finished
+    /// deleting its participants (`ddsi_stop`); the next [`acquire`](Self::acquire) of this id
+    /// creates a new one.
+    pub(super) fn delete_now(&self) -> Result<()> {
+        if let Some(map) = lock(&DOMAINS).as_mut() {
+            if map
+                .get(&self.id)
+                .is_some_and(|slot| Arc::ptr_eq(&slot.handle, &self.handle))
+            {
+                map.remove(&self.id);
+            }
+        }
+        self.handle.delete_now()
+    }
 }
 
 impl Drop for Domain {
     fn drop(&mut self) {
         let mut domains = lock(&DOMAINS);
         if let Some(map) = domains.as_mut() {
-            if let Some(slot) = map.get_mut(&self.id) {
+            // Not a slot of a newer domain of the same id (after `delete_now`).
+            let slot = map
+                .get_mut(&self.id)
+                .filter(|slot| Arc::ptr_eq(&slot.handle, &self.handle));
+            if let Some(slot) = slot {
                 slot.refs -= 1;
                 if slot.refs == 0 {
                     // Drops the slot's Arc; the domain entity goes with the last Arc (ours or a

@@ -56,6 +56,18 @@ impl Writer {
         Entity(self.handle.clone())
     }
 
+    /// Waits at most `limit` until every matched reliable reader acknowledged what this writer
+    /// wrote (`dds_wait_for_acks`); whether they all did.
+    pub fn wait_for_acks(&self, limit: Duration) -> Result<bool> {
+        // SAFETY: live writer (we hold it); any timeout value is valid.
+        let rc = unsafe { c::dds_wait_for_acks(self.handle.id, duration_to_dds(Some(limit))) };
+        if rc == c::DDS_RETCODE_TIMEOUT {
+            return Ok(false);
+        }
+        check("dds_wait_for_acks", rc)?;
+        Ok(true)
+    }
+
     /// Writes one serialized sample: `cdr` is the 4-byte encapsulation header followed by the
     /// CDR body, exactly as it should appear on the wire.
     pub fn write(&self, cdr: &[u8]) -> Result<()> {

@@ -1,6 +1,7 @@
 //! Entity handles: every Cyclone entity owned by a [`Handle`] that deletes it on drop; [`Entity`]
 //! and [`WeakEntity`]; [`StatusMask`].
 
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 
 use cyclors as c;
@@ -15,6 +16,8 @@ pub(super) struct Handle {
     pub(super) _parent: Option<Arc<Handle>>,
     // What Cyclone may call into while the entity lives (a topic's filter): dropped after it.
     pub(super) _keep: Option<Box<dyn std::any::Any + Send + Sync>>,
+    // Set once deleted ahead of the drop (see `delete_now`).
+    pub(super) deleted: AtomicBool,
 }
 
 impl std::fmt::Debug for Handle {
@@ -38,15 +41,33 @@ impl Handle {
             id,
             _parent: parent.cloned(),
             _keep: keep,
+            deleted: AtomicBool::new(false),
         })
+    }
+
+    /// Deletes the entity now, with its children, instead of when the last reference goes.
+    /// Everything of ours that Cyclone may call into (listener arguments, filters) outlives the
+    /// deletion all the more; the children's handles go stale, so calls on them fail with
+    /// Cyclone's "bad parameter" and their `dds_delete` on drop does nothing.
+    pub(super) fn delete_now(&self) -> Result<()> {
+        if self.deleted.swap(true, Ordering::SeqCst) {
+            return Ok(());
+        }
+        // SAFETY: as in `drop`: a handle is a table index, Cyclone checks it before use.
+        check("dds_delete", unsafe { c::dds_delete(self.id) })?;
+        Ok(())
     }
 }
 
 impl Drop for Handle {
     fn drop(&mut self) {
-        // SAFETY: `id` is an entity we created and nobody else deletes: parents outlive their
-        // children (see `_parent`), so it is still live. Entity handles are table indices,
-        // not pointers; dds_delete of a live handle is always sound.
+        if *self.deleted.get_mut() {
+            return;
+        }
+        // SAFETY: `id` is an entity we created and nobody else deletes, unless an ancestor was
+        // deleted early (`delete_now`, the goodbye of a process ending on a signal): parents
+        // outlive their children (see `_parent`). Entity handles are table indices, not
+        // pointers: Cyclone checks them, and dds_delete of a stale one fails harmlessly.
         let _ = unsafe { c::dds_delete(self.id) };
     }
 }

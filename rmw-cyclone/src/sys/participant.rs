@@ -34,6 +34,18 @@ impl Participant {
         })
     }
 
+    /// Deletes the participant now, with every entity created from it, then its domain (with
+    /// every other participant of this process in it), while references to them remain.
+    /// Cyclone deletes a participant in the background; deleting the domain waits until that is
+    /// done, so the participant's dispose is on its way when this returns and peers see it
+    /// leave at once. Every later call on those entities fails; dropping them is harmless. For a
+    /// process that is about to end (e.g. on SIGINT) and cannot wait for their owners to drop
+    /// them.
+    pub fn delete_with_domain(&self) -> Result<()> {
+        self.handle.delete_now()?;
+        self.domain.delete_now()
+    }
+
     /// The participant as an [`Entity`] (GUID, instance handle).
     pub fn entity(&self) -> Entity {
         Entity(self.handle.clone())

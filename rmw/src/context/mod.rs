@@ -2,6 +2,9 @@
 //! (rmw_cyclonedds and rmw_fastrtps both create one participant per context since Foxy).
 
 pub mod env;
+mod shutdown;
+
+pub use shutdown::ShutdownFuture;
 
 use std::any::{Any, TypeId};
 use std::collections::{BTreeMap, HashMap};
@@ -15,6 +18,7 @@ use crate::discovery::{DiscoveredEndpoint, DiscoveredParticipant, DiscoveryEvent
 use crate::entities::{EndpointSide, LocalEntities, NodeKey};
 use crate::local_sink::LocalSink;
 use crate::raw::{ServiceEndpointId, ServiceEndpointRole};
+use crate::signal_handler::{self, SignalHandlerError, SignalHandlerOptions};
 use crate::Gid;
 use env::{DiscoveryOptions, DomainId, DomainIdError};
 use horus_ros_msgs::rmw_dds_common::ParticipantEntitiesInfo;
@@ -42,6 +46,9 @@ pub enum ContextError {
         #[source]
         source: DdsError,
     },
+    /// The SIGINT/SIGTERM handlers asked for could not be installed.
+    #[error(transparent)]
+    SignalHandler(#[from] SignalHandlerError),
 }
 
 /// Builds a [`Context`]; values not set come from the environment as rcl reads it.
@@ -53,6 +60,7 @@ pub struct ContextBuilder {
     backend: Option<Backend>,
     enclave: Option<String>,
     arguments: Option<crate::args::Arguments>,
+    signal_handler: Option<SignalHandlerOptions>,
 }
 
 /// rcl's environment variable overriding the security enclave (`ROS_SECURITY_ENCLAVE_OVERRIDE`).
@@ -93,6 +101,16 @@ impl ContextBuilder {
         self
     }
 
+    /// The signals that shut this context down (default: what
+    /// [`set_default_signal_handler_options`](signal_handler::set_default_signal_handler_options)
+    /// set, initially [`SignalHandlerOptions::All`], as `rclcpp::init`); building installs their
+    /// handlers, process-wide and once (see [`signal_handler`]). `SignalHandlerOptions::None`
+    /// opts this context out: a signal then neither shuts it down nor deletes its participant.
+    pub fn signal_handler(mut self, options: SignalHandlerOptions) -> Self {
+        self.signal_handler = Some(options);
+        self
+    }
+
     /// Creates the participant. Warnings (deprecated or unsupported settings) go to `tracing`.
     pub fn build(self) -> Result<Context, ContextError> {
         let get = |k: &str| std::env::var(k).ok();
@@ -122,7 +140,10 @@ impl ContextBuilder {
             .or_else(|| arguments.enclave.clone())
             .or_else(|| get(ENCLAVE_OVERRIDE_ENV).filter(|e| !e.is_empty()))
             .unwrap_or_else(|| "/".to_owned());
-        Context::create(domain, discovery, backend, enclave, arguments)
+        let signals = self
+            .signal_handler
+            .unwrap_or_else(signal_handler::default_signal_handler_options);
+        Context::create(domain, discovery, backend, enclave, arguments, signals)
     }
 }
 
@@ -182,6 +203,25 @@ impl Dds {
         }
     }
 
+    /// Waits at most `limit` until every reader matched with the `ros_discovery_info` writer
+    /// acknowledged what it was sent; whether they all did.
+    fn wait_for_discovery_info_acks(&self, limit: std::time::Duration) -> bool {
+        match self {
+            Self::RustDds(p) => p.wait_for_discovery_info_acks(limit),
+            #[cfg(feature = "cyclone")]
+            Self::Cyclone(p) => p.wait_for_discovery_info_acks(limit),
+        }
+    }
+
+    /// Deletes the participant now (see [`ContextInner::goodbye`]).
+    fn delete_participant(&self) {
+        match self {
+            Self::RustDds(p) => p.delete(),
+            #[cfg(feature = "cyclone")]
+            Self::Cyclone(p) => p.delete(),
+        }
+    }
+
     fn publish_discovery_info(&self, message: ParticipantEntitiesInfo) {
         match self {
             Self::RustDds(p) => p.publish_discovery_info(message),
@@ -190,6 +230,9 @@ impl Dds {
         }
     }
 }
+
+/// How long a goodbye waits for its peers to acknowledge the last `ros_discovery_info` message.
+const GOODBYE_ACK_LIMIT: std::time::Duration = std::time::Duration::from_secs(1);
 
 /// Fields drop in declaration order: the DDS participant goes after the local bookkeeping.
 pub(crate) struct ContextInner {
@@ -206,6 +249,8 @@ pub(crate) struct ContextInner {
     service_endpoint_ids: AtomicU32,
     /// What the layers above keep per context, one value per type (see [`Context::shared`]).
     shared: Mutex<HashMap<TypeId, Weak<dyn Any + Send + Sync>>>,
+    /// Whether and why it was shut down (see [`Context::shutdown`]).
+    pub(crate) shutdown: Arc<shutdown::Shutdown>,
 }
 
 /// What this participant itself holds: its nodes, its endpoints, and where to report changes to
@@ -279,6 +324,7 @@ impl Context {
         backend: Backend,
         enclave: String,
         arguments: crate::args::Arguments,
+        signals: SignalHandlerOptions,
     ) -> Result<Self, ContextError> {
         let (dds, warnings) = Dds::create(backend, domain, &discovery, &enclave)?;
         for w in warnings {
@@ -291,21 +337,22 @@ impl Context {
             sink: None,
         });
         tracing::debug!(%domain, %backend, participant = %gid, "created DDS participant");
-        Ok(Self {
-            inner: Arc::new(ContextInner {
-                dds,
-                domain,
-                discovery,
-                backend,
-                enclave,
-                arguments: Arc::new(arguments),
-                gid,
-                local,
-                feed_open: AtomicBool::new(false),
-                service_endpoint_ids: AtomicU32::new(0),
-                shared: Mutex::new(HashMap::new()),
-            }),
-        })
+        let inner = Arc::new(ContextInner {
+            dds,
+            domain,
+            discovery,
+            backend,
+            enclave,
+            arguments: Arc::new(arguments),
+            gid,
+            local,
+            feed_open: AtomicBool::new(false),
+            service_endpoint_ids: AtomicU32::new(0),
+            shared: Mutex::new(HashMap::new()),
+            shutdown: Arc::new(shutdown::Shutdown::new(signals)),
+        });
+        signal_handler::register_context(&inner)?;
+        Ok(Self { inner })
     }
 
     /// The ROS arguments its nodes follow (`--ros-args` of the process, unless the builder
@@ -374,6 +421,29 @@ impl Context {
 }
 
 impl ContextInner {
+    /// Takes the context off every peer's graph now, while its nodes and endpoints may still be
+    /// held (the goodbye of a process ending on a signal; see [`signal_handler`]): announces no
+    /// nodes on `ros_discovery_info`, waits (bounded) for the peers' acknowledgments, then deletes
+    /// the DDS participant with everything on it. The context's entities fail from then on.
+    pub(crate) fn goodbye(&self) {
+        // Under the lock, so that no later announcement overtakes the last one.
+        let _local = self.local();
+        tracing::debug!(participant = %self.gid, "goodbye: no nodes left");
+        // As the nodes' own destruction announces it (rmw_destroy_node): what rmw_fastrtps and
+        // rmw_cyclonedds peers build their node lists from (`GraphCache::update_participant_entities`).
+        self.dds.publish_discovery_info(ParticipantEntitiesInfo {
+            gid: self.gid,
+            node_entities_info_seq: Vec::new(),
+        });
+        // Reliable: the message is resent until each peer acknowledged it, which the
+        // participant's deletion would cut short.
+        if !self.dds.wait_for_discovery_info_acks(GOODBYE_ACK_LIMIT) {
+            tracing::debug!("goodbye: not every peer acknowledged the last ros_discovery_info");
+        }
+        tracing::debug!(participant = %self.gid, "goodbye: deleting the participant");
+        self.dds.delete_participant();
+    }
+
     /// Locks what this participant holds (a poisoned lock still holds consistent data: every
     /// mutation is a single push/retain/insert).
     fn local(&self) -> MutexGuard<'_, LocalState> {

@@ -72,7 +72,16 @@ pub(crate) struct CycloneParticipant {
     gid: Gid,
 }
 
-/// The configuration rmw_cyclonedds builds for these discovery options (then `CYCLONEDDS_URI`).
+/// Cyclone DDS sends no key hash with its samples unless told to (`Internal/GenerateKeyhash`,
+/// default false); Fast DDS (rmw_fastrtps) ignores a dispose without one, so without it the
+/// disposes of our participant and endpoints never take them off Fast DDS peers' graphs: they
+/// stayed there until their lease ended, even after a clean exit. The key hash is an ordinary
+/// inline QoS every implementation accepts. First, so that `CYCLONEDDS_URI` can still override it.
+const KEY_HASH_CONFIG: &str =
+    "<CycloneDDS><Domain><Internal><GenerateKeyhash>true</GenerateKeyhash></Internal></Domain></CycloneDDS>,";
+
+/// Key hashes on ([`KEY_HASH_CONFIG`]), then the configuration rmw_cyclonedds builds for these
+/// discovery options, then `CYCLONEDDS_URI`.
 pub(crate) fn domain_config(discovery: &DiscoveryOptions) -> String {
     let range = match discovery.range {
         DiscoveryRange::Off => cyc::config::DiscoveryRange::Off,
@@ -80,7 +89,8 @@ pub(crate) fn domain_config(discovery: &DiscoveryOptions) -> String {
         DiscoveryRange::Subnet => cyc::config::DiscoveryRange::Subnet,
         DiscoveryRange::SystemDefault => cyc::config::DiscoveryRange::SystemDefault,
     };
-    cyc::config::domain_config_from_env(range, &discovery.static_peers)
+    let rmw_config = cyc::config::domain_config_from_env(range, &discovery.static_peers);
+    format!("{KEY_HASH_CONFIG}{rmw_config}")
 }
 
 impl CycloneParticipant {
@@ -119,6 +129,19 @@ impl CycloneParticipant {
     /// The participant's GID.
     pub(crate) fn gid(&self) -> Gid {
         self.gid
+    }
+
+    /// Waits at most `limit` for the `ros_discovery_info` readers' acknowledgments.
+    pub(crate) fn wait_for_discovery_info_acks(&self, limit: std::time::Duration) -> bool {
+        self.info_writer.wait_for_acks(limit).unwrap_or(false)
+    }
+
+    /// Deletes the participant now, and its domain, which waits until Cyclone has sent the
+    /// participant's dispose (the entities on them go stale).
+    pub(crate) fn delete(&self) {
+        if let Err(e) = self.participant.delete_with_domain() {
+            tracing::warn!("could not delete the participant: {e}");
+        }
     }
 
     /// Publishes the participant's `ros_discovery_info` message; a failure is logged, since

@@ -4,7 +4,7 @@
 use std::collections::VecDeque;
 use std::time::{Duration, Instant};
 
-use std::sync::{mpsc, Arc};
+use std::sync::{mpsc, Arc, Mutex, MutexGuard};
 
 use rustdds::mio1 as mio;
 
@@ -46,21 +46,28 @@ impl Wake for MioWake {
     }
 }
 
+/// The participant's status-event listener, shared by the participant (which drops it when it
+/// deletes itself: a listener keeps rustdds' participant alive) and the [`StatusPoll`]; `None`
+/// once the participant is deleted.
+pub(crate) type SharedListener = Arc<Mutex<Option<DomainParticipantStatusListener>>>;
+
 /// The participant's status-event listener registered with a poll instance (and the poll's one
 /// waker). rustdds lets a listener be registered only once, so this outlives each feed and is
 /// handed back when a feed closes.
 pub(crate) struct StatusPoll {
     poll: mio::Poll,
     waker: Arc<MioWake>,
-    listener: DomainParticipantStatusListener,
+    listener: SharedListener,
 }
 
 impl StatusPoll {
     /// Registers `listener` with a new poll instance.
-    pub(crate) fn new(mut listener: DomainParticipantStatusListener) -> std::io::Result<Self> {
+    pub(crate) fn new(listener: SharedListener) -> std::io::Result<Self> {
         let poll = mio::Poll::new()?;
-        poll.registry()
-            .register(&mut listener, STATUS, mio::Interest::READABLE)?;
+        if let Some(l) = lock(&listener).as_mut() {
+            poll.registry()
+                .register(l, STATUS, mio::Interest::READABLE)?;
+        }
         let waker = Arc::new(MioWake(mio::Waker::new(poll.registry(), LOCAL)?));
         Ok(Self {
             poll,
@@ -68,6 +75,16 @@ impl StatusPoll {
             listener,
         })
     }
+
+    /// The next status event, if any (none once the participant is deleted).
+    fn try_recv(&self) -> Option<DomainParticipantStatusEvent> {
+        lock(&self.listener).as_ref()?.try_recv_status()
+    }
+}
+
+/// Locks a mutex whose data stays consistent even if a holder panicked.
+fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
+    m.lock().unwrap_or_else(|p| p.into_inner())
 }
 
 /// What creates `ros_discovery_info` readers: the late-joiner reader is created as the feed goes.
@@ -179,7 +196,7 @@ impl DdsDiscoveryFeed {
         while let Ok(event) = self.local.try_recv() {
             self.pending.push_back(event);
         }
-        while let Some(status) = self.status.listener.try_recv_status() {
+        while let Some(status) = self.status.try_recv() {
             if let Some(event) = self.convert(status) {
                 match &event {
                     DiscoveryEvent::EndpointDiscovered(e)

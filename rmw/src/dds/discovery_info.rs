@@ -65,6 +65,12 @@ impl DiscoveryInfoWriter {
         Ok(Self { writer })
     }
 
+    /// Waits at most `limit` until every matched reader acknowledged what was written; whether
+    /// they all did.
+    pub(crate) fn wait_for_acknowledgments(&self, limit: std::time::Duration) -> bool {
+        self.writer.wait_for_acknowledgments(limit).unwrap_or(false)
+    }
+
     /// Publishes `info`; a failure is logged, since discovery will catch up with the next change.
     pub(crate) fn publish(&self, info: ParticipantEntitiesInfo) {
         if let Err(e) = self.writer.write(info, None) {

@@ -41,7 +41,7 @@ fn topic(
     type_name: &str,
     policies: &rustdds::QosPolicies,
 ) -> Result<rustdds::Topic, DdsError> {
-    p.participant
+    p.participant()?
         .create_topic(
             topic_name.to_owned(),
             type_name.to_owned(),

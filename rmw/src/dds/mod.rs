@@ -9,7 +9,7 @@ pub(crate) mod qos;
 pub(crate) mod raw;
 pub(crate) mod waiter;
 
-use std::sync::{Mutex, MutexGuard};
+use std::sync::{Arc, Mutex, MutexGuard};
 
 use horus_ros_msgs::rmw_dds_common::{Gid, ParticipantEntitiesInfo};
 use rustdds::{DomainParticipant, QosPolicyBuilder, RTPSEntity, GUID};
@@ -18,7 +18,7 @@ use crate::context::env::{DiscoveryOptions, DomainId};
 use crate::context::DiscoveryFeedError;
 use crate::dds_error::DdsError;
 use crate::local_sink::LocalSink;
-use discovery_feed::{DdsDiscoveryFeed, InfoReaderFactory, StatusPoll};
+use discovery_feed::{DdsDiscoveryFeed, InfoReaderFactory, SharedListener, StatusPoll};
 use discovery_info::DiscoveryInfoWriter;
 
 /// The GID of a DDS entity: its 16-byte GUID (12-byte prefix + 4-byte entity id), as rmw_dds_common
@@ -40,7 +40,12 @@ pub(crate) struct RustddsParticipant {
     discovery_writer: DiscoveryInfoWriter,
     pub(crate) publisher: rustdds::Publisher,
     pub(crate) subscriber: rustdds::Subscriber,
-    pub(crate) participant: DomainParticipant,
+    /// The participant; `None` once [deleted](Self::delete). Its endpoints, publisher and
+    /// subscriber only hold weak references to it: this and `status_listener` keep it alive.
+    participant: Mutex<Option<DomainParticipant>>,
+    /// Its status-event listener (a strong reference), shared with the discovery feeds.
+    status_listener: SharedListener,
+    guid: GUID,
     /// The status listener, registered once, kept between feeds.
     status_poll: Mutex<Option<StatusPoll>>,
 }
@@ -65,7 +70,9 @@ impl RustddsParticipant {
                 discovery_writer,
                 publisher,
                 subscriber,
-                participant,
+                guid: participant.guid(),
+                status_listener: Arc::new(Mutex::new(Some(participant.status_listener()))),
+                participant: Mutex::new(Some(participant)),
                 status_poll: Mutex::new(None),
             },
             warnings,
@@ -74,7 +81,29 @@ impl RustddsParticipant {
 
     /// The participant's GID.
     pub(crate) fn gid(&self) -> Gid {
-        gid_from_guid(self.participant.guid())
+        gid_from_guid(self.guid)
+    }
+
+    /// The participant, unless it was deleted.
+    pub(crate) fn participant(&self) -> Result<DomainParticipant, DdsError> {
+        lock(&self.participant)
+            .clone()
+            .ok_or(DdsError::ParticipantDeleted)
+    }
+
+    /// Waits at most `limit` for the `ros_discovery_info` readers' acknowledgments.
+    pub(crate) fn wait_for_discovery_info_acks(&self, limit: std::time::Duration) -> bool {
+        self.discovery_writer.wait_for_acknowledgments(limit)
+    }
+
+    /// Deletes the participant now: as its last strong references (ours and the status
+    /// listener's) go, rustdds' discovery sends the dispose of its endpoints and of the
+    /// participant itself (`Discovery::on_participant_shutting_down`), and its threads end.
+    pub(crate) fn delete(&self) {
+        let listener = lock(&self.status_listener).take();
+        let participant = lock(&self.participant).take();
+        drop(listener);
+        drop(participant);
     }
 
     /// Publishes the participant's `ros_discovery_info` message.
@@ -91,20 +120,23 @@ impl RustddsParticipant {
         let reader_error = |e| DiscoveryFeedError::Reader {
             source: DdsError::RustDdsCreate(e),
         };
-        let topic = discovery_info::topic(&self.participant).map_err(reader_error)?;
+        let participant = self
+            .participant()
+            .map_err(|source| DiscoveryFeedError::Reader { source })?;
+        let topic = discovery_info::topic(&participant).map_err(reader_error)?;
         let reader = self
             .subscriber
             .create_datareader_no_key(&topic, Some(discovery_info::reader_qos()))
             .map_err(reader_error)?;
         let status = match lock(&self.status_poll).take() {
             Some(status) => status,
-            None => StatusPoll::new(self.participant.status_listener()).map_err(|e| {
+            None => StatusPoll::new(Arc::clone(&self.status_listener)).map_err(|e| {
                 DiscoveryFeedError::Poll {
                     source: DdsError::Io(e),
                 }
             })?,
         };
-        let snapshot = discovery_feed::endpoint_snapshot(&self.participant, own_gid);
+        let snapshot = discovery_feed::endpoint_snapshot(&participant, own_gid);
         let factory = InfoReaderFactory {
             subscriber: self.subscriber.clone(),
             topic,

@@ -60,7 +60,8 @@ impl<S: Service> ServiceServerBuilder<S> {
     ///             Ok(AddTwoIntsResponse { sum: req.a + req.b })
     ///         })
     ///         .build()?;
-    ///     tokio::signal::ctrl_c().await.ok();
+    ///     // Serves until SIGINT or SIGTERM shuts the default node's context down.
+    ///     horus_ros_services::default_node()?.context().wait_for_shutdown_async().await;
     ///     drop(server);
     ///     Ok(())
     /// }
