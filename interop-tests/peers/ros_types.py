@@ -152,17 +152,19 @@ def user_data_key(qos, key: str):
     return None if value is None else value.decode("latin-1")
 
 
-def services_qos(user_data: str, writer: bool):
+def services_qos(user_data: str, writer: bool, depth: int = 10):
     """rmw_qos_profile_services_default as rmw_cyclonedds' `create_readwrite_qos` (rmw_node.cpp)
     turns it into DDS QoS; writers say XCDR1 explicitly (rmw_cyclonedds writes XCDR1,
-    Serialization.cpp `put_rtps_header`), so the binding never picks XCDR2."""
+    Serialization.cpp `put_rtps_header`), so the binding never picks XCDR2. `depth` is the profile's
+    history depth (10 in rmw_qos_profile_services_default; a client or server created with another
+    QoS profile gets its depth, `create_readwrite_qos`)."""
     from cyclonedds.core import Policy, Qos
     from cyclonedds.util import duration
 
     policies = [
         Policy.Reliability.Reliable(max_blocking_time=duration(infinite=True)),
         Policy.Durability.Volatile,
-        Policy.History.KeepLast(10),
+        Policy.History.KeepLast(depth),
         Policy.Liveliness.Automatic(lease_duration=duration(infinite=True)),
         Policy.WriterDataLifecycle(autodispose=False),
         Policy.Userdata(user_data.encode()),
