@@ -3,7 +3,7 @@
 //! hear the reply (rmw `rmw_send_response`), never waiting for that on the serving thread: a reply
 //! whose client's reader is not matched yet is parked (see `reply_park`).
 
-use std::collections::HashSet;
+use std::collections::{HashMap, HashSet};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Mutex, MutexGuard};
 use std::time::{Duration, Instant};
@@ -19,10 +19,15 @@ use crate::{Backend, Gid, PublishError, RawReader, RawSample, RawWriter, SampleI
 
 /// Most clients remembered as refused (whose convention this backend cannot answer).
 const MAX_REFUSED: usize = 1024;
+/// Most Cyclone DDS participants whose first request is remembered (beyond, the table starts
+/// afresh: a participant then waits [`CYCLONE_FIRST_HEARTBEAT_SETTLE`] once more).
+const MAX_FIRST_CONTACTS: usize = 1024;
 
 /// How long a reply waits, on a backend whose writers are not Cyclone DDS's (RustDDS), after the
-/// first reader of a Cyclone DDS participant was matched with our reply writer, before it goes to
-/// that participant: the time that participant takes to see our writer's first HEARTBEAT.
+/// first reader of a Cyclone DDS participant was matched with our reply writer and after that
+/// participant's first request, before it goes to that participant: the time that participant
+/// takes to see our writer's first HEARTBEAT (it can discover our writer later than we matched
+/// its reader; its clients call only once it has).
 ///
 /// A Cyclone DDS volatile reader starts a non-Cyclone writer's reliable session at the last
 /// sequence number of the first HEARTBEAT it receives, and drops every sample up to it that has
@@ -206,6 +211,9 @@ pub struct Server {
     backend: Backend,
     /// Request writers already told about (once each) as unanswerable on this backend.
     refused: Mutex<HashSet<Gid>>,
+    /// When the first request of each Cyclone DDS participant arrived (by GUID prefix), on a
+    /// backend whose writers are not Cyclone DDS's.
+    first_contacts: Mutex<HashMap<[u8; 12], Instant>>,
     /// Responses waiting for their client's reply reader to be matched.
     park: Mutex<Park<Response>>,
     /// How many responses are parked (read without the park's lock).
@@ -247,6 +255,7 @@ impl Server {
             flavour,
             backend,
             refused: Mutex::new(HashSet::new()),
+            first_contacts: Mutex::new(HashMap::new()),
             park: Mutex::new(Park::default()),
             parked: AtomicUsize::new(0),
             warnings: Mutex::new(PeerWarnings::default()),
@@ -310,6 +319,15 @@ impl Server {
     /// malformed or cannot be answered.
     fn request_from(&self, sample: RawSample) -> Option<Request> {
         let vendor = self.peers.vendor_of(sample.id.writer);
+        if self.backend != Backend::Cyclone && vendor == Some(VendorId::CYCLONE_DDS) {
+            let mut contacts = lock(&self.first_contacts);
+            if contacts.len() >= MAX_FIRST_CONTACTS {
+                contacts.clear();
+            }
+            contacts
+                .entry(sample.id.writer.prefix())
+                .or_insert_with(Instant::now);
+        }
         let flavour = match WireFlavour::choose(self.backend, vendor, self.flavour) {
             Ok(flavour) => flavour,
             Err(why) => {
@@ -614,7 +632,11 @@ impl Server {
         {
             return Readiness::Now;
         }
-        match self.peers.participant_matched_since(writer, participant) {
+        let matched = self.peers.participant_matched_since(writer, participant);
+        let contact = lock(&self.first_contacts)
+            .get(&participant.prefix())
+            .copied();
+        match matched.max(contact) {
             Some(since) if now < since + CYCLONE_FIRST_HEARTBEAT_SETTLE => {
                 Readiness::At(since + CYCLONE_FIRST_HEARTBEAT_SETTLE)
             }

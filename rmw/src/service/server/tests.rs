@@ -92,7 +92,7 @@ fn reply_reader(n: u32) -> Gid {
     gid(2, 0x0000_0004 | (2 * n + 1) << 8)
 }
 
-fn server(graph: &Arc<Graph>, backend: Backend) -> Server {
+fn server_on(graph: &Arc<Graph>, backend: Backend) -> Server {
     let peers = Arc::clone(graph) as Arc<dyn Peers>;
     let service = ServiceName::new("/add_two_ints").expect("name");
     Server::new(peers, service, reply_writer(), None, backend)
@@ -122,7 +122,7 @@ fn cyclone_reply(server: &Server, writer: Gid, now: Instant) -> Readiness {
 fn an_rmw_cyclonedds_reply_waits_for_the_reader_with_its_client_id() {
     let graph = Arc::new(Graph::default());
     graph.participant(2, VendorId::CYCLONE_DDS);
-    let server = server(&graph, Backend::Cyclone);
+    let server = server_on(&graph, Backend::Cyclone);
     let now = Instant::now();
     // Client 1 of the participant is answered already: its reader is matched.
     for n in [1, 2] {
@@ -152,7 +152,7 @@ fn an_rmw_cyclonedds_reply_waits_for_the_reader_with_its_client_id() {
 fn an_rmw_cyclonedds_reply_waits_until_its_request_writer_is_discovered() {
     let graph = Arc::new(Graph::default());
     graph.participant(2, VendorId::CYCLONE_DDS);
-    let server = server(&graph, Backend::Cyclone);
+    let server = server_on(&graph, Backend::Cyclone);
     let now = Instant::now();
     graph.endpoint(reply_reader(1), Some("id.1"));
     graph.matched(reply_writer(), reply_reader(1), now);
@@ -172,7 +172,7 @@ fn an_rmw_cyclonedds_reply_waits_until_its_request_writer_is_discovered() {
 fn a_request_writer_without_client_id_is_heard_by_its_participant() {
     let graph = Arc::new(Graph::default());
     graph.participant(2, VendorId::CYCLONE_DDS);
-    let server = server(&graph, Backend::Cyclone);
+    let server = server_on(&graph, Backend::Cyclone);
     let now = Instant::now();
     graph.endpoint(request_writer(1), None);
     assert_eq!(
@@ -190,40 +190,50 @@ fn a_request_writer_without_client_id_is_heard_by_its_participant() {
 fn a_rustdds_writer_gives_a_fresh_cyclone_participant_time_for_its_first_heartbeat() {
     let graph = Arc::new(Graph::default());
     graph.participant(2, VendorId::CYCLONE_DDS);
-    let server = server(&graph, Backend::RustDds);
-    let matched = Instant::now();
+    let server = server_on(&graph, Backend::RustDds);
+    let settle = CYCLONE_FIRST_HEARTBEAT_SETTLE;
     for n in [1, 2] {
         let id = format!("id.{n}");
         graph.endpoint(request_writer(n), Some(&id));
         graph.endpoint(reply_reader(n), Some(&id));
     }
-    graph.matched(reply_writer(), reply_reader(1), matched);
-    let settled = matched + CYCLONE_FIRST_HEARTBEAT_SETTLE;
+    // Its reader was matched long ago, but it may have discovered our writer only now: the
+    // settle counts from its first request too.
+    let before = Instant::now();
+    graph.matched(reply_writer(), reply_reader(1), before - 10 * settle);
+    let ready = cyclone_reply(&server, request_writer(1), before);
+    let after = Instant::now();
+    let Readiness::At(at) = ready else {
+        panic!("a fresh participant's first reply waits, not {ready:?}");
+    };
+    assert!(before + settle <= at && at <= after + settle, "{at:?}");
     assert_eq!(
-        cyclone_reply(&server, request_writer(1), matched),
-        Readiness::At(settled)
-    );
-    assert_eq!(
-        cyclone_reply(&server, request_writer(1), settled),
+        cyclone_reply(&server, request_writer(1), at),
         Readiness::Now
     );
-    // A later client of the same participant: its participant has had its first heartbeat.
-    let later = settled + Duration::from_secs(1);
+    // A later client of the same participant: it has had its first heartbeat.
+    let later = at + Duration::from_secs(1);
     graph.matched(reply_writer(), reply_reader(2), later);
     assert_eq!(
         cyclone_reply(&server, request_writer(2), later),
         Readiness::Now
     );
-    // The Cyclone backend's writers need no settle: Cyclone DDS readers fetch what they missed.
-    let cyclone = super::Server::new(
-        Arc::clone(&graph) as Arc<dyn Peers>,
-        ServiceName::new("/add_two_ints").expect("name"),
-        reply_writer(),
-        None,
-        Backend::Cyclone,
-    );
+    // A participant matched just now waits from the match.
+    let graph = Arc::new(Graph::default());
+    graph.participant(2, VendorId::CYCLONE_DDS);
+    let server = server_on(&graph, Backend::RustDds);
+    graph.endpoint(request_writer(1), Some("id.1"));
+    graph.endpoint(reply_reader(1), Some("id.1"));
+    let matched = Instant::now() + settle;
+    graph.matched(reply_writer(), reply_reader(1), matched);
     assert_eq!(
-        cyclone_reply(&cyclone, request_writer(1), matched),
+        cyclone_reply(&server, request_writer(1), matched),
+        Readiness::At(matched + settle)
+    );
+    // The Cyclone backend's writers need no settle: Cyclone DDS readers fetch what they missed.
+    let server = server_on(&graph, Backend::Cyclone);
+    assert_eq!(
+        cyclone_reply(&server, request_writer(1), matched),
         Readiness::Now
     );
 }
@@ -232,7 +242,7 @@ fn a_rustdds_writer_gives_a_fresh_cyclone_participant_time_for_its_first_heartbe
 fn an_rmw_fastrtps_request_without_reader_waits_for_its_participant() {
     let graph = Arc::new(Graph::default());
     let fast_dds = VendorId::FAST_DDS;
-    let server = server(&graph, Backend::RustDds);
+    let server = server_on(&graph, Backend::RustDds);
     let writer = {
         let mut b = *request_writer(1).as_bytes();
         b[..2].copy_from_slice(&fast_dds.0);
