@@ -10,6 +10,7 @@ use std::time::{Duration, Instant};
 
 use std::collections::{BTreeMap, HashMap};
 
+use horus_ros_rmw::service::ClientIdLookup;
 use horus_ros_rmw::{
     Context, DiscoveryEvent, DiscoveryFeed, DiscoveryFeedError, FeedWaker, Gid, VendorId,
 };
@@ -60,6 +61,9 @@ struct State {
     vendors: BTreeMap<[u8; 12], VendorId>,
     /// For each of our endpoints, the endpoints it is matched with, and since when.
     matches: HashMap<Gid, BTreeMap<Gid, Instant>>,
+    /// The rmw_cyclonedds client id (USER_DATA `clientid=`) of each discovered endpoint that
+    /// announces one; kept as long as the endpoint is.
+    client_ids: HashMap<Gid, Arc<str>>,
     /// Bumped on every change of the cache.
     generation: u64,
     /// When `generation` was last bumped (the graph's creation before any change).
@@ -95,6 +99,37 @@ impl Shared {
             .keys()
             .find(|remote| remote.prefix() == prefix)
             .copied()
+    }
+
+    fn participant_matched_since(&self, local: Gid, participant: Gid) -> Option<Instant> {
+        let prefix = participant.prefix();
+        self.state()
+            .matches
+            .get(&local)?
+            .iter()
+            .filter(|(remote, _)| remote.prefix() == prefix)
+            .map(|(_, since)| *since)
+            .min()
+    }
+
+    fn client_id(&self, gid: Gid) -> ClientIdLookup {
+        let state = self.state();
+        match state.client_ids.get(&gid) {
+            Some(id) => ClientIdLookup::Id(Arc::clone(id)),
+            None if state.cache.endpoints.contains_key(&gid) => ClientIdLookup::Absent,
+            None => ClientIdLookup::Undiscovered,
+        }
+    }
+
+    fn matched_with_client_id(&self, local: Gid, participant: Gid, id: &str) -> bool {
+        let prefix = participant.prefix();
+        let state = self.state();
+        state.matches.get(&local).is_some_and(|remotes| {
+            remotes.keys().any(|remote| {
+                remote.prefix() == prefix
+                    && state.client_ids.get(remote).is_some_and(|r| &**r == id)
+            })
+        })
     }
 
     /// Tells every live watcher of a change (outside every lock of the graph), forgetting the
@@ -182,6 +217,7 @@ impl Graph {
                 reads_user_data: context.backend().reads_participant_user_data(),
                 vendors: BTreeMap::new(),
                 matches: HashMap::new(),
+                client_ids: HashMap::new(),
                 generation: 0,
                 changed_at: Instant::now(),
             }),
@@ -391,8 +427,16 @@ impl horus_ros_rmw::service::Peers for Graph {
         Graph::is_matched(self, local, remote)
     }
 
-    fn matched_in_participant(&self, local: Gid, remote: Gid) -> bool {
-        Graph::matched_in_participant(self, local, remote).is_some()
+    fn participant_matched_since(&self, local: Gid, remote: Gid) -> Option<Instant> {
+        self.shared.participant_matched_since(local, remote)
+    }
+
+    fn client_id(&self, gid: Gid) -> ClientIdLookup {
+        self.shared.client_id(gid)
+    }
+
+    fn matched_with_client_id(&self, local: Gid, remote: Gid, id: &str) -> bool {
+        self.shared.matched_with_client_id(local, remote, id)
     }
 }
 
@@ -424,12 +468,28 @@ fn apply(state: &mut State, event: DiscoveryEvent) -> bool {
         DiscoveryEvent::ParticipantLost { gid } => {
             let prefix = gid.prefix();
             state.vendors.remove(&prefix);
+            state
+                .client_ids
+                .retain(|endpoint, _| endpoint.prefix() != prefix);
             state.matches.retain(|local, _| local.prefix() != prefix);
             for remotes in state.matches.values_mut() {
                 remotes.retain(|r, _| r.prefix() != prefix);
             }
         }
+        DiscoveryEvent::EndpointDiscovered(e) => {
+            let id = client_id_of(&e.user_data);
+            let changed = match id {
+                Some(id) if state.client_ids.get(&e.gid) != Some(&id) => {
+                    state.client_ids.insert(e.gid, id);
+                    true
+                }
+                Some(_) => false,
+                None => state.client_ids.remove(&e.gid).is_some(),
+            };
+            return apply_discovery_event(&mut state.cache, event) || changed;
+        }
         DiscoveryEvent::EndpointLost { gid, .. } => {
+            state.client_ids.remove(gid);
             state.matches.remove(gid);
             for remotes in state.matches.values_mut() {
                 remotes.remove(gid);
@@ -446,6 +506,14 @@ fn apply(state: &mut State, event: DiscoveryEvent) -> bool {
         _ => {}
     }
     apply_discovery_event(&mut state.cache, event)
+}
+
+/// The `clientid=` in an endpoint's USER_DATA (rmw_cyclonedds jazzy `rmw_node.cpp`
+/// `get_user_data_key`), if it announces one.
+fn client_id_of(user_data: &[u8]) -> Option<Arc<str>> {
+    let mut pairs = horus_ros_msgs::user_data::parse_key_value(user_data);
+    let id = pairs.remove("clientid")?;
+    Some(String::from_utf8_lossy(&id).into())
 }
 
 /// The background thread: applies discovery events in batches and tells waiters and subscribers.

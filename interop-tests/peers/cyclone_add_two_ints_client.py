@@ -52,33 +52,11 @@ from ros_types import (
     cdds_csid,
     cdds_csid_text,
     dotted,
-    user_data_key,
+    service_is_available,
 )
 
 NODE_NAMESPACE, NODE_NAME = "/", "add_two_ints_client"
 U64 = (1 << 64) - 1
-
-
-
-def service_is_available(request_writer, reply_reader) -> bool:
-    """rmw_node.cpp `check_for_service_reader_writer` (called by rmw_service_server_is_available
-    after the graph cache shows ≥ 1 request reader and ≥ 1 reply writer, which matching implies)."""
-    readers = request_writer.get_matched_subscriptions()
-    writers = reply_reader.get_matched_publications()
-    needles = set()
-    for handle in readers:
-        reader = request_writer.get_matched_subscription_data(handle)
-        serviceid = user_data_key(reader.qos, "serviceid") if reader is not None else None
-        if serviceid is not None:
-            needles.add(serviceid)
-    if not needles:
-        # no matched request reader advertises a serviceid: old rule, any matches will do
-        return bool(readers) and bool(writers)
-    for handle in writers:
-        writer = reply_reader.get_matched_publication_data(handle)
-        if writer is not None and user_data_key(writer.qos, "serviceid") in needles:
-            return True
-    return False
 
 
 def main() -> int:

@@ -152,17 +152,19 @@ def user_data_key(qos, key: str):
     return None if value is None else value.decode("latin-1")
 
 
-def services_qos(user_data: str, writer: bool):
+def services_qos(user_data: str, writer: bool, depth: int = 10):
     """rmw_qos_profile_services_default as rmw_cyclonedds' `create_readwrite_qos` (rmw_node.cpp)
     turns it into DDS QoS; writers say XCDR1 explicitly (rmw_cyclonedds writes XCDR1,
-    Serialization.cpp `put_rtps_header`), so the binding never picks XCDR2."""
+    Serialization.cpp `put_rtps_header`), so the binding never picks XCDR2. `depth` is the profile's
+    history depth (10 in rmw_qos_profile_services_default; a client or server created with another
+    QoS profile gets its depth, `create_readwrite_qos`)."""
     from cyclonedds.core import Policy, Qos
     from cyclonedds.util import duration
 
     policies = [
         Policy.Reliability.Reliable(max_blocking_time=duration(infinite=True)),
         Policy.Durability.Volatile,
-        Policy.History.KeepLast(10),
+        Policy.History.KeepLast(depth),
         Policy.Liveliness.Automatic(lease_duration=duration(infinite=True)),
         Policy.WriterDataLifecycle(autodispose=False),
         Policy.Userdata(user_data.encode()),
@@ -170,3 +172,24 @@ def services_qos(user_data: str, writer: bool):
     if writer:
         policies.append(Policy.DataRepresentation(use_cdrv0_representation=True))
     return Qos(*policies)
+
+
+def service_is_available(request_writer, reply_reader) -> bool:
+    """rmw_node.cpp `check_for_service_reader_writer` (called by rmw_service_server_is_available
+    after the graph cache shows ≥ 1 request reader and ≥ 1 reply writer, which matching implies)."""
+    readers = request_writer.get_matched_subscriptions()
+    writers = reply_reader.get_matched_publications()
+    needles = set()
+    for handle in readers:
+        reader = request_writer.get_matched_subscription_data(handle)
+        serviceid = user_data_key(reader.qos, "serviceid") if reader is not None else None
+        if serviceid is not None:
+            needles.add(serviceid)
+    if not needles:
+        # no matched request reader advertises a serviceid: old rule, any matches will do
+        return bool(readers) and bool(writers)
+    for handle in writers:
+        writer = reply_reader.get_matched_publication_data(handle)
+        if writer is not None and user_data_key(writer.qos, "serviceid") in needles:
+            return True
+    return False

@@ -19,7 +19,23 @@ pub use request_header::{
 };
 pub use server::{OnSent, ReplyRoute, Request, Response, Server, TakenRequest};
 
+use std::sync::Arc;
+use std::time::Instant;
+
 use crate::{Gid, VendorId};
+
+/// What discovery announced of an endpoint's rmw_cyclonedds client id (USER_DATA `clientid=`,
+/// the same on a client's request writer and reply reader: rmw_cyclonedds jazzy `rmw_node.cpp`
+/// `rmw_init_cs`).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum ClientIdLookup {
+    /// The endpoint has not been discovered (yet).
+    Undiscovered,
+    /// The endpoint announces no client id (not an rmw_cyclonedds client, or an old one).
+    Absent,
+    /// The client id, as announced (rmw_cyclonedds `csid_to_string`).
+    Id(Arc<str>),
+}
 
 /// What request/reply needs to know of the peers on the graph (implemented by the graph cache
 /// above rmw, which learns it from discovery).
@@ -30,9 +46,16 @@ pub trait Peers: Send + Sync {
     /// Whether our endpoint `local` is matched with the remote endpoint `remote`.
     fn is_matched(&self, local: Gid, remote: Gid) -> bool;
 
-    /// Whether our endpoint `local` is matched with some endpoint in the participant of
-    /// `remote`.
-    fn matched_in_participant(&self, local: Gid, remote: Gid) -> bool;
+    /// Since when our endpoint `local` has been matched with an endpoint in the participant of
+    /// `remote`: the earliest of those matches that still hold; `None` if there is none.
+    fn participant_matched_since(&self, local: Gid, remote: Gid) -> Option<Instant>;
+
+    /// The rmw_cyclonedds client id that endpoint `gid` announced.
+    fn client_id(&self, gid: Gid) -> ClientIdLookup;
+
+    /// Whether our endpoint `local` is matched with an endpoint in the participant of `remote`
+    /// that announced the client id `id`.
+    fn matched_with_client_id(&self, local: Gid, remote: Gid, id: &str) -> bool;
 
     /// The vendor of `gid`'s participant: as SPDP told it, or until then as its GUID prefix
     /// hints ([`vendor_hint`]).

@@ -3,21 +3,44 @@
 //! hear the reply (rmw `rmw_send_response`), never waiting for that on the serving thread: a reply
 //! whose client's reader is not matched yet is parked (see `reply_park`).
 
-use std::collections::HashSet;
+use std::collections::{HashMap, HashSet};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Mutex, MutexGuard};
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 use super::convention::is_reader;
 use super::reply_park::{Park, PeerWarnings, WarningKind, MAX_AGE};
 use super::{
-    is_horus_client_id, CycloneHeader, Peers, RequestId, WireFlavour, HORUS_CLIENT_MARKER,
+    is_horus_client_id, ClientIdLookup, CycloneHeader, Peers, RequestId, WireFlavour,
+    HORUS_CLIENT_MARKER,
 };
 use crate::names::ServiceName;
-use crate::{Backend, Gid, PublishError, RawReader, RawSample, RawWriter, SampleId};
+use crate::{Backend, Gid, PublishError, RawReader, RawSample, RawWriter, SampleId, VendorId};
 
 /// Most clients remembered as refused (whose convention this backend cannot answer).
 const MAX_REFUSED: usize = 1024;
+/// Most Cyclone DDS participants whose first request is remembered (beyond, the table starts
+/// afresh: a participant then waits [`CYCLONE_FIRST_HEARTBEAT_SETTLE`] once more).
+const MAX_FIRST_CONTACTS: usize = 1024;
+
+/// How long a reply waits, on a backend whose writers are not Cyclone DDS's (RustDDS), after the
+/// first reader of a Cyclone DDS participant was matched with our reply writer and after that
+/// participant's first request, before it goes to that participant: the time that participant
+/// takes to see our writer's first HEARTBEAT (it can discover our writer later than we matched
+/// its reader; its clients call only once it has).
+///
+/// A Cyclone DDS volatile reader starts a non-Cyclone writer's reliable session at the last
+/// sequence number of the first HEARTBEAT it receives, and drops every sample up to it that has
+/// not arrived by then (Cyclone DDS 0.10 `q_receive.c` `handle_Heartbeat`: the first heartbeat
+/// inserts the gap `[1, lastseq + 1)`; `ddsi_entity_match.c` `proxy_writer_add_connection`: "for
+/// non-Cyclone, if the reader is volatile, we have to just start from the most recent sample, even
+/// though that means the first samples written after matching the reader may be lost"). RustDDS
+/// answers the pre-emptive ACKNACK that such a reader sends 10 ms after matching (Cyclone's
+/// `PreEmptiveAckDelay`) with a HEARTBEAT naming its last sample even while that sample is still
+/// queued (rustdds 0.15 `Writer::handle_ack_nack`), on a path that overtakes the DATA: a reply
+/// written then is lost, with no retransmission. No event tells when the participant has seen a
+/// HEARTBEAT: the server looks again at this instant.
+pub(crate) const CYCLONE_FIRST_HEARTBEAT_SETTLE: Duration = Duration::from_millis(100);
 
 /// What a reply to one request needs, in the convention of the client that sent it (the
 /// server-side half of rmw's request id: pass it back to [`Server::response`]).
@@ -34,8 +57,8 @@ enum Route {
         horus_client: bool,
         request_writer: Gid,
     },
-    /// rmw_cyclonedds: echo the header; the client's reply reader is found from the participant
-    /// of its request writer.
+    /// rmw_cyclonedds: echo the header; the client's reply reader is the one announcing the
+    /// request writer's `clientid=`.
     CycloneDds {
         header: CycloneHeader,
         request_writer: Gid,
@@ -56,8 +79,8 @@ impl ReplyRoute {
     fn recipient(&self) -> Recipient {
         match self.0 {
             Route::FastRtps { reply_to, .. } if is_reader(reply_to) => Recipient::Reader(reply_to),
-            Route::FastRtps { .. } => Recipient::Anyone,
-            Route::CycloneDds { request_writer, .. } => Recipient::ParticipantOf(request_writer),
+            Route::FastRtps { request_writer, .. } => Recipient::ParticipantOf(request_writer),
+            Route::CycloneDds { request_writer, .. } => Recipient::CycloneClient(request_writer),
         }
     }
 }
@@ -117,11 +140,35 @@ enum Recipient {
     /// The client's reply reader (rmw_fastrtps convention): the reply goes to it alone once
     /// matched.
     Reader(Gid),
-    /// Any reader of our reply topic in the participant of this request writer (an
-    /// rmw_cyclonedds client, identified by a header id rather than a GUID).
+    /// The rmw_cyclonedds client whose request writer this is: its reply reader is the one that
+    /// announces the writer's `clientid=` (rmw_cyclonedds jazzy `check_for_response_reader`); a
+    /// writer that announces none (an older rmw_cyclonedds, a client whose backend cannot send
+    /// USER_DATA) is taken to be heard by any reader of our reply topic in its participant.
+    CycloneClient(Gid),
+    /// No reader known (rmw_fastrtps convention, the related GUID is not a reader): any reader
+    /// of our reply topic in the participant of this request writer.
     ParticipantOf(Gid),
-    /// Nobody known (the related GUID is not a reader): the reply goes to all at once.
-    Anyone,
+}
+
+impl Recipient {
+    /// An endpoint of the client's participant.
+    fn participant(self) -> Gid {
+        match self {
+            Self::Reader(gid) | Self::CycloneClient(gid) | Self::ParticipantOf(gid) => gid,
+        }
+    }
+}
+
+/// Whether a reply can be sent.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Readiness {
+    /// Now: its client hears it.
+    Now,
+    /// At this instant, unless the graph changes first (see
+    /// [`CYCLONE_FIRST_HEARTBEAT_SETTLE`]).
+    At(Instant),
+    /// Not until the graph changes.
+    Later,
 }
 
 /// Run once a response is written (e.g. to publish a `RESPONSE_SENT` introspection event).
@@ -164,6 +211,9 @@ pub struct Server {
     backend: Backend,
     /// Request writers already told about (once each) as unanswerable on this backend.
     refused: Mutex<HashSet<Gid>>,
+    /// When the first request of each Cyclone DDS participant arrived (by GUID prefix), on a
+    /// backend whose writers are not Cyclone DDS's.
+    first_contacts: Mutex<HashMap<[u8; 12], Instant>>,
     /// Responses waiting for their client's reply reader to be matched.
     park: Mutex<Park<Response>>,
     /// How many responses are parked (read without the park's lock).
@@ -205,6 +255,7 @@ impl Server {
             flavour,
             backend,
             refused: Mutex::new(HashSet::new()),
+            first_contacts: Mutex::new(HashMap::new()),
             park: Mutex::new(Park::default()),
             parked: AtomicUsize::new(0),
             warnings: Mutex::new(PeerWarnings::default()),
@@ -268,6 +319,15 @@ impl Server {
     /// malformed or cannot be answered.
     fn request_from(&self, sample: RawSample) -> Option<Request> {
         let vendor = self.peers.vendor_of(sample.id.writer);
+        if self.backend != Backend::Cyclone && vendor == Some(VendorId::CYCLONE_DDS) {
+            let mut contacts = lock(&self.first_contacts);
+            if contacts.len() >= MAX_FIRST_CONTACTS {
+                contacts.clear();
+            }
+            contacts
+                .entry(sample.id.writer.prefix())
+                .or_insert_with(Instant::now);
+        }
         let flavour = match WireFlavour::choose(self.backend, vendor, self.flavour) {
             Ok(flavour) => flavour,
             Err(why) => {
@@ -338,7 +398,7 @@ impl Server {
         let client = route.client();
         if lock(&self.park).holds(client)
             && !lock(&self.park).admits(client)
-            && !self.recipient_matched(route.recipient())
+            && self.readiness(route.recipient(), Instant::now()) != Readiness::Now
         {
             self.warn_overflow(client, "request");
             return None;
@@ -432,6 +492,10 @@ impl Server {
     /// with our writer (after any responses parked for that client), else parks it (bounded per
     /// client: count, bytes, age; beyond, it is dropped with a warning limited in rate). Never
     /// waits. Errs only if a write of this response failed.
+    ///
+    /// The caller must then call [`flush_parked`](Self::flush_parked) before it waits, and again
+    /// at the instant that returns and whenever `Peers` reports new matches or endpoints while
+    /// [`parked`](Self::parked) is not zero.
     pub fn send_response(
         &self,
         writer: &RawWriter,
@@ -439,7 +503,8 @@ impl Server {
     ) -> Result<(), PublishError> {
         let mut park = lock(&self.park);
         let mut result = Ok(());
-        if self.recipient_matched(response.recipient) {
+        // The responses parked for this client have its recipient: they go first.
+        if self.readiness(response.recipient, Instant::now()) == Readiness::Now {
             for earlier in park.take_client(response.client) {
                 self.write_logged(writer, earlier);
             }
@@ -454,21 +519,29 @@ impl Server {
         result
     }
 
-    /// Sends the parked responses whose clients' readers are matched now, drops those older
-    /// than their age limit (debug log); returns when the next parked response reaches it.
+    /// Sends the parked responses whose clients can hear them now, drops those older than
+    /// their age limit (debug log); returns the next instant at which a parked response may go
+    /// out or reaches that limit with no graph change in between (the caller calls this again
+    /// then).
     pub fn flush_parked(&self, writer: &RawWriter) -> Option<Instant> {
         let mut park = lock(&self.park);
         if park.len() == 0 {
             return None;
         }
+        let now = Instant::now();
+        let mut next: Option<Instant> = None;
         for client in park.clients() {
-            if park
+            let readiness = park
                 .first(client)
-                .is_some_and(|r| self.recipient_matched(r.recipient))
-            {
-                for response in park.take_client(client) {
-                    self.write_logged(writer, response);
+                .map_or(Readiness::Later, |r| self.readiness(r.recipient, now));
+            match readiness {
+                Readiness::Now => {
+                    for response in park.take_client(client) {
+                        self.write_logged(writer, response);
+                    }
                 }
+                Readiness::At(at) => next = Some(next.map_or(at, |n| n.min(at))),
+                Readiness::Later => {}
             }
         }
         for (client, _response) in park.expire(Instant::now(), MAX_AGE) {
@@ -479,7 +552,10 @@ impl Server {
             );
         }
         self.parked.store(park.len(), Ordering::SeqCst);
-        park.next_expiry(MAX_AGE)
+        match (park.next_expiry(MAX_AGE), next) {
+            (Some(a), Some(b)) => Some(a.min(b)),
+            (a, b) => a.or(b),
+        }
     }
 
     /// Responses parked now.
@@ -489,6 +565,13 @@ impl Server {
 
     /// Writes `response` with `writer` (to its one reader if that is matched, else to all:
     /// clients filter), then runs its `on_sent`.
+    ///
+    /// A reply to an rmw_cyclonedds client goes to all readers even when its reader is known:
+    /// Cyclone DDS delivers a sample addressed to one reader to every reader of that participant
+    /// in sync with the writer, and applies a GAP addressed to one of them to all of them
+    /// (Cyclone DDS 0.10 `q_receive.c` `handle_regular`, `handle_one_gap`: one reorder admin per
+    /// proxy writer), so the GAP that RustDDS sends the other readers for a sample addressed to one
+    /// (rustdds 0.15 `Writer`, `insert_pending_gap`) could discard it before it arrives.
     fn write_now(&self, writer: &RawWriter, response: Response) -> Result<(), PublishError> {
         let only_to = match response.recipient {
             Recipient::Reader(r) if self.peers.is_matched(self.reply_writer, r) => Some(r),
@@ -508,17 +591,59 @@ impl Server {
         }
     }
 
-    /// Whether the client of `recipient` can hear a response now.
-    fn recipient_matched(&self, recipient: Recipient) -> bool {
-        match recipient {
-            Recipient::Reader(reader) => self.peers.is_matched(self.reply_writer, reader),
-            Recipient::ParticipantOf(request_writer) => {
-                // A reader of our reply topic in the requesting participant: our writer's matches
-                // (reported by the DDS layer) say it, even before discovery lists the reader.
-                self.peers
-                    .matched_in_participant(self.reply_writer, request_writer)
+    /// Whether the client of `recipient` can hear a response at `now`: its reply reader is
+    /// matched with our writer (for an rmw_cyclonedds client, the reader that announces its
+    /// `clientid=`, as rmw_cyclonedds' `check_for_response_reader` looks for it), and, for a
+    /// Cyclone DDS participant on a backend whose writers are not Cyclone DDS's, that
+    /// participant has had [`CYCLONE_FIRST_HEARTBEAT_SETTLE`] to see our writer's first
+    /// HEARTBEAT.
+    fn readiness(&self, recipient: Recipient, now: Instant) -> Readiness {
+        let writer = self.reply_writer;
+        let heard = match recipient {
+            Recipient::Reader(reader) => self.peers.is_matched(writer, reader),
+            Recipient::CycloneClient(request_writer) => {
+                match self.peers.client_id(request_writer) {
+                    // Discovery has not told yet whether it announces a client id: the graph
+                    // change that does wakes us.
+                    ClientIdLookup::Undiscovered => false,
+                    ClientIdLookup::Absent => self
+                        .peers
+                        .participant_matched_since(writer, request_writer)
+                        .is_some(),
+                    ClientIdLookup::Id(id) => {
+                        self.peers
+                            .matched_with_client_id(writer, request_writer, &id)
+                    }
+                }
             }
-            Recipient::Anyone => true,
+            // A reader of our reply topic in the requesting participant: our writer's matches
+            // (reported by the DDS layer) say it, even before discovery lists the reader.
+            Recipient::ParticipantOf(request_writer) => self
+                .peers
+                .participant_matched_since(writer, request_writer)
+                .is_some(),
+        };
+        if !heard {
+            return Readiness::Later;
+        }
+        let participant = recipient.participant();
+        if self.backend == Backend::Cyclone
+            || self.peers.vendor_of(participant) != Some(VendorId::CYCLONE_DDS)
+        {
+            return Readiness::Now;
+        }
+        let matched = self.peers.participant_matched_since(writer, participant);
+        let contact = lock(&self.first_contacts)
+            .get(&participant.prefix())
+            .copied();
+        match matched.max(contact) {
+            Some(since) if now < since + CYCLONE_FIRST_HEARTBEAT_SETTLE => {
+                Readiness::At(since + CYCLONE_FIRST_HEARTBEAT_SETTLE)
+            }
+            _ => Readiness::Now,
         }
     }
 }
+
+#[cfg(test)]
+mod tests;
