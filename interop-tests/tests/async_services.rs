@@ -76,9 +76,17 @@ async fn our_awaited_calls_reach_a_cyclone_server() {
         client.wait_for_service_async(20 * SECOND).await,
         "the Cyclone server never became ready"
     );
-    // All in flight at once, from one join set.
+    // The first call alone: on the rustdds backend, requests written together before a Cyclone
+    // DDS server's request reader has had its first heartbeat from our writer can be lost (a
+    // Cyclone volatile reader takes every sequence number that heartbeat names as written before
+    // it matched, and RustDDS's heartbeat can name a request whose DATA is still queued;
+    // README, "What the rustdds backend cannot do"). Once it is answered, the rest go all in
+    // flight at once, from one join set.
+    let first = client
+        .call(AddTwoIntsRequest { a: 1, b: 100 }, 10 * SECOND)
+        .await;
     let mut calls = JoinSet::new();
-    for i in 1..=CALLS {
+    for i in 2..=CALLS {
         let client = Arc::clone(&client);
         calls.spawn(async move {
             (
@@ -89,7 +97,7 @@ async fn our_awaited_calls_reach_a_cyclone_server() {
             )
         });
     }
-    let mut replies = Vec::new();
+    let mut replies = vec![(1, first)];
     while let Some(joined) = calls.join_next().await {
         replies.push(joined.expect("task"));
     }
