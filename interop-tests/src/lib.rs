@@ -17,21 +17,65 @@ pub fn python() -> PathBuf {
         .map_or_else(|| PathBuf::from("python3"), PathBuf::from)
 }
 
-/// A child's output, line by line as it is printed, read by a thread of its own (which ends at
-/// the end of the output or when the receiver is dropped).
-pub fn line_reader(
-    output: impl std::io::Read + Send + 'static,
-) -> std::sync::mpsc::Receiver<String> {
-    let (tx, rx) = std::sync::mpsc::channel();
-    std::thread::spawn(move || {
-        for line in std::io::BufRead::lines(std::io::BufReader::new(output)) {
-            let Ok(line) = line else { break };
-            if tx.send(line).is_err() {
-                break;
-            }
-        }
-    });
-    rx
+pub use horus_ros_test_support::line_reader;
+
+/// Calls the macro `$then` with every message type compiled into horus-ros-msgs, as paths (the
+/// list the hash tests check: `rclpy_hashes.rs` against the Jazzy wheels, `rihs_rosbags.rs`
+/// against rosbags).
+#[macro_export]
+macro_rules! compiled_message_types {
+    ($then:ident) => {
+        $then![
+            horus_ros_msgs::builtin_interfaces::msg::Time,
+            horus_ros_msgs::builtin_interfaces::msg::Duration,
+            horus_ros_msgs::geometry_msgs::msg::Vector3,
+            horus_ros_msgs::geometry_msgs::msg::Point,
+            horus_ros_msgs::geometry_msgs::msg::Quaternion,
+            horus_ros_msgs::geometry_msgs::msg::Pose,
+            horus_ros_msgs::geometry_msgs::msg::PoseStamped,
+            horus_ros_msgs::geometry_msgs::msg::Twist,
+            horus_ros_msgs::geometry_msgs::msg::TwistStamped,
+            horus_ros_msgs::rcl_interfaces::msg::ParameterType,
+            horus_ros_msgs::rcl_interfaces::msg::ParameterValue,
+            horus_ros_msgs::rcl_interfaces::msg::Parameter,
+            horus_ros_msgs::rcl_interfaces::msg::FloatingPointRange,
+            horus_ros_msgs::rcl_interfaces::msg::IntegerRange,
+            horus_ros_msgs::rcl_interfaces::msg::ParameterDescriptor,
+            horus_ros_msgs::rcl_interfaces::msg::SetParametersResult,
+            horus_ros_msgs::rcl_interfaces::msg::ListParametersResult,
+            horus_ros_msgs::rcl_interfaces::msg::Log,
+            horus_ros_msgs::rcl_interfaces::msg::ParameterEvent,
+            horus_ros_msgs::rmw_dds_common::Gid,
+            horus_ros_msgs::rmw_dds_common::NodeEntitiesInfo,
+            horus_ros_msgs::rmw_dds_common::ParticipantEntitiesInfo,
+            horus_ros_msgs::sensor_msgs::msg::LaserScan,
+            horus_ros_msgs::sensor_msgs::msg::Imu,
+            horus_ros_msgs::sensor_msgs::msg::JointState,
+            horus_ros_msgs::service_msgs::msg::ServiceEventInfo,
+            horus_ros_msgs::std_msgs::msg::String,
+            horus_ros_msgs::std_msgs::msg::Header,
+            horus_ros_msgs::std_msgs::msg::Empty,
+            horus_ros_msgs::std_msgs::msg::Bool,
+            horus_ros_msgs::std_msgs::msg::Byte,
+            horus_ros_msgs::std_msgs::msg::Char,
+            horus_ros_msgs::std_msgs::msg::Int8,
+            horus_ros_msgs::std_msgs::msg::Int16,
+            horus_ros_msgs::std_msgs::msg::Int32,
+            horus_ros_msgs::std_msgs::msg::Int64,
+            horus_ros_msgs::std_msgs::msg::UInt8,
+            horus_ros_msgs::std_msgs::msg::UInt16,
+            horus_ros_msgs::std_msgs::msg::UInt32,
+            horus_ros_msgs::std_msgs::msg::UInt64,
+            horus_ros_msgs::std_msgs::msg::Float32,
+            horus_ros_msgs::std_msgs::msg::Float64,
+            horus_ros_msgs::type_description_interfaces::msg::FieldType,
+            horus_ros_msgs::type_description_interfaces::msg::Field,
+            horus_ros_msgs::type_description_interfaces::msg::IndividualTypeDescription,
+            horus_ros_msgs::type_description_interfaces::msg::TypeDescription,
+            horus_ros_msgs::type_description_interfaces::msg::KeyValue,
+            horus_ros_msgs::type_description_interfaces::msg::TypeSource,
+        ]
+    };
 }
 
 /// The path of a peer script in `interop-tests/peers/`.

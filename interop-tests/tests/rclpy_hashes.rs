@@ -7,8 +7,7 @@
 //! constants, actions…). No DDS.
 
 use horus_ros_msgs::{
-    builtin_interfaces, geometry_msgs, rcl_interfaces, rmw_dds_common, sensor_msgs, service_msgs,
-    std_msgs, std_srvs, type_description_interfaces, Message, Service, TypeDescription,
+    rcl_interfaces, std_srvs, type_description_interfaces, Message, Service, TypeDescription,
 };
 use horus_ros_services::dynamic::sub_description;
 use interop_tests::rclpy::wheels;
@@ -44,56 +43,7 @@ macro_rules! services {
 
 #[test]
 fn every_compiled_type_hashes_as_the_wheels() {
-    let mut ours = messages![
-        builtin_interfaces::msg::Time,
-        builtin_interfaces::msg::Duration,
-        geometry_msgs::msg::Vector3,
-        geometry_msgs::msg::Point,
-        geometry_msgs::msg::Quaternion,
-        geometry_msgs::msg::Pose,
-        geometry_msgs::msg::PoseStamped,
-        geometry_msgs::msg::Twist,
-        geometry_msgs::msg::TwistStamped,
-        rcl_interfaces::msg::ParameterType,
-        rcl_interfaces::msg::ParameterValue,
-        rcl_interfaces::msg::Parameter,
-        rcl_interfaces::msg::FloatingPointRange,
-        rcl_interfaces::msg::IntegerRange,
-        rcl_interfaces::msg::ParameterDescriptor,
-        rcl_interfaces::msg::SetParametersResult,
-        rcl_interfaces::msg::ListParametersResult,
-        rcl_interfaces::msg::Log,
-        rcl_interfaces::msg::ParameterEvent,
-        rmw_dds_common::Gid,
-        rmw_dds_common::NodeEntitiesInfo,
-        rmw_dds_common::ParticipantEntitiesInfo,
-        sensor_msgs::msg::LaserScan,
-        sensor_msgs::msg::Imu,
-        sensor_msgs::msg::JointState,
-        service_msgs::msg::ServiceEventInfo,
-        std_msgs::msg::String,
-        std_msgs::msg::Header,
-        std_msgs::msg::Empty,
-        std_msgs::msg::Bool,
-        std_msgs::msg::Byte,
-        std_msgs::msg::Char,
-        std_msgs::msg::Int8,
-        std_msgs::msg::Int16,
-        std_msgs::msg::Int32,
-        std_msgs::msg::Int64,
-        std_msgs::msg::UInt8,
-        std_msgs::msg::UInt16,
-        std_msgs::msg::UInt32,
-        std_msgs::msg::UInt64,
-        std_msgs::msg::Float32,
-        std_msgs::msg::Float64,
-        type_description_interfaces::msg::FieldType,
-        type_description_interfaces::msg::Field,
-        type_description_interfaces::msg::IndividualTypeDescription,
-        type_description_interfaces::msg::TypeDescription,
-        type_description_interfaces::msg::KeyValue,
-        type_description_interfaces::msg::TypeSource,
-    ];
+    let mut ours = interop_tests::compiled_message_types!(messages);
     ours.extend(services![
         std_srvs::srv::Empty,
         std_srvs::srv::Trigger,

@@ -15,7 +15,7 @@ use std::process::{Child, ChildStdin, Command, ExitStatus, Stdio};
 use std::sync::mpsc::Receiver;
 use std::time::{Duration, Instant};
 
-use horus_ros_test_support::{read_all, wait_exit};
+use horus_ros_test_support::{line_reader, read_all, wait_exit};
 use nix::sys::signal::{kill, Signal};
 use nix::unistd::Pid;
 
@@ -31,20 +31,6 @@ const EXIT: Duration = Duration::from_secs(10);
 
 fn backend() -> String {
     std::env::var("HORUS_ROS_BACKEND").unwrap_or_else(|_| "rustdds".to_owned())
-}
-
-/// Lines a child prints, read as they come (by a thread of its own).
-fn lines(output: impl std::io::Read + Send + 'static) -> Receiver<String> {
-    let (tx, rx) = std::sync::mpsc::channel();
-    std::thread::spawn(move || {
-        for line in std::io::BufRead::lines(std::io::BufReader::new(output)) {
-            let Ok(line) = line else { break };
-            if tx.send(line).is_err() {
-                break;
-            }
-        }
-    });
-    rx
 }
 
 /// Waits for a line `wanted` (each line wakes it), at most `limit`; how long it took.
@@ -97,7 +83,7 @@ impl Watcher {
             .unwrap_or_else(|e| panic!("start {python:?} {script}: {e}"));
         let mut watcher = Self {
             stdin: child.stdin.take(),
-            lines: lines(child.stdout.take().expect("stdout")),
+            lines: line_reader(child.stdout.take().expect("stdout")),
             stderr: Some(read_all(child.stderr.take().expect("stderr"))),
             child,
             seen: Vec::new(),
@@ -177,7 +163,7 @@ impl Program {
             .stderr(Stdio::inherit())
             .spawn()
             .unwrap_or_else(|e| panic!("spawn {name}: {e}"));
-        let lines = lines(child.stdout.take().expect("stdout"));
+        let lines = line_reader(child.stdout.take().expect("stdout"));
         Self {
             name,
             child,

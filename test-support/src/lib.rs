@@ -3,6 +3,7 @@
 //!   never by polling with sleeps, with its pipes read while it runs (a chatty child cannot
 //!   block on a full pipe);
 //! - finding the examples `cargo test` built;
+//! - reading a child's output line by line as it is printed ([`line_reader`]);
 //! - running a program under valgrind's leak check ([`valgrind`]).
 
 pub mod valgrind;
@@ -14,6 +15,21 @@ use std::time::{Duration, Instant};
 
 use rustix::event::{poll, PollFd, PollFlags, Timespec};
 use rustix::process::{pidfd_open, Pid, PidfdFlags};
+
+/// A child's output, line by line as it is printed, read by a thread of its own (which ends at
+/// the end of the output or when the receiver is dropped).
+pub fn line_reader(output: impl Read + Send + 'static) -> Receiver<String> {
+    let (tx, rx) = mpsc::channel();
+    std::thread::spawn(move || {
+        for line in io::BufRead::lines(io::BufReader::new(output)) {
+            let Ok(line) = line else { break };
+            if tx.send(line).is_err() {
+                break;
+            }
+        }
+    });
+    rx
+}
 
 /// Where `cargo test` put the example `name` of the crate under test: `target/<profile>/examples`,
 /// beside the test binary's `target/<profile>/deps` (`cargo test` builds the examples with the
