@@ -27,19 +27,19 @@
 //! orphans, so the daemons are its children).
 
 use std::io::{BufRead, BufReader};
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::{Child, ChildStdin, Command, ExitCode, Stdio};
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
 use horus_ros_rmw::{Backend, BACKEND_ENV};
 
+mod common;
+
+use common::{env_number, interfaces_up, ms, CYCLONE_LOOPBACK};
+
 /// The domain of the first backend; the next one uses the following domain.
 const DOMAIN: u32 = 160;
-/// The Cyclone DDS configuration used when `CYCLONEDDS_URI` is unset: loopback, with multicast.
-const CYCLONE_LOOPBACK: &str = "<CycloneDDS><Domain Id=\"any\"><General><Interfaces>\
-    <NetworkInterface name=\"lo\" multicast=\"true\"/></Interfaces>\
-    <AllowMulticast>true</AllowMulticast></General></Domain></CycloneDDS>";
 const NODE: &str = "/set_bool_server";
 const SERVICE: &str = "/set_bool";
 /// The goal for a cold answer.
@@ -48,32 +48,6 @@ const COLD_GOAL: Duration = Duration::from_millis(300);
 const DAEMON_GOAL: Duration = Duration::from_millis(20);
 /// How long the peer and the probe may take to start (Python and rclpy on a loaded machine).
 const PYTHON_START: Duration = Duration::from_secs(60);
-
-fn env_number(name: &str, default: u64) -> u64 {
-    std::env::var(name)
-        .ok()
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(default)
-}
-
-/// Network interfaces other than `lo` that are up: none inside `scripts/isolated`'s namespace.
-fn interfaces_up() -> Vec<String> {
-    let Ok(entries) = std::fs::read_dir("/sys/class/net") else {
-        return vec!["(cannot read /sys/class/net)".to_owned()];
-    };
-    entries
-        .flatten()
-        .map(|e| e.file_name().to_string_lossy().into_owned())
-        .filter(|name| name != "lo")
-        .filter(|name| {
-            let flags =
-                std::fs::read_to_string(Path::new("/sys/class/net").join(name).join("flags"))
-                    .unwrap_or_default();
-            u32::from_str_radix(flags.trim().trim_start_matches("0x"), 16)
-                .map_or(true, |f| f & 1 == 1)
-        })
-        .collect()
-}
 
 /// The Python with rclpy (as the CLI's tests find it).
 fn python() -> PathBuf {
@@ -87,10 +61,6 @@ fn peer_script(name: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
         .join("tests/peers")
         .join(name)
-}
-
-fn ms(d: Duration) -> f64 {
-    d.as_secs_f64() * 1e3
 }
 
 /// Timed runs: p50 and max, and how many were complete.

@@ -30,38 +30,12 @@ use std::time::{Duration, Instant};
 
 use interop_tests::rclpy::RclpyPeer;
 
+mod common;
+
+use common::{env_number, interfaces_up, CYCLONE_LOOPBACK};
+
 const DOMAIN: u32 = 150;
 const WARNING: &str = "WARNING: discovery incomplete";
-/// The Cyclone DDS configuration the peer and the Cyclone backend use: loopback, multicast.
-const CYCLONE_LOOPBACK: &str = "<CycloneDDS><Domain Id=\"any\"><General><Interfaces>\
-    <NetworkInterface name=\"lo\" multicast=\"true\"/></Interfaces>\
-    <AllowMulticast>true</AllowMulticast></General></Domain></CycloneDDS>";
-
-fn env_number(name: &str, default: u64) -> u64 {
-    std::env::var(name)
-        .ok()
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(default)
-}
-
-/// Network interfaces other than `lo` that are up: none inside `scripts/isolated`'s namespace.
-fn interfaces_up() -> Vec<String> {
-    let Ok(entries) = std::fs::read_dir("/sys/class/net") else {
-        return vec!["(cannot read /sys/class/net)".to_owned()];
-    };
-    entries
-        .flatten()
-        .map(|e| e.file_name().to_string_lossy().into_owned())
-        .filter(|name| name != "lo")
-        .filter(|name| {
-            let flags =
-                std::fs::read_to_string(Path::new("/sys/class/net").join(name).join("flags"))
-                    .unwrap_or_default();
-            u32::from_str_radix(flags.trim().trim_start_matches("0x"), 16)
-                .map_or(true, |f| f & 1 == 1)
-        })
-        .collect()
-}
 
 /// The release `horus-ros` next to this bench binary (`target/release/deps/…`).
 fn cli_binary() -> PathBuf {

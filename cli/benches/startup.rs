@@ -42,12 +42,12 @@ use horus_ros_rmw::{Backend, BACKEND_ENV};
 use horus_ros_services::prelude::*;
 use interop_tests::rclpy::RclpyPeer;
 
+mod common;
+
+use common::{interfaces_up, ms, CYCLONE_LOOPBACK};
+
 /// The domain of the first backend; the next ones use the following domains.
 const DOMAIN: u32 = 139;
-/// The Cyclone DDS configuration used when `CYCLONEDDS_URI` is unset: loopback, with multicast.
-const CYCLONE_LOOPBACK: &str = "<CycloneDDS><Domain Id=\"any\"><General><Interfaces>\
-    <NetworkInterface name=\"lo\" multicast=\"true\"/></Interfaces>\
-    <AllowMulticast>true</AllowMulticast></General></Domain></CycloneDDS>";
 const SERVICES: [&str; 3] = ["/bench/add_a", "/bench/add_b", "/bench/add_c"];
 /// ros2cli's documented default `--spin-time` (ros2cli `node/strategy.py`, `DirectNode`).
 const ROS2CLI_SPIN_TIME: Duration = Duration::from_millis(500);
@@ -59,28 +59,6 @@ const DAEMON_GOAL: Duration = Duration::from_millis(20);
 const FAST_DDS_DOMAIN: u32 = 141;
 /// The node of the Fast DDS (rclpy) peer.
 const FAST_DDS_NODE: &str = "/fast_ns/fast_node";
-
-/// Network interfaces other than `lo` that are up: none inside `scripts/isolated`'s namespace.
-fn interfaces_up() -> Vec<String> {
-    let Ok(entries) = std::fs::read_dir("/sys/class/net") else {
-        // No sysfs view of the network: cannot tell, so refuse.
-        return vec!["(cannot read /sys/class/net)".to_owned()];
-    };
-    let mut up = Vec::new();
-    for entry in entries.flatten() {
-        let name = entry.file_name().to_string_lossy().into_owned();
-        if name == "lo" {
-            continue;
-        }
-        let flags = std::fs::read_to_string(entry.path().join("flags")).unwrap_or_default();
-        let flags = u32::from_str_radix(flags.trim().trim_start_matches("0x"), 16).unwrap_or(1);
-        // IFF_UP
-        if flags & 0x1 != 0 {
-            up.push(name);
-        }
-    }
-    up
-}
 
 /// Times in a sorted list.
 struct Stats(Vec<Duration>);
@@ -113,10 +91,6 @@ impl Stats {
             ms(self.0.last().copied().unwrap_or_default()),
         )
     }
-}
-
-fn ms(d: Duration) -> f64 {
-    d.as_secs_f64() * 1000.0
 }
 
 /// A timed series of runs.
