@@ -141,6 +141,22 @@ pub fn service_description(
         .build()
 }
 
+/// An action type itself: one nested field per part (`goal`, `result`, `feedback`,
+/// `send_goal_service`, `get_result_service`, `feedback_message`; rosidl_generator_type_description
+/// `add_action`), referencing them and what they reference.
+pub fn action_description(
+    action_type_name: &str,
+    parts: &[(&str, TypeDescription)],
+) -> TypeDescription {
+    let mut b = DescriptionBuilder::new(action_type_name);
+    for (name, d) in parts {
+        b = b
+            .push_field(name, FieldType::nested(&d.type_description.type_name))
+            .reference(d.clone());
+    }
+    b.build()
+}
+
 impl FieldType {
     /// A nested type as a bounded sequence `T[<=n]`.
     fn bounded_sequence_of_nested(mut self, n: u64) -> Self {

@@ -34,7 +34,9 @@ pub mod type_description_interfaces;
 pub use cdr::{from_cdr, to_cdr, CdrError};
 pub use description::DescriptionBuilder;
 pub use field::{Byte, RosField};
-pub use message::{dds_type_name, ros_type_name_from_dds, Message, Service};
+pub use message::{dds_type_name, ros_type_name_from_dds, Action, Message, Service};
+/// serde, as the generated types (horus-ros-codegen) name it.
+pub use serde;
 pub use type_description_interfaces::msg::{
     Field, FieldType, IndividualTypeDescription, TypeDescription,
 };

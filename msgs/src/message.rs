@@ -4,7 +4,9 @@
 use std::collections::HashMap;
 use std::sync::{Mutex, OnceLock};
 
-use crate::description::{service_description, service_event_description, EVENT_SUFFIX};
+use crate::description::{
+    action_description, service_description, service_event_description, EVENT_SUFFIX,
+};
 use crate::rihs::rihs01;
 use crate::type_description_interfaces::msg::TypeDescription;
 use crate::type_hash::TypeHash;
@@ -116,4 +118,48 @@ fn cached_hash(key: &str, compute: impl FnOnce() -> TypeHash) -> TypeHash {
         m.insert(key.to_owned(), h);
     }
     h
+}
+
+/// A ROS 2 action type (`pkg/action/Name`): goal, result and feedback, and the services and
+/// message rcl_action carries them in (rosidl_parser `definition.py` `Action`).
+pub trait Action: Send + Sync + 'static {
+    /// `pkg/action/Name_Goal`.
+    type Goal: Message;
+    /// `pkg/action/Name_Result`.
+    type Result: Message;
+    /// `pkg/action/Name_Feedback`.
+    type Feedback: Message;
+    /// `pkg/action/Name_SendGoal`: request `goal_id`, `goal`; response `accepted`, `stamp`.
+    type SendGoal: Service;
+    /// `pkg/action/Name_GetResult`: request `goal_id`; response `status`, `result`.
+    type GetResult: Service;
+    /// `pkg/action/Name_FeedbackMessage`: `goal_id`, `feedback`.
+    type FeedbackMessage: Message;
+    /// ROS type name: `pkg/action/Name`.
+    const TYPE_NAME: &'static str;
+
+    /// The action type description (fields `goal`, `result`, `feedback`, `send_goal_service`,
+    /// `get_result_service`, `feedback_message`), as rosidl_generator_type_description's
+    /// `add_action` builds it.
+    fn type_description() -> TypeDescription {
+        action_description(
+            Self::TYPE_NAME,
+            &[
+                ("goal", Self::Goal::type_description()),
+                ("result", Self::Result::type_description()),
+                ("feedback", Self::Feedback::type_description()),
+                ("send_goal_service", Self::SendGoal::type_description()),
+                ("get_result_service", Self::GetResult::type_description()),
+                (
+                    "feedback_message",
+                    Self::FeedbackMessage::type_description(),
+                ),
+            ],
+        )
+    }
+
+    /// The action's RIHS01 hash, computed once per type.
+    fn type_hash() -> TypeHash {
+        cached_hash(Self::TYPE_NAME, || rihs01(&Self::type_description()))
+    }
 }
