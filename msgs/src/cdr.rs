@@ -7,6 +7,8 @@
 use byteorder::{BigEndian, LittleEndian};
 use serde::{de::DeserializeOwned, Serialize};
 
+use crate::runtime::{take_bound_error, BoundError};
+
 /// Encapsulation header of little-endian plain CDR, as ROS 2 writes it.
 pub const CDR_LE_HEADER: [u8; 4] = [0x00, 0x01, 0x00, 0x00];
 /// Encapsulation identifier of big-endian plain CDR.
@@ -30,19 +32,35 @@ pub enum CdrError {
     /// The value cannot be encoded.
     #[error("CDR encoding failed: {0}")]
     Encode(#[source] cdr_encoding::Error),
+    /// A bounded field (`string<=N`, `wstring<=N`, `T[<=N]`) holds more than its bound allows
+    /// (checked by [`crate::runtime::Bounded`]).
+    #[error(transparent)]
+    BoundExceeded(BoundError),
+}
+
+/// Runs one encode: drops a stale bound violation first, and reports the one the encode left
+/// as [`CdrError::BoundExceeded`] instead of the serializer's message.
+fn encode<R>(run: impl FnOnce() -> Result<R, cdr_encoding::Error>) -> Result<R, CdrError> {
+    take_bound_error();
+    let result = run();
+    let bound = take_bound_error();
+    result.map_err(|e| match bound {
+        Some(b) => CdrError::BoundExceeded(b),
+        None => CdrError::Encode(e),
+    })
 }
 
 /// Encodes `value` as CDR_LE with the encapsulation header `00 01 00 00`.
 pub fn to_cdr<T: Serialize>(value: &T) -> Result<Vec<u8>, CdrError> {
     let mut out = Vec::with_capacity(64);
     out.extend_from_slice(&CDR_LE_HEADER);
-    cdr_encoding::to_writer::<_, LittleEndian, _>(&mut out, value).map_err(CdrError::Encode)?;
+    encode(|| cdr_encoding::to_writer::<_, LittleEndian, _>(&mut out, value))?;
     Ok(out)
 }
 
 /// Encodes only the CDR_LE body (no encapsulation header).
 pub fn to_cdr_body<T: Serialize>(value: &T) -> Result<Vec<u8>, CdrError> {
-    cdr_encoding::to_vec::<_, LittleEndian>(value).map_err(CdrError::Encode)
+    encode(|| cdr_encoding::to_vec::<_, LittleEndian>(value))
 }
 
 /// Decodes a payload that starts with a CDR_LE or CDR_BE encapsulation header.

@@ -13,6 +13,8 @@
 //! | `int8`…`uint64` | same | `i8`…`u64` | INT8…UINT64 |
 //! | `float32`/`float64` | `float`/`double` | `f32`/`f64` | FLOAT/DOUBLE |
 //! | `string` | `string` | `String` | STRING |
+//! | `wstring` | `wstring` | [`WString`] | WSTRING |
+//! | — | `wchar` | `u16` | WCHAR (a `u16` describes itself as UINT16: override the type id) |
 //! | `T[]` / `T[N]` | sequence / array | `Vec<T>` / `[T; N]` | +144 / +48 |
 //!
 //! Bounds (`string<=N`, `T[<=N]`) are not visible in Rust types: apply
@@ -22,6 +24,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::message::Message;
 use crate::type_description_interfaces::msg::{FieldType, IndividualTypeDescription};
+use crate::wstring::WString;
 
 /// A Rust type usable as a field of a ROS message.
 pub trait RosField {
@@ -128,6 +131,7 @@ primitive_field! {
     f32 => FIELD_TYPE_FLOAT,
     f64 => FIELD_TYPE_DOUBLE,
     String => FIELD_TYPE_STRING,
+    WString => FIELD_TYPE_WSTRING,
     Byte => FIELD_TYPE_BYTE,
 }
 

@@ -5,6 +5,8 @@
 //!   struct fields generically; [`DescriptionBuilder`] builds descriptions.
 //! - [`TypeHash`]: `RIHS01_…` hashes, USER_DATA helpers in [`user_data`].
 //! - [`cdr`]: [`to_cdr`] / [`from_cdr`] with the encapsulation header.
+//! - [`runtime`]: what generated structs use: bound checks at encode ([`runtime::Bounded`]),
+//!   fixed arrays of any length; [`WString`] is a ROS `wstring`.
 //! - One module per ROS package, each with `msg` / `srv` submodules.
 
 #[macro_use]
@@ -17,8 +19,10 @@ pub mod field;
 pub mod fuzzing;
 pub mod message;
 pub mod rihs;
+pub mod runtime;
 pub mod type_hash;
 pub mod user_data;
+mod wstring;
 
 pub mod builtin_interfaces;
 pub mod example_interfaces;
@@ -41,3 +45,4 @@ pub use type_description_interfaces::msg::{
     Field, FieldType, IndividualTypeDescription, TypeDescription,
 };
 pub use type_hash::{TypeHash, TypeHashError};
+pub use wstring::WString;
