@@ -5,9 +5,10 @@ Reads one JSON object from stdin and writes one to stdout:
       -> {"pkg/msg/Name": {"default": hex, "filled": hex}, ...}: `serialize_message` of a
          default-constructed message and of one filled with deterministic values (every field,
          every element; non-ASCII text; sequences at or below their bounds).
-  {"reserialize": {"pkg/msg/Name": hex, ...}}
-      -> {"pkg/msg/Name": hex | {"error": str}}: `deserialize_message` of the bytes, then
-         `serialize_message` again.
+  {"compare": {"pkg/msg/Name": {"default": hex, "filled": hex}, ...}}
+      -> {"pkg/msg/Name": {"default": true | str, "filled": true | str}}: whether
+         `deserialize_message` of the bytes equals rclpy's own default / filled message (else
+         what it read, or why it could not).
 Types are any message of the installed packages, including a service's `_Request`,
 `_Response`, `_Event` and an action's `_Goal`, `_SendGoal_Request`, `_FeedbackMessage`…
 """
@@ -101,12 +102,18 @@ def main():
             'default': serialize_message(cls()).hex(),
             'filled': serialize_message(Filler().fill(cls())).hex(),
         }
-    for type_name, data in request.get('reserialize', {}).items():
-        try:
-            msg = deserialize_message(bytes.fromhex(data), message_class(type_name))
-            out[type_name] = serialize_message(msg).hex()
-        except Exception as e:  # noqa: B902 - reported to the test, which fails on it
-            out[type_name] = {'error': f'{type(e).__name__}: {e}'}
+    for type_name, sent in request.get('compare', {}).items():
+        cls = message_class(type_name)
+        expected = {'default': cls(), 'filled': Filler().fill(cls())}
+        out[type_name] = {}
+        for which, data in sent.items():
+            try:
+                msg = deserialize_message(bytes.fromhex(data), cls)
+                same = msg == expected[which]
+                out[type_name][which] = True if same else f'read {msg!r}'
+            except Exception as e:  # noqa: B902 - reported to the test, which fails on it
+                out[type_name][which] = f'{type(e).__name__}: {e}'
+
     json.dump(out, sys.stdout)
 
 

@@ -4,8 +4,6 @@
 //! every type it defines (`type_hashes`).
 
 use std::path::{Path, PathBuf};
-use std::process::Command;
-use std::sync::OnceLock;
 
 use serde_json::Value;
 
