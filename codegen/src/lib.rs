@@ -12,6 +12,8 @@ pub mod builder;
 pub mod compiled;
 pub mod definition;
 pub mod error;
+#[doc(hidden)]
+pub mod fuzzing;
 pub mod idl;
 pub mod msg;
 pub mod rust;

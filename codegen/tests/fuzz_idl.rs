@@ -1,0 +1,239 @@
+//! The `codegen_idl` fuzz target's entry point (`fuzz/fuzz_targets/codegen_idl.rs`), briefly:
+//! on its committed seeds (`fuzz/seeds/codegen_idl/`, valid `.idl` files) and regressions
+//! (`fuzz/regressions/codegen_idl/`), then on a fixed number of inputs mutated from those
+//! (proptest: IDL fragments inserted, spans removed, duplicated or truncated, characters
+//! replaced) and of random text. It must never panic. `scripts/fuzz` runs the long campaign.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use horus_ros_codegen::fuzzing::idl;
+use proptest::collection::vec;
+use proptest::prelude::*;
+use proptest::test_runner::{Config, TestError, TestRunner};
+
+/// Mutated or random inputs (a few seconds in a debug build).
+const CASES: u32 = 20_000;
+
+const TARGET: &str = "codegen_idl";
+
+/// Pieces of IDL that make mutations reach deep into the parser.
+const FRAGMENTS: &[&str] = &[
+    "module",
+    "struct",
+    "typedef",
+    "const",
+    "enum",
+    "sequence<",
+    "string<",
+    "wstring<",
+    ">",
+    "<",
+    "{",
+    "}",
+    ";",
+    "::",
+    ":",
+    ",",
+    "[",
+    "]",
+    "(",
+    ")",
+    "=",
+    "@",
+    "-",
+    "\"",
+    "L\"",
+    "\\",
+    "'",
+    "#include",
+    "/*",
+    "*/",
+    "//",
+    "\n",
+    " ",
+    "0",
+    "1",
+    "-1",
+    "0x1F",
+    "017",
+    "1.5e3",
+    ".5",
+    "1d",
+    "TRUE",
+    "FALSE",
+    "@default (value=",
+    "@verbatim (language=\"comment\", text=",
+    "@unit (value=",
+    "\"(1, 2)\"",
+    "\"()\"",
+    "\"('a',)\"",
+    "\"(\"",
+    "uint8",
+    "long",
+    "unsigned",
+    "long double",
+    "double",
+    "boolean",
+    "octet",
+    "char",
+    "wchar",
+    "x_Constants",
+    "_Request",
+    "_Response",
+    "_Goal",
+    "_Result",
+    "_Feedback",
+    "structure_needs_at_least_one_member",
+    "pkg::msg::T",
+    "\\x4",
+    "\\u12",
+    "\\777",
+    "é",
+    "\u{2028}",
+    "99999999999999999999999999999999999999999",
+];
+
+fn fuzz_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../fuzz")
+}
+
+fn files(dir: &Path) -> BTreeMap<String, Vec<u8>> {
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return BTreeMap::new();
+    };
+    entries
+        .map(|e| {
+            let e = e.expect("a readable directory entry");
+            let name = e.file_name().into_string().expect("a UTF-8 file name");
+            (name, std::fs::read(e.path()).expect("a readable file"))
+        })
+        .collect()
+}
+
+/// One change to an input; positions are taken modulo the input's length.
+#[derive(Clone, Debug)]
+enum Mutation {
+    Insert { at: usize, fragment: usize },
+    Remove { at: usize, len: usize },
+    Duplicate { from: usize, at: usize, len: usize },
+    SetByte { at: usize, byte: u8 },
+    Truncate { at: usize },
+}
+
+fn mutation() -> impl Strategy<Value = Mutation> {
+    prop_oneof![
+        4 => (any::<usize>(), 0..FRAGMENTS.len())
+            .prop_map(|(at, fragment)| Mutation::Insert { at, fragment }),
+        3 => (any::<usize>(), 1..24usize).prop_map(|(at, len)| Mutation::Remove { at, len }),
+        2 => (any::<usize>(), any::<usize>(), 1..64usize)
+            .prop_map(|(from, at, len)| Mutation::Duplicate { from, at, len }),
+        1 => (any::<usize>(), any::<u8>()).prop_map(|(at, byte)| Mutation::SetByte { at, byte }),
+        1 => any::<usize>().prop_map(|at| Mutation::Truncate { at }),
+    ]
+}
+
+fn apply(input: &mut Vec<u8>, m: &Mutation) {
+    let pos = |at: usize, len: usize| if len == 0 { 0 } else { at % len };
+    match m {
+        Mutation::Insert { at, fragment } => {
+            let i = pos(*at, input.len() + 1);
+            input.splice(i..i, FRAGMENTS[*fragment].bytes());
+        }
+        Mutation::Remove { at, len } => {
+            if !input.is_empty() {
+                let i = pos(*at, input.len());
+                input.drain(i..(i + len).min(input.len()));
+            }
+        }
+        Mutation::Duplicate { from, at, len } => {
+            if !input.is_empty() {
+                let from = pos(*from, input.len());
+                let chunk = input[from..(from + len).min(input.len())].to_vec();
+                let at = pos(*at, input.len() + 1);
+                input.splice(at..at, chunk);
+            }
+        }
+        Mutation::SetByte { at, byte } => {
+            if !input.is_empty() {
+                let i = pos(*at, input.len());
+                input[i] = *byte;
+            }
+        }
+        Mutation::Truncate { at } => input.truncate(pos(*at, input.len() + 1)),
+    }
+}
+
+/// An input: a mutated seed, or random fragments and bytes.
+#[derive(Clone, Debug)]
+enum Case {
+    Mutated {
+        seed: usize,
+        mutations: Vec<Mutation>,
+    },
+    Random {
+        fragments: Vec<usize>,
+        bytes: Vec<u8>,
+    },
+}
+
+fn build(inputs: &[(String, Vec<u8>)], case: &Case) -> Vec<u8> {
+    match case {
+        Case::Mutated { seed, mutations } => {
+            let mut input = inputs[*seed].1.clone();
+            for m in mutations {
+                apply(&mut input, m);
+            }
+            input
+        }
+        Case::Random { fragments, bytes } => {
+            let mut input: Vec<u8> = fragments
+                .iter()
+                .flat_map(|f| FRAGMENTS[*f].bytes())
+                .collect();
+            input.extend_from_slice(bytes);
+            input
+        }
+    }
+}
+
+#[test]
+fn codegen_idl() {
+    let dir = fuzz_dir();
+    let seeds = files(&dir.join("seeds").join(TARGET));
+    assert!(!seeds.is_empty(), "{TARGET} has no seeds in fuzz/seeds/");
+    for (name, bytes) in &seeds {
+        let text = std::str::from_utf8(bytes).expect("a UTF-8 seed");
+        horus_ros_codegen::idl::parse_idl(Path::new(name), text)
+            .unwrap_or_else(|e| panic!("seed {name} does not parse: {e}"));
+    }
+    let regressions = files(&dir.join("regressions").join(TARGET));
+    let inputs: Vec<(String, Vec<u8>)> = seeds.into_iter().chain(regressions).collect();
+    for (_, bytes) in &inputs {
+        idl(bytes);
+    }
+    let n = inputs.len();
+    let case = prop_oneof![
+        9 => (0..n, vec(mutation(), 1..8))
+            .prop_map(|(seed, mutations)| Case::Mutated { seed, mutations }),
+        1 => (vec(0..FRAGMENTS.len(), 0..48), vec(any::<u8>(), 0..32))
+            .prop_map(|(fragments, bytes)| Case::Random { fragments, bytes }),
+    ];
+    let mut runner = TestRunner::new(Config {
+        cases: CASES,
+        failure_persistence: None,
+        ..Config::default()
+    });
+    let result = runner.run(&case, |case| {
+        idl(&build(&inputs, &case));
+        Ok(())
+    });
+    match result {
+        Ok(()) => {}
+        Err(TestError::Fail(why, case)) => panic!(
+            "{TARGET} failed ({why}) on {:?} (from {case:?})",
+            String::from_utf8_lossy(&build(&inputs, &case))
+        ),
+        Err(e) => panic!("{TARGET}: {e}"),
+    }
+}
