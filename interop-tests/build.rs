@@ -46,7 +46,11 @@ fn interface_packages(share: &Path) -> Vec<String> {
         .into_iter()
         .flatten()
         .filter_map(Result::ok)
-        .filter(|e| ["msg", "srv", "action"].iter().any(|k| e.path().join(k).is_dir()))
+        .filter(|e| {
+            ["msg", "srv", "action"]
+                .iter()
+                .any(|k| e.path().join(k).is_dir())
+        })
         .filter_map(|e| e.file_name().into_string().ok())
         .collect();
     out.sort();

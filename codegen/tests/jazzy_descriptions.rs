@@ -103,3 +103,10 @@ fn every_msg_srv_and_action_file_describes_and_hashes_as_jazzy() {
     );
     assert!(files >= 190, "only {files} interface files found");
 }
+
+#[test]
+fn every_idl_file_describes_and_hashes_as_jazzy() {
+    let (files, hashes) = check(&["idl"]);
+    println!("{files} .idl files: descriptions and {hashes} type hashes equal Jazzy's");
+    assert!(files >= 190, "only {files} interface files found");
+}

@@ -28,7 +28,9 @@ fn every_generated_interface_describes_and_hashes_as_jazzy() {
                     failures.push(format!("{package}: {type_name}: description differs\n ours:  {as_json}\n jazzy: {}", jazzy["type_description_msg"]));
                 }
                 // Every type in the description hashes as Jazzy hashes it.
-                for t in std::iter::once(&ours.type_description).chain(&ours.referenced_type_descriptions) {
+                for t in std::iter::once(&ours.type_description)
+                    .chain(&ours.referenced_type_descriptions)
+                {
                     let sub = horus_ros_services::dynamic::sub_description(&ours, &t.type_name)
                         .expect("sub-description");
                     let expected = jazzy["type_hashes"]
@@ -38,13 +40,22 @@ fn every_generated_interface_describes_and_hashes_as_jazzy() {
                         .map(str::to_owned);
                     match expected {
                         Some(e) if e == rihs01(&sub).to_string() => {}
-                        other => failures.push(format!("{type_name}: {}: ours {}, jazzy {other:?}", t.type_name, rihs01(&sub))),
+                        other => failures.push(format!(
+                            "{type_name}: {}: ours {}, jazzy {other:?}",
+                            t.type_name,
+                            rihs01(&sub)
+                        )),
                     }
                     types.insert(t.type_name.clone());
                 }
             }
         }
-        assert!(failures.is_empty(), "{} differences:\n{}", failures.len(), failures.join("\n"));
+        assert!(
+            failures.is_empty(),
+            "{} differences:\n{}",
+            failures.len(),
+            failures.join("\n")
+        );
         println!(
             "{} packages, {interfaces} generated interfaces, {} distinct types: descriptions and hashes equal Jazzy's",
             interop_tests::jazzy::PACKAGES.len(),

@@ -24,13 +24,18 @@ mod cases {
     /// What each type must do; returns its name and our encodings (default, filled).
     type Case = fn(&str, &str) -> Result<(Vec<u8>, Vec<u8>), String>;
 
-    fn case<T: Message + Default + PartialEq>(default: &str, filled: &str) -> Result<(Vec<u8>, Vec<u8>), String> {
+    fn case<T: Message + Default + PartialEq>(
+        default: &str,
+        filled: &str,
+    ) -> Result<(Vec<u8>, Vec<u8>), String> {
         let name = T::TYPE_NAME;
         let rclpy_default = hex(default);
-        let ours_default = to_cdr(&T::default()).map_err(|e| format!("{name}: encoding Default: {e}"))?;
+        let ours_default =
+            to_cdr(&T::default()).map_err(|e| format!("{name}: encoding Default: {e}"))?;
         same_bytes(name, "Default", &ours_default, &rclpy_default)?;
         let rclpy_filled = hex(filled);
-        let value: T = from_cdr(&rclpy_filled).map_err(|e| format!("{name}: decoding rclpy's bytes: {e}"))?;
+        let value: T =
+            from_cdr(&rclpy_filled).map_err(|e| format!("{name}: decoding rclpy's bytes: {e}"))?;
         let ours_filled = to_cdr(&value).map_err(|e| format!("{name}: encoding: {e}"))?;
         same_bytes(name, "filled", &ours_filled, &rclpy_filled)?;
         let again: T = from_cdr(&ours_filled).map_err(|e| format!("{name}: decoding ours: {e}"))?;
@@ -194,7 +199,12 @@ mod cases {
                 }
             }
         }
-        assert!(failures.is_empty(), "{} failures:\n{}", failures.len(), failures.join("\n\n"));
+        assert!(
+            failures.is_empty(),
+            "{} failures:\n{}",
+            failures.len(),
+            failures.join("\n\n")
+        );
         println!(
             "{} types: default and filled values encode as rclpy's, decode from rclpy's and are read back by rclpy",
             cases.len()
