@@ -292,13 +292,15 @@ impl Writer {
                 self.out.extend_from_slice(s.as_bytes());
                 self.out.push(0);
             }
+            // rosidl_typesupport_fastrtps `serialization_helpers.hpp` (and rmw_cyclonedds'
+            // `CDR_Legacy`): the count of UTF-16 units, then each unit as a 4-byte integer.
             (Elem::WStr(_), Value::Str(s)) => {
                 let units: Vec<u16> = s.encode_utf16().collect();
                 let n = u32::try_from(units.len())
                     .map_err(|_| EncodeError::WStringTooLong { len: units.len() })?;
                 self.put(&n.to_le_bytes());
                 for u in units {
-                    self.out.extend_from_slice(&u.to_le_bytes());
+                    self.out.extend_from_slice(&u32::from(u).to_le_bytes());
                 }
             }
             (e, v) => {
@@ -458,11 +460,15 @@ impl Reader<'_> {
             }
             Elem::WStr(_) => {
                 let n = self.u32()? as usize;
-                if n > self.left() / 2 {
+                if n > self.left() / 4 {
                     return Err(DecodeError::Truncated { offset: self.pos });
                 }
+                // 4 bytes per UTF-16 unit (see the encoder); a value past 16 bits is no unit.
                 let units = (0..n)
-                    .map(|_| self.take::<2>().map(u16::from_le_bytes))
+                    .map(|_| {
+                        self.take::<4>()
+                            .map(|b| u16::try_from(u32::from_le_bytes(b)).unwrap_or(0xfffd))
+                    })
                     .collect::<Result<Vec<u16>, _>>()?;
                 Value::Str(String::from_utf16_lossy(&units))
             }

@@ -3,7 +3,8 @@
 //! (`rclpy.serialization`, rmw_fastrtps' type support) serializes a default-constructed message
 //! and one filled with a value in every field and element; our `Default` encodes to rclpy's
 //! default bytes (so the `.msg` defaults are right), rclpy's filled bytes decode into our type
-//! and encode back to the same bytes, and rclpy reads our bytes as exactly the messages it made.
+//! and encode back to the same bytes, and rclpy reads our bytes as exactly the messages it made; the dynamic codec
+//! (`horus_ros_dynamic`, types known only by description) reads and writes the same bytes.
 //! No DDS.
 //!
 //! "The same bytes" allows what rmw_fastrtps leaves unwritten: alignment padding (whatever was
@@ -18,6 +19,7 @@ mod cases {
     use std::process::{Command, Stdio};
 
     use horus_ros_msgs::{from_cdr, to_cdr, Message};
+    use horus_ros_services::dynamic::{cdr, Schema};
     use interop_tests::jazzy;
     use serde_json::{json, Value};
 
@@ -42,6 +44,14 @@ mod cases {
         if again != value {
             return Err(format!("{name}: decoding our bytes gives another value"));
         }
+        // The dynamic codec (types known at run time from this description) agrees.
+        let schema = Schema::from_description(&T::type_description())
+            .map_err(|e| format!("{name}: dynamic schema: {e}"))?;
+        let dynamic = cdr::decode(&schema, name, &rclpy_filled[4..], false)
+            .map_err(|e| format!("{name}: dynamic decode of rclpy's bytes: {e}"))?;
+        let dynamic_bytes = cdr::encode(&schema, name, &dynamic)
+            .map_err(|e| format!("{name}: dynamic encode: {e}"))?;
+        same_bytes(name, "dynamic", &dynamic_bytes, &ours_filled[4..])?;
         Ok((ours_default, ours_filled))
     }
 
