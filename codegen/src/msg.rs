@@ -281,13 +281,15 @@ impl<'a> Source<'a> {
     /// One `type name [default]` or `type NAME=value` line (comment removed, trailing spaces
     /// trimmed).
     fn definition_line(&self, content: &str, line_no: usize) -> Result<Element, ParseError> {
+        // 1-based column (in characters) of the byte offset where `tail` starts.
+        let col = |tail: &str| content[..content.len() - tail.len()].chars().count() + 1;
         let (type_string, rest) = content.split_once(' ').unwrap_or((content, ""));
         let rest_trimmed = rest.trim_start();
-        let rest_col = content.len() - rest_trimmed.len() + 1;
+        let rest_col = col(rest_trimmed);
         if rest_trimmed.is_empty() {
             return Err(self.error(
                 line_no,
-                content.len() + 1,
+                col(""),
                 format!("expected a name after the type '{type_string}'"),
             ));
         }
@@ -297,14 +299,14 @@ impl<'a> Source<'a> {
         if let Some(eq) = rest_trimmed.find('=') {
             let name = rest_trimmed[..eq].trim_end();
             let value = rest_trimmed[eq + 1..].trim_start();
-            let value_col = content.len() - value.len() + 1;
+            let value_col = col(value);
             return self
                 .constant(type_string, name, value, line_no, rest_col, value_col)
                 .map(Element::Constant);
         }
         let (name, default) = rest_trimmed.split_once(' ').unwrap_or((rest_trimmed, ""));
         let default = default.trim_start();
-        let default_col = content.len() - default.len() + 1;
+        let default_col = col(default);
         let ty = self.field_type(type_string, line_no, 1)?;
         if !is_valid_field_name(name) {
             return Err(self.error(
@@ -381,7 +383,7 @@ impl<'a> Source<'a> {
                 let n = parse_positive(digits).ok_or_else(|| {
                     self.error(
                         line_no,
-                        col + index + 1,
+                        col + s[..index].chars().count() + 1,
                         format!("the size of array type '{s}' must be an integer > 0, optionally prefixed with '<='"),
                     )
                 })?;

@@ -1,13 +1,13 @@
-//! The `codegen_idl` fuzz target's entry point (`fuzz/fuzz_targets/codegen_idl.rs`), briefly:
-//! on its committed seeds (`fuzz/seeds/codegen_idl/`, valid `.idl` files) and regressions
-//! (`fuzz/regressions/codegen_idl/`), then on a fixed number of inputs mutated from those
-//! (proptest: IDL fragments inserted, spans removed, duplicated or truncated, characters
-//! replaced) and of random text. It must never panic. `scripts/fuzz` runs the long campaign.
+//! The interface parsers' fuzz targets' entry points (`fuzz/fuzz_targets/codegen_idl.rs`,
+//! `codegen_msg.rs`), briefly: on their committed seeds (`fuzz/seeds/<target>/`, valid files)
+//! and regressions (`fuzz/regressions/<target>/`), then on a fixed number of inputs mutated from
+//! those (proptest: grammar fragments inserted, spans removed, duplicated or truncated,
+//! characters replaced) and of random text. They must never panic, and an error must point
+//! inside the text. `scripts/fuzz` runs the long campaigns.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-use horus_ros_codegen::fuzzing::idl;
 use proptest::collection::vec;
 use proptest::prelude::*;
 use proptest::test_runner::{Config, TestError, TestRunner};
@@ -15,10 +15,68 @@ use proptest::test_runner::{Config, TestError, TestRunner};
 /// Mutated or random inputs (a few seconds in a debug build).
 const CASES: u32 = 20_000;
 
-const TARGET: &str = "codegen_idl";
+/// Pieces of `.msg`/`.srv`/`.action` files that make mutations reach deep into the parser.
+const MSG_FRAGMENTS: &[&str] = &[
+    "bool",
+    "byte",
+    "char",
+    "int8",
+    "uint8",
+    "int64",
+    "float32",
+    "float64",
+    "string",
+    "wstring",
+    "string<=",
+    "wstring<=",
+    "time",
+    "duration",
+    "std_msgs/Header",
+    "Header",
+    "pkg/Name",
+    "[",
+    "]",
+    "[<=",
+    "[]",
+    "[3]",
+    "<=",
+    " ",
+    "  ",
+    "\t",
+    "\n",
+    "#",
+    "# [m/s]",
+    "=",
+    "---",
+    "\n---\n",
+    "'",
+    "\"",
+    "\\'",
+    "\\\"",
+    ",",
+    "true",
+    "False",
+    "1",
+    "0x1F",
+    "-1",
+    "1_000",
+    "1.5e3",
+    "nan",
+    "-inf",
+    "[1, 2, 3]",
+    "['a', \"b\"]",
+    "CONST",
+    "A_B",
+    "_",
+    "__",
+    "é",
+    "\u{2028}",
+    "99999999999999999999999999999999999999999",
+    "\r\n",
+];
 
 /// Pieces of IDL that make mutations reach deep into the parser.
-const FRAGMENTS: &[&str] = &[
+const IDL_FRAGMENTS: &[&str] = &[
     "module",
     "struct",
     "typedef",
@@ -121,9 +179,9 @@ enum Mutation {
     Truncate { at: usize },
 }
 
-fn mutation() -> impl Strategy<Value = Mutation> {
+fn mutation(fragments: usize) -> impl Strategy<Value = Mutation> {
     prop_oneof![
-        4 => (any::<usize>(), 0..FRAGMENTS.len())
+        4 => (any::<usize>(), 0..fragments)
             .prop_map(|(at, fragment)| Mutation::Insert { at, fragment }),
         3 => (any::<usize>(), 1..24usize).prop_map(|(at, len)| Mutation::Remove { at, len }),
         2 => (any::<usize>(), any::<usize>(), 1..64usize)
@@ -133,12 +191,12 @@ fn mutation() -> impl Strategy<Value = Mutation> {
     ]
 }
 
-fn apply(input: &mut Vec<u8>, m: &Mutation) {
+fn apply(fragments: &[&str], input: &mut Vec<u8>, m: &Mutation) {
     let pos = |at: usize, len: usize| if len == 0 { 0 } else { at % len };
     match m {
         Mutation::Insert { at, fragment } => {
             let i = pos(*at, input.len() + 1);
-            input.splice(i..i, FRAGMENTS[*fragment].bytes());
+            input.splice(i..i, fragments[*fragment].bytes());
         }
         Mutation::Remove { at, len } => {
             if !input.is_empty() {
@@ -177,46 +235,49 @@ enum Case {
     },
 }
 
-fn build(inputs: &[(String, Vec<u8>)], case: &Case) -> Vec<u8> {
+fn build(fragments: &[&str], inputs: &[(String, Vec<u8>)], case: &Case) -> Vec<u8> {
     match case {
         Case::Mutated { seed, mutations } => {
             let mut input = inputs[*seed].1.clone();
             for m in mutations {
-                apply(&mut input, m);
+                apply(fragments, &mut input, m);
             }
             input
         }
-        Case::Random { fragments, bytes } => {
-            let mut input: Vec<u8> = fragments
-                .iter()
-                .flat_map(|f| FRAGMENTS[*f].bytes())
-                .collect();
+        Case::Random {
+            fragments: picked,
+            bytes,
+        } => {
+            let mut input: Vec<u8> = picked.iter().flat_map(|f| fragments[*f].bytes()).collect();
             input.extend_from_slice(bytes);
             input
         }
     }
 }
 
-#[test]
-fn codegen_idl() {
+/// Runs `entry` on the seeds (each of which `valid` must accept), the regressions and mutants.
+fn campaign(
+    target: &str,
+    fragments: &[&str],
+    valid: fn(&str, &[u8]) -> Result<(), String>,
+    entry: fn(&[u8]),
+) {
     let dir = fuzz_dir();
-    let seeds = files(&dir.join("seeds").join(TARGET));
-    assert!(!seeds.is_empty(), "{TARGET} has no seeds in fuzz/seeds/");
+    let seeds = files(&dir.join("seeds").join(target));
+    assert!(!seeds.is_empty(), "{target} has no seeds in fuzz/seeds/");
     for (name, bytes) in &seeds {
-        let text = std::str::from_utf8(bytes).expect("a UTF-8 seed");
-        horus_ros_codegen::idl::parse_idl(Path::new(name), text)
-            .unwrap_or_else(|e| panic!("seed {name} does not parse: {e}"));
+        valid(name, bytes).unwrap_or_else(|e| panic!("seed {name} does not parse: {e}"));
     }
-    let regressions = files(&dir.join("regressions").join(TARGET));
+    let regressions = files(&dir.join("regressions").join(target));
     let inputs: Vec<(String, Vec<u8>)> = seeds.into_iter().chain(regressions).collect();
     for (_, bytes) in &inputs {
-        idl(bytes);
+        entry(bytes);
     }
     let n = inputs.len();
     let case = prop_oneof![
-        9 => (0..n, vec(mutation(), 1..8))
+        9 => (0..n, vec(mutation(fragments.len()), 1..8))
             .prop_map(|(seed, mutations)| Case::Mutated { seed, mutations }),
-        1 => (vec(0..FRAGMENTS.len(), 0..48), vec(any::<u8>(), 0..32))
+        1 => (vec(0..fragments.len(), 0..48), vec(any::<u8>(), 0..32))
             .prop_map(|(fragments, bytes)| Case::Random { fragments, bytes }),
     ];
     let mut runner = TestRunner::new(Config {
@@ -225,15 +286,40 @@ fn codegen_idl() {
         ..Config::default()
     });
     let result = runner.run(&case, |case| {
-        idl(&build(&inputs, &case));
+        entry(&build(fragments, &inputs, &case));
         Ok(())
     });
     match result {
         Ok(()) => {}
         Err(TestError::Fail(why, case)) => panic!(
-            "{TARGET} failed ({why}) on {:?} (from {case:?})",
-            String::from_utf8_lossy(&build(&inputs, &case))
+            "{target} failed ({why}) on {:?} (from {case:?})",
+            String::from_utf8_lossy(&build(fragments, &inputs, &case))
         ),
-        Err(e) => panic!("{TARGET}: {e}"),
+        Err(e) => panic!("{target}: {e}"),
     }
+}
+
+#[test]
+fn codegen_idl() {
+    campaign(
+        "codegen_idl",
+        IDL_FRAGMENTS,
+        |name, bytes| {
+            let text = std::str::from_utf8(bytes).map_err(|e| e.to_string())?;
+            horus_ros_codegen::idl::parse_idl(Path::new(name), text)
+                .map(|_| ())
+                .map_err(|e| e.to_string())
+        },
+        horus_ros_codegen::fuzzing::idl,
+    );
+}
+
+#[test]
+fn codegen_msg() {
+    campaign(
+        "codegen_msg",
+        MSG_FRAGMENTS,
+        |_, bytes| horus_ros_codegen::fuzzing::parse_msg(bytes).map(|_| ()),
+        horus_ros_codegen::fuzzing::msg,
+    );
 }
