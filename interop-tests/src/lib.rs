@@ -13,8 +13,7 @@ use std::time::Duration;
 
 /// The Python interpreter that has the `cyclonedds` package and the ROS 2 wheels.
 pub fn python() -> PathBuf {
-    std::env::var_os("HORUS_ROS_INTEROP_PYTHON")
-        .map_or_else(|| PathBuf::from("python3"), PathBuf::from)
+    horus_ros_test_support::jazzy::python()
 }
 
 pub use horus_ros_test_support::line_reader;

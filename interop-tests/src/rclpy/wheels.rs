@@ -11,26 +11,7 @@ use serde_json::Value;
 
 /// `<prefix>/share` of the test environment's interpreter ([`crate::python`]).
 pub fn share_dir() -> Result<PathBuf, String> {
-    static SHARE: OnceLock<Result<PathBuf, String>> = OnceLock::new();
-    SHARE
-        .get_or_init(|| {
-            let out = Command::new(crate::python())
-                .args(["-c", "import sys; print(sys.prefix)"])
-                .output()
-                .map_err(|e| format!("running {}: {e}", crate::python().display()))?;
-            let prefix = String::from_utf8_lossy(&out.stdout).trim().to_owned();
-            let share = Path::new(&prefix).join("share");
-            if out.status.success() && share.join("rclpy").is_dir() {
-                Ok(share)
-            } else {
-                Err(format!(
-                    "{} has no ROS 2 wheels under {} (scripts/setup installs them)",
-                    crate::python().display(),
-                    share.display()
-                ))
-            }
-        })
-        .clone()
+    horus_ros_test_support::jazzy::share_dir()
 }
 
 /// The `.json` file of the interface defining `type_name` (`pkg/srv/Name`, or a type the
