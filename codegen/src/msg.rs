@@ -426,13 +426,15 @@ impl<'a> Source<'a> {
         let (package, name) = match parts.as_slice() {
             [name] => (self.package, *name),
             [package, name] => (*package, *name),
-            _ => return Err(self.error(
-                line_no,
-                col,
-                format!(
+            _ => {
+                return Err(self.error(
+                    line_no,
+                    col,
+                    format!(
                     "unknown type '{s}': expected a primitive type or a message type 'pkg/Name'"
                 ),
-            )),
+                ))
+            }
         };
         if !is_valid_package_name(package) {
             return Err(self.error(

@@ -37,9 +37,11 @@ impl Catalog {
                 continue;
             };
             for i in interfaces.into_iter().filter(|i| i.kind == kind) {
-                out.entry(package.clone())
-                    .or_default()
-                    .insert(format!("{}/{}", kind.namespace(), i.name));
+                out.entry(package.clone()).or_default().insert(format!(
+                    "{}/{}",
+                    kind.namespace(),
+                    i.name
+                ));
             }
         }
         for t in COMPILED_TYPES {
@@ -70,7 +72,11 @@ impl Catalog {
     /// resource (rosidl_runtime_py `get_interfaces`), else those of each kind in turn; compiled
     /// types included. A package neither installed nor compiled in is an error
     /// (`Unknown package '…'`).
-    pub fn package(&self, package: &str, kinds: &[InterfaceKind]) -> Result<Vec<String>, LookupError> {
+    pub fn package(
+        &self,
+        package: &str,
+        kinds: &[InterfaceKind],
+    ) -> Result<Vec<String>, LookupError> {
         let compiled: Vec<&str> = COMPILED_TYPES
             .iter()
             .filter_map(|t| t.name.strip_prefix(package)?.strip_prefix('/'))

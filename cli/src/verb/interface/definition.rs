@@ -150,13 +150,7 @@ pub fn from_graph(
             }
             let mut reasons = Vec::new();
             for service in services {
-                match describe::fetch(
-                    &session.node,
-                    &session.graph,
-                    &service,
-                    type_name,
-                    timeout,
-                ) {
+                match describe::fetch(&session.node, &session.graph, &service, type_name, timeout) {
                     Ok(info) => {
                         return Ok(Definition::Described {
                             schema: info.schema().clone(),

@@ -140,9 +140,15 @@ pub fn run_list(global: &Global, args: &ListArgs) -> Result<(), CliError> {
 pub fn run_packages(global: &Global, args: &PackagesArgs) -> Result<(), CliError> {
     let catalog = Catalog::from_env();
     let packages: Vec<String> = if args.only_msgs {
-        catalog.of_kind(InterfaceKind::Message).into_keys().collect()
+        catalog
+            .of_kind(InterfaceKind::Message)
+            .into_keys()
+            .collect()
     } else if args.only_srvs {
-        catalog.of_kind(InterfaceKind::Service).into_keys().collect()
+        catalog
+            .of_kind(InterfaceKind::Service)
+            .into_keys()
+            .collect()
     } else if args.only_actions {
         catalog.of_kind(InterfaceKind::Action).into_keys().collect()
     } else {

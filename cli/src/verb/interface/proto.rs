@@ -63,9 +63,8 @@ pub fn run(global: &Global, args: &ProtoArgs) -> Result<(), CliError> {
     let schema = match definition {
         Definition::File { package, path } => {
             let description = definition::describe_files(&catalog, &package, &path, &root)?;
-            Schema::from_description(&description).map_err(|e| {
-                CliError::new(format!("Cannot describe '{type_name}': {e}"))
-            })?
+            Schema::from_description(&description)
+                .map_err(|e| CliError::new(format!("Cannot describe '{type_name}': {e}")))?
         }
         Definition::Described { schema, .. } => schema,
     };

@@ -345,7 +345,9 @@ fn print_line(text: &str, info: &LineInfo, show_comments: bool, indent: usize, o
             let found = if wanted.is_empty() {
                 Some(0)
             } else {
-                chars.windows(wanted.len()).position(|w| w == wanted.as_slice())
+                chars
+                    .windows(wanted.len())
+                    .position(|w| w == wanted.as_slice())
             };
             let start = found.map_or(-1, |i| i as isize);
             let end = start - 1;
