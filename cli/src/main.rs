@@ -26,6 +26,7 @@ Examples:
   horus-ros node list
   horus-ros node info /talker
   horus-ros topic info /chatter -v
+  horus-ros interface show geometry_msgs/msg/PoseStamped
   horus-ros graph --watch
   horus-ros --json service list
   horus-ros daemon start
@@ -181,6 +182,10 @@ enum Command {
     /// Inspect topics.
     #[command(subcommand)]
     Topic(verb::topic::TopicCommand),
+    /// Inspect the interfaces (message, service, action types) installed, compiled in, or
+    /// used by a running node.
+    #[command(subcommand)]
+    Interface(verb::interface::InterfaceCommand),
     /// The whole graph in one document, or a live diff of it.
     Graph(verb::graph::GraphArgs),
     /// Start, stop or check the daemon that keeps the graph discovered for the query commands.
@@ -247,6 +252,7 @@ fn main() -> ExitCode {
         Command::Service(c) => verb::service::run(&cli.global, c),
         Command::Node(c) => verb::node::run(&cli.global, c),
         Command::Topic(c) => verb::topic::run(&cli.global, c),
+        Command::Interface(c) => verb::interface::run(&cli.global, c),
         Command::Graph(args) => verb::graph::run(&cli.global, &args),
         Command::Daemon(c) => verb::daemon::run(&cli.global, c),
         Command::Demo(args) => verb::demo::run(&cli.global, &args),

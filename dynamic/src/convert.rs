@@ -67,6 +67,10 @@ pub fn to_ordereddict(schema: &Schema, type_name: &str, v: &Value, o: ConvertOpt
     let (Ok(s), Value::Struct(fields)) = (schema.get(type_name), v) else {
         return PyValue::Map(Vec::new());
     };
+    // rclpy hides rosidl's placeholder member of an empty struct: `OrderedDict()`.
+    if s.is_empty_placeholder() {
+        return PyValue::Map(Vec::new());
+    }
     let mut out = Vec::with_capacity(fields.len());
     for (m, f) in s.members.iter().zip(fields) {
         let value = match (m.ty.container, f) {
@@ -121,6 +125,9 @@ pub fn to_csv(schema: &Schema, type_name: &str, v: &Value, o: ConvertOptions) ->
     let (Ok(s), Value::Struct(fields)) = (schema.get(type_name), v) else {
         return String::new();
     };
+    if s.is_empty_placeholder() {
+        return String::new();
+    }
     let mut out = String::new();
     for (i, (m, f)) in s.members.iter().zip(fields).enumerate() {
         if i > 0 {

@@ -16,6 +16,10 @@ pub fn to_json(schema: &Schema, type_name: &str, value: &Value) -> Json {
         return Json::Null;
     };
     let mut map = Map::new();
+    // Python hides rosidl's placeholder member of an empty struct.
+    if s.is_empty_placeholder() {
+        return Json::Object(map);
+    }
     for (m, f) in s.members.iter().zip(fields) {
         let value = match (m.ty.container, f) {
             (Container::Single, f) => elem_json(schema, &m.ty.elem, f),

@@ -10,10 +10,12 @@
 //! - [`convert`]: rosidl_runtime_py `message_to_ordereddict` / `message_to_csv`.
 //! - [`pyyaml`]: PyYAML's `yaml.dump` of those values, as ros2cli prints them.
 //! - [`json`]: messages as JSON objects, and filled from them.
+//! - [`compiled`]: the types compiled into horus-ros-msgs, by name.
 //! - [`ServiceType`]: a service type known at run time, its requests filled from YAML or JSON
 //!   and its responses decoded.
 
 pub mod cdr;
+pub mod compiled;
 pub mod convert;
 #[doc(hidden)]
 pub mod fuzzing;

@@ -4,8 +4,7 @@
 //! them.
 
 use horus_ros_msgs::description::{REQUEST_SUFFIX, RESPONSE_SUFFIX};
-use horus_ros_msgs::{example_interfaces, rcl_interfaces, std_srvs, type_description_interfaces};
-use horus_ros_msgs::{Service, TypeDescription, TypeHash};
+use horus_ros_msgs::{TypeDescription, TypeHash};
 
 use crate::cdr::{DecodeError, EncodeError};
 use crate::yaml::FillError;
@@ -150,31 +149,15 @@ impl ServiceType {
 
 /// The description of a service type compiled into horus-ros-msgs.
 pub fn compiled_description(service_type: &str) -> Option<TypeDescription> {
-    fn d<S: Service>() -> (&'static str, fn() -> TypeDescription) {
-        (S::TYPE_NAME, S::type_description)
-    }
-    let table = [
-        d::<example_interfaces::srv::AddTwoInts>(),
-        d::<std_srvs::srv::Empty>(),
-        d::<std_srvs::srv::Trigger>(),
-        d::<std_srvs::srv::SetBool>(),
-        d::<rcl_interfaces::srv::ListParameters>(),
-        d::<rcl_interfaces::srv::GetParameters>(),
-        d::<rcl_interfaces::srv::GetParameterTypes>(),
-        d::<rcl_interfaces::srv::SetParameters>(),
-        d::<rcl_interfaces::srv::SetParametersAtomically>(),
-        d::<rcl_interfaces::srv::DescribeParameters>(),
-        d::<type_description_interfaces::srv::GetTypeDescription>(),
-    ];
-    table
-        .iter()
-        .find(|(name, _)| *name == service_type)
-        .map(|(_, f)| f())
+    crate::compiled::compiled_type(service_type)
+        .filter(|t| t.is_service())
+        .map(|t| (t.describe)())
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use horus_ros_msgs::example_interfaces;
     use horus_ros_msgs::Message;
 
     #[test]

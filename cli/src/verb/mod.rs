@@ -4,6 +4,7 @@ pub mod completions;
 pub mod daemon;
 pub mod demo;
 pub mod graph;
+pub mod interface;
 pub mod names;
 pub mod node;
 pub mod service;

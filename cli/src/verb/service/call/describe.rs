@@ -10,7 +10,11 @@
 //! `_Event` type (present when the server enabled service introspection; its description holds
 //! the request and response), and the request / response hashes themselves (known to nodes that
 //! also publish or subscribe those types).
+//!
+//! A message type ([`fetch_message`], `interface show --from-graph`) is asked of the nodes whose
+//! publishers or subscriptions announce it with its hash.
 
+use std::collections::BTreeMap;
 use std::sync::Arc;
 use std::time::Duration;
 
@@ -92,6 +96,76 @@ pub fn fetch(
             });
         }
     }
+    let mut got: Vec<TypeDescription> = Vec::new();
+    ask(node, graph, &node_name, candidates, timeout, |d| {
+        got.push(d);
+        ServiceType::from_descriptions(service_type, &got).ok()
+    })
+    .map_err(|reasons| format!("{} ({})", unknown(), reasons.join("; ")))
+}
+
+/// Fetches the description of message type `type_name` from a node that publishes or
+/// subscribes to it (its endpoints announce the type's hash): each such node in turn.
+pub fn fetch_message(
+    node: &Node,
+    graph: &Arc<Graph>,
+    type_name: &str,
+    timeout: Duration,
+) -> Result<TypeDescription, String> {
+    let mut by_node: BTreeMap<String, Vec<Candidate>> = BTreeMap::new();
+    graph.read(|c| {
+        for (topic, types) in c.topic_names_and_types(true) {
+            if !types.iter().any(|t| t == type_name) {
+                continue;
+            }
+            let endpoints = c
+                .publishers_info_by_topic(&topic, false)
+                .into_iter()
+                .chain(c.subscriptions_info_by_topic(&topic, false));
+            for e in endpoints {
+                if e.topic_type != type_name || !e.topic_type_hash.is_set() {
+                    continue;
+                }
+                let name = crate::verb::names::node_full_name(&e.node_namespace, &e.node_name);
+                let candidates = by_node.entry(name).or_default();
+                if !candidates.iter().any(|c| c.hash == e.topic_type_hash) {
+                    candidates.push(Candidate {
+                        type_name: type_name.to_owned(),
+                        hash: e.topic_type_hash,
+                    });
+                }
+            }
+        }
+    });
+    if by_node.is_empty() {
+        return Err(format!(
+            "no node in the graph publishes or subscribes to '{type_name}' with its type hash"
+        ));
+    }
+    let mut reasons = Vec::new();
+    for (node_name, candidates) in by_node {
+        match ask(node, graph, &node_name, candidates, timeout, Some) {
+            Ok(d) => return Ok(d),
+            Err(r) => reasons.extend(r.into_iter().map(|r| format!("{node_name}: {r}"))),
+        }
+    }
+    Err(format!(
+        "no node in the graph describes '{type_name}' ({})",
+        reasons.join("; ")
+    ))
+}
+
+/// Asks node `node_name`'s `~/get_type_description` about each candidate in turn, until
+/// `accept` takes the descriptions got so far (each checked against the hash asked for). The
+/// reasons it failed otherwise.
+fn ask<T>(
+    node: &Node,
+    graph: &Arc<Graph>,
+    node_name: &str,
+    candidates: Vec<Candidate>,
+    timeout: Duration,
+    mut accept: impl FnMut(TypeDescription) -> Option<T>,
+) -> Result<T, Vec<String>> {
     let describe_service = format!("{node_name}/get_type_description");
     let has_describer = graph.read(|c| {
         c.servers_info_by_service(&describe_service, false)
@@ -101,16 +175,15 @@ pub fn fetch(
             })
     });
     if !has_describer {
-        return Err(format!("{} (it serves no {describe_service})", unknown()));
+        return Err(vec![format!("it serves no {describe_service}")]);
     }
     let describe_name = ServiceName::expand(&describe_service, node.name(), node.namespace())
-        .map_err(|e| format!("{describe_service}: {e}"))?;
+        .map_err(|e| vec![format!("{describe_service}: {e}")])?;
     let mut client = ServiceClient::<GetTypeDescription>::builder()
         .node(node)
         .name(describe_name.as_str())
         .build()
-        .map_err(|e| e.to_string())?;
-    let mut got: Vec<TypeDescription> = Vec::new();
+        .map_err(|e| vec![e.to_string()])?;
     let mut reasons: Vec<String> = Vec::new();
     for c in candidates {
         let reply = call_describe(
@@ -132,9 +205,8 @@ pub fn fetch(
                     ));
                     continue;
                 }
-                got.push(r.type_description);
-                if let Ok(info) = ServiceType::from_descriptions(service_type, &got) {
-                    return Ok(info);
+                if let Some(done) = accept(r.type_description) {
+                    return Ok(done);
                 }
             }
             Ok(r) => reasons.push(format!("{}: {}", c.type_name, r.failure_reason)),
@@ -145,7 +217,7 @@ pub fn fetch(
         reasons.push("no type hash of it is on the graph".to_owned());
     }
     reasons.dedup();
-    Err(format!("{} ({})", unknown(), reasons.join("; ")))
+    Err(reasons)
 }
 
 /// One `GetTypeDescription` call.
