@@ -17,6 +17,7 @@
 //! an install prefix ([`Builder::prefix`], and `AMENT_PREFIX_PATH` unless
 //! [`Builder::ament_prefix_path`] turns it off), which is then generated too.
 
+use std::cell::RefCell;
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
@@ -24,7 +25,7 @@ use crate::compiled;
 use crate::definition::{BaseType, Interface, NamedType};
 use crate::error::ParseError;
 use crate::msg::{is_valid_package_name, parse_file};
-use crate::rust::{sibling_path, Generator, TypePaths, UnknownType};
+use crate::rust::{sibling_path, Derives, Generator, TypePaths, UnknownType};
 use crate::type_description::{event_message, ActionTypes};
 
 /// Errors of [`Builder::generate`].
@@ -83,6 +84,7 @@ pub struct Builder {
     compiled_types: bool,
     out_dir: Option<PathBuf>,
     root_file: String,
+    comments: bool,
 }
 
 impl Default for Builder {
@@ -117,6 +119,7 @@ impl Builder {
             compiled_types: true,
             out_dir: None,
             root_file: "interfaces.rs".to_owned(),
+            comments: true,
         }
     }
 
@@ -156,6 +159,12 @@ impl Builder {
     /// `horus_ros_msgs::std_msgs::msg::Header`).
     pub fn compiled_types(mut self, on: bool) -> Self {
         self.compiled_types = on;
+        self
+    }
+
+    /// Whether the interface files' comments become doc comments (default: yes).
+    pub fn comments(mut self, on: bool) -> Self {
+        self.comments = on;
         self
     }
 
@@ -234,6 +243,7 @@ impl Builder {
         let paths = Paths {
             set: &set,
             compiled_types: self.compiled_types,
+            derives: RefCell::new(BTreeMap::new()),
         };
         std::fs::create_dir_all(&out_dir).map_err(|source| GenerateError::Write {
             path: out_dir.clone(),
@@ -246,7 +256,9 @@ impl Builder {
         let mut count = 0;
         for (package, interfaces) in &set.packages {
             count += interfaces.len();
-            let source = Generator::new(&paths).package(interfaces)?;
+            let source = Generator::new(&paths)
+                .comments(self.comments)
+                .package(interfaces)?;
             let file = out_dir.join(format!("{package}.rs"));
             write_if_changed(&file, &source)?;
             root.push_str(&format!(
@@ -325,7 +337,7 @@ fn find_in_prefixes(prefixes: &[PathBuf], package: &str) -> Option<PathBuf> {
 struct InterfaceSet {
     packages: BTreeMap<String, Vec<Interface>>,
     names: BTreeSet<String>,
-    defined: BTreeSet<NamedType>,
+    defined: BTreeMap<NamedType, crate::definition::Message>,
     inputs: Vec<PathBuf>,
 }
 
@@ -372,7 +384,11 @@ impl InterfaceSet {
             return Err(GenerateError::Duplicate(name));
         }
         self.inputs.push(file.to_owned());
-        self.defined.extend(defined_types(&interface));
+        self.defined.extend(
+            messages(&interface)
+                .into_iter()
+                .map(|m| (m.name.clone(), m)),
+        );
         self.packages
             .entry(interface.name().package.clone())
             .or_default()
@@ -382,7 +398,7 @@ impl InterfaceSet {
 
     /// Whether a generated interface defines `t` (derived types included).
     fn defines(&self, t: &NamedType) -> bool {
-        self.defined.contains(t)
+        self.defined.contains_key(t)
     }
 
     /// Every message type a field of a generated type names.
@@ -426,14 +442,13 @@ fn messages(i: &Interface) -> Vec<crate::definition::Message> {
     }
 }
 
-fn defined_types(i: &Interface) -> Vec<NamedType> {
-    messages(i).into_iter().map(|m| m.name).collect()
-}
-
 /// Resolves types: generated beside, else compiled into horus-ros-msgs.
 struct Paths<'a> {
     set: &'a InterfaceSet,
     compiled_types: bool,
+    /// What each generated type may derive, worked out once (`None` while being worked out:
+    /// a type nesting itself derives nothing more).
+    derives: RefCell<BTreeMap<NamedType, Option<Derives>>>,
 }
 
 impl TypePaths for Paths<'_> {
@@ -445,5 +460,18 @@ impl TypePaths for Paths<'_> {
             return compiled::path(t);
         }
         None
+    }
+
+    fn derives(&self, t: &NamedType) -> Derives {
+        if let Some(known) = self.derives.borrow().get(t) {
+            return known.unwrap_or_default();
+        }
+        let Some(m) = self.set.defined.get(t) else {
+            return Derives::default();
+        };
+        self.derives.borrow_mut().insert(t.clone(), None);
+        let d = Derives::of(m, |n| self.derives(n));
+        self.derives.borrow_mut().insert(t.clone(), Some(d));
+        d
     }
 }

@@ -22,6 +22,52 @@ pub trait TypePaths {
     /// The Rust path of `t` as seen from a module `<package>::<namespace>` of the generated
     /// code, or `None` if the type is unknown.
     fn rust_path(&self, from: &NamedType, t: &NamedType) -> Option<String>;
+
+    /// What a struct holding a `t` may derive beyond `Clone, Debug, PartialEq` (nothing, unless
+    /// the type is known to allow it).
+    fn derives(&self, _t: &NamedType) -> Derives {
+        Derives::default()
+    }
+}
+
+/// Traits a generated struct derives when all its fields allow them.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Derives {
+    /// `Eq` and `Hash`: no floating-point value anywhere inside.
+    pub eq_hash: bool,
+    /// `Copy`: no string or sequence anywhere inside.
+    pub copy: bool,
+}
+
+impl Derives {
+    /// What a message allows, given what its nested types allow.
+    pub fn of(m: &Message, nested: impl Fn(&NamedType) -> Derives) -> Self {
+        let mut d = Derives {
+            eq_hash: true,
+            copy: true,
+        };
+        for f in &m.fields {
+            if matches!(
+                f.ty.container,
+                Container::UnboundedSequence | Container::BoundedSequence(_)
+            ) {
+                d.copy = false;
+            }
+            match &f.ty.base {
+                BaseType::Primitive(
+                    Primitive::Float32 | Primitive::Float64 | Primitive::LongDouble,
+                ) => d.eq_hash = false,
+                BaseType::Primitive(_) => {}
+                BaseType::String(_) | BaseType::WString(_) => d.copy = false,
+                BaseType::Named(t) => {
+                    let n = nested(t);
+                    d.eq_hash &= n.eq_hash;
+                    d.copy &= n.copy;
+                }
+            }
+        }
+        d
+    }
 }
 
 /// The Rust name of a rosidl type name: `Fibonacci_SendGoal_Request` → `FibonacciSendGoalRequest`.
@@ -60,6 +106,7 @@ pub struct UnknownType {
 pub struct Generator<'a> {
     paths: &'a dyn TypePaths,
     out: String,
+    comments: bool,
 }
 
 const MSGS: &str = "::horus_ros_msgs";
@@ -70,7 +117,15 @@ impl<'a> Generator<'a> {
         Self {
             paths,
             out: String::new(),
+            comments: true,
         }
+    }
+
+    /// Whether the files' comments become doc comments (default: yes); without, each item's
+    /// doc names its ROS type or `.msg` line.
+    pub fn comments(mut self, on: bool) -> Self {
+        self.comments = on;
+        self
     }
 
     /// The source of one package: `pub mod msg { … } pub mod srv { … } pub mod action { … }`
@@ -208,7 +263,11 @@ impl<'a> Generator<'a> {
 
         // The struct.
         self.out.push('\n');
-        let mut doc = m.comment.clone();
+        let mut doc = if self.comments {
+            m.comment.clone()
+        } else {
+            Vec::new()
+        };
         if doc.iter().all(|l| l.trim().is_empty()) {
             doc = vec![format!("`{}`.", m.name)];
         } else {
@@ -216,9 +275,16 @@ impl<'a> Generator<'a> {
             doc.push(format!("`{}`.", m.name));
         }
         self.doc(4, &doc);
+        let d = self.paths.derives(&m.name);
+        let extra = match (d.copy, d.eq_hash) {
+            (true, true) => "Copy, Eq, Hash, ",
+            (true, false) => "Copy, ",
+            (false, true) => "Eq, Hash, ",
+            (false, false) => "",
+        };
         writeln!(
             self.out,
-            "    #[derive(Clone, Debug, PartialEq, {MSGS}::serde::Deserialize)]\n    \
+            "    #[derive(Clone, {extra}Debug, PartialEq, {MSGS}::serde::Deserialize)]\n    \
              #[serde(crate = \"{MSGS}::serde\")]\n    pub struct {name} {{"
         )
         .ok();
@@ -340,7 +406,12 @@ impl<'a> Generator<'a> {
     }
 
     fn constant(&mut self, c: &Constant) {
-        self.doc(8, &c.comment);
+        let doc = if self.comments && !c.comment.is_empty() {
+            c.comment.clone()
+        } else {
+            vec![format!("`{}`.", c.name)]
+        };
+        self.doc(8, &doc);
         let (ty, value) = match (&c.ty, &c.value) {
             (BaseType::String(_) | BaseType::WString(_), Literal::String(s)) => {
                 ("&'static str".to_owned(), format!("{s:?}"))
@@ -407,8 +478,12 @@ impl<'a> Generator<'a> {
             None if array => format!("{MSGS}::runtime::default_array()"),
             None => "::core::default::Default::default()".to_owned(),
         };
-        let mut doc = f.comment.clone();
-        if let Some(unit) = &f.unit {
+        let mut doc = if self.comments {
+            f.comment.clone()
+        } else {
+            Vec::new()
+        };
+        if let Some(unit) = f.unit.as_ref().filter(|_| self.comments) {
             if !doc.is_empty() {
                 doc.push(String::new());
             }

@@ -66,6 +66,35 @@ fn every_compiled_type_hashes_as_the_wheels() {
     assert!(differing.is_empty(), "{differing:#?}");
 }
 
+/// Every interface compiled into horus-ros-msgs (`INTERFACES`) has Jazzy's full description,
+/// defaults included — but `example_interfaces`, which the wheels do not ship (its hashes are
+/// checked in msgs' own tests).
+#[test]
+fn every_compiled_interface_describes_as_the_wheels() {
+    let mut compared = 0;
+    let mut differing = Vec::new();
+    for (package, interfaces) in horus_ros_msgs::INTERFACES {
+        if *package == "example_interfaces" {
+            continue;
+        }
+        for (name, describe) in interfaces.iter() {
+            let file = wheels::interface_file(name).unwrap_or_else(|e| panic!("{e}"));
+            let json = wheels::read_json(&file).unwrap_or_else(|e| panic!("{e}"));
+            let ours = serde_json::to_value(describe()).expect("description as JSON");
+            if ours != json["type_description_msg"] {
+                differing.push(format!(
+                    "{name}:\n ours   {ours}\n wheels {}",
+                    json["type_description_msg"]
+                ));
+            }
+            compared += 1;
+        }
+    }
+    assert!(differing.is_empty(), "{}", differing.join("\n"));
+    assert!(compared > 100, "only {compared} interfaces");
+    eprintln!("{compared} compiled interfaces describe as the wheels");
+}
+
 #[test]
 fn every_description_the_wheels_ship_hashes_as_they_say() {
     let files = wheels::interface_files().unwrap_or_else(|e| panic!("{e}"));

@@ -27,3 +27,9 @@ pub mod srv {
         AddTwoInts = "example_interfaces/srv/AddTwoInts", AddTwoIntsRequest, AddTwoIntsResponse
     }
 }
+
+/// Every interface of this package: ROS type name and type description.
+pub const TYPES: &[(&str, fn() -> crate::TypeDescription)] = &[(
+    "example_interfaces/srv/AddTwoInts",
+    <srv::AddTwoInts as crate::Service>::type_description,
+)];

@@ -111,3 +111,19 @@ impl crate::Message for ParticipantEntitiesInfo {
             .build()
     }
 }
+
+/// Every interface of this package: ROS type name and type description.
+pub const TYPES: &[(&str, fn() -> crate::TypeDescription)] = &[
+    (
+        "rmw_dds_common/msg/Gid",
+        <Gid as crate::Message>::type_description,
+    ),
+    (
+        "rmw_dds_common/msg/NodeEntitiesInfo",
+        <NodeEntitiesInfo as crate::Message>::type_description,
+    ),
+    (
+        "rmw_dds_common/msg/ParticipantEntitiesInfo",
+        <ParticipantEntitiesInfo as crate::Message>::type_description,
+    ),
+];

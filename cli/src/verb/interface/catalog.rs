@@ -6,7 +6,7 @@ use std::collections::{BTreeMap, BTreeSet};
 
 use horus_ros_codegen::ament::{AmentIndex, InterfaceKind, LookupError};
 
-use crate::dynamic::compiled::COMPILED_TYPES;
+use crate::dynamic::compiled::compiled_types;
 
 /// Package name → interface names (`msg/String`, as rosidl_runtime_py returns them).
 pub type ByPackage = BTreeMap<String, BTreeSet<String>>;
@@ -44,7 +44,7 @@ impl Catalog {
                 ));
             }
         }
-        for t in COMPILED_TYPES {
+        for t in compiled_types() {
             if let [package, namespace, name] = t.name.split('/').collect::<Vec<_>>()[..] {
                 if InterfaceKind::from_namespace(namespace) == Some(kind) {
                     out.entry(package.to_owned())
@@ -60,7 +60,7 @@ impl Catalog {
     /// ones included.
     pub fn packages(&self) -> BTreeSet<String> {
         let mut out: BTreeSet<String> = self.index.interface_packages().into_iter().collect();
-        out.extend(COMPILED_TYPES.iter().filter_map(|t| {
+        out.extend(compiled_types().iter().filter_map(|t| {
             t.name
                 .split_once('/')
                 .map(|(package, _)| package.to_owned())
@@ -77,7 +77,7 @@ impl Catalog {
         package: &str,
         kinds: &[InterfaceKind],
     ) -> Result<Vec<String>, LookupError> {
-        let compiled: Vec<&str> = COMPILED_TYPES
+        let compiled: Vec<&str> = compiled_types()
             .iter()
             .filter_map(|t| t.name.strip_prefix(package)?.strip_prefix('/'))
             .collect();
