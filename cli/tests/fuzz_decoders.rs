@@ -9,7 +9,8 @@
 mod seeds;
 
 use std::collections::BTreeMap;
-use std::path::{Path, PathBuf};
+
+use horus_ros_test_support::fuzz::{files, fuzz_dir};
 
 use proptest::collection::vec;
 use proptest::prelude::*;
@@ -54,25 +55,6 @@ const TARGETS: &[(&str, Entry)] = &[
         horus_ros_dynamic::fuzzing::description,
     ),
 ];
-
-fn fuzz_dir() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../fuzz")
-}
-
-/// The files of a directory by name (none if it does not exist).
-fn files(dir: &Path) -> BTreeMap<String, Vec<u8>> {
-    let Ok(entries) = std::fs::read_dir(dir) else {
-        return BTreeMap::new();
-    };
-    entries
-        .map(|e| {
-            let e = e.expect("a readable directory entry");
-            let name = e.file_name().into_string().expect("a UTF-8 file name");
-            let bytes = std::fs::read(e.path()).expect("a readable file");
-            (name, bytes)
-        })
-        .collect()
-}
 
 fn entry(target: &str) -> Entry {
     TARGETS

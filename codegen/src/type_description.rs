@@ -7,6 +7,7 @@
 
 use std::collections::{BTreeMap, BTreeSet};
 
+use horus_ros_dynamic::repr::{py_float, py_str};
 use horus_ros_msgs::description::EMPTY_STRUCTURE_MEMBER;
 use horus_ros_msgs::rihs::rihs01;
 use horus_ros_msgs::type_description_interfaces::msg::{
@@ -387,84 +388,9 @@ pub fn python_repr(l: &Literal) -> String {
         Literal::Bool(true) => "True".to_owned(),
         Literal::Bool(false) => "False".to_owned(),
         Literal::Int(i) => i.to_string(),
-        Literal::Float(f) => python_float_repr(*f),
-        Literal::String(s) => python_str_repr(s),
+        Literal::Float(f) => py_float(*f),
+        Literal::String(s) => py_str(s),
     }
-}
-
-/// Python `repr()` of a float: the shortest digits that read back to it, in fixed notation when
-/// the decimal exponent is in -4..16 (with `.0` if integral), else `1e+20` / `1.5e-07`.
-pub fn python_float_repr(f: f64) -> String {
-    if f.is_nan() {
-        return "nan".to_owned();
-    }
-    if f.is_infinite() {
-        return if f > 0.0 { "inf" } else { "-inf" }.to_owned();
-    }
-    let sci = format!("{f:e}");
-    let (mantissa, exp) = sci.split_once('e').unwrap_or((&sci, "0"));
-    let exp: i32 = exp.parse().unwrap_or(0);
-    let (sign, mantissa) = match mantissa.strip_prefix('-') {
-        Some(m) => ("-", m),
-        None => ("", mantissa),
-    };
-    let digits: String = mantissa.chars().filter(char::is_ascii_digit).collect();
-    if (-4..16).contains(&exp) {
-        let point = exp + 1;
-        let s = if point <= 0 {
-            format!("0.{}{digits}", "0".repeat(point.unsigned_abs() as usize))
-        } else if point as usize >= digits.len() {
-            format!("{digits}{}.0", "0".repeat(point as usize - digits.len()))
-        } else {
-            format!(
-                "{}.{}",
-                &digits[..point as usize],
-                &digits[point as usize..]
-            )
-        };
-        format!("{sign}{s}")
-    } else {
-        let m = if digits.len() > 1 {
-            format!("{}.{}", &digits[..1], &digits[1..])
-        } else {
-            digits
-        };
-        format!(
-            "{sign}{m}e{}{:02}",
-            if exp < 0 { '-' } else { '+' },
-            exp.abs()
-        )
-    }
-}
-
-/// Python `repr()` of a str: single quotes unless it holds `'` and no `"`; `\\`, `\n`, `\r`,
-/// `\t` and other non-printable characters escaped.
-pub fn python_str_repr(s: &str) -> String {
-    let quote = if s.contains('\'') && !s.contains('"') {
-        '"'
-    } else {
-        '\''
-    };
-    let mut out = String::with_capacity(s.len() + 2);
-    out.push(quote);
-    for c in s.chars() {
-        match c {
-            '\\' => out.push_str("\\\\"),
-            '\n' => out.push_str("\\n"),
-            '\r' => out.push_str("\\r"),
-            '\t' => out.push_str("\\t"),
-            c if c == quote => {
-                out.push('\\');
-                out.push(c);
-            }
-            c if (c as u32) < 0x20 || c as u32 == 0x7f => {
-                out.push_str(&format!("\\x{:02x}", c as u32));
-            }
-            c => out.push(c),
-        }
-    }
-    out.push(quote);
-    out
 }
 
 #[cfg(test)]
@@ -472,31 +398,12 @@ mod tests {
     use super::*;
 
     #[test]
-    fn floats_print_as_python_repr() {
-        for (f, s) in [
-            (1.125, "1.125"),
-            (0.0, "0.0"),
-            (-0.0, "-0.0"),
-            (1e20, "1e+20"),
-            (1e16, "1e+16"),
-            (1e15, "1000000000000000.0"),
-            (0.0001, "0.0001"),
-            (0.00001, "1e-05"),
-            (-1.5e-7, "-1.5e-07"),
-            (2.675, "2.675"),
-            (123456.789, "123456.789"),
-            (f64::MAX, "1.7976931348623157e+308"),
-        ] {
-            assert_eq!(python_float_repr(f), s, "{f}");
-        }
-    }
-
-    #[test]
     fn strings_and_tuples_print_as_python_repr() {
-        assert_eq!(python_str_repr("a"), "'a'");
-        assert_eq!(python_str_repr("it's"), "\"it's\"");
-        assert_eq!(python_str_repr("'\""), "'\\'\"'");
-        assert_eq!(python_str_repr("a\\b\n"), "'a\\\\b\\n'");
+        let v = Value::Array(vec![
+            Literal::String("it's".into()),
+            Literal::String("a\\b".into()),
+        ]);
+        assert_eq!(default_value_text(&v), "(\"it's\", 'a\\\\b')");
         let v = Value::Array(vec![Literal::Int(1)]);
         assert_eq!(default_value_text(&v), "(1,)");
         let v = Value::Array(vec![]);

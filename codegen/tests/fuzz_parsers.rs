@@ -5,8 +5,9 @@
 //! characters replaced) and of random text. They must never panic, and an error must point
 //! inside the text. `scripts/fuzz` runs the long campaigns.
 
-use std::collections::BTreeMap;
-use std::path::{Path, PathBuf};
+use std::path::Path;
+
+use horus_ros_test_support::fuzz::{regressions, seeds};
 
 use proptest::collection::vec;
 use proptest::prelude::*;
@@ -152,23 +153,6 @@ const IDL_FRAGMENTS: &[&str] = &[
     "99999999999999999999999999999999999999999",
 ];
 
-fn fuzz_dir() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../fuzz")
-}
-
-fn files(dir: &Path) -> BTreeMap<String, Vec<u8>> {
-    let Ok(entries) = std::fs::read_dir(dir) else {
-        return BTreeMap::new();
-    };
-    entries
-        .map(|e| {
-            let e = e.expect("a readable directory entry");
-            let name = e.file_name().into_string().expect("a UTF-8 file name");
-            (name, std::fs::read(e.path()).expect("a readable file"))
-        })
-        .collect()
-}
-
 /// One change to an input; positions are taken modulo the input's length.
 #[derive(Clone, Debug)]
 enum Mutation {
@@ -262,13 +246,12 @@ fn campaign(
     valid: fn(&str, &[u8]) -> Result<(), String>,
     entry: fn(&[u8]),
 ) {
-    let dir = fuzz_dir();
-    let seeds = files(&dir.join("seeds").join(target));
+    let seeds = seeds(target);
     assert!(!seeds.is_empty(), "{target} has no seeds in fuzz/seeds/");
     for (name, bytes) in &seeds {
         valid(name, bytes).unwrap_or_else(|e| panic!("seed {name} does not parse: {e}"));
     }
-    let regressions = files(&dir.join("regressions").join(target));
+    let regressions = regressions(target);
     let inputs: Vec<(String, Vec<u8>)> = seeds.into_iter().chain(regressions).collect();
     for (_, bytes) in &inputs {
         entry(bytes);

@@ -9,6 +9,7 @@ give it everything it needs at once (interop-tests/src/rclpy/peer.rs writes the 
    "publishers": [{"topic": "/chatter", "type": "std_msgs/msg/String", "count": 0,
                    "period_s": 0.05}],
    "subscriptions": [{"topic": "/chatter", "type": "std_msgs/msg/String"}],
+   "echoes": [{"type": "test_msgs/msg/Arrays", "in": "/gen/in", "out": "/gen/out"}],
    "parameters": {"gain": 1.5},
    "parameter_client": {"node": "/horus_node", "list": true, "get": ["p"], "set": {"p": 2},
                         "wait_s": 20, "timeout_s": 5},
@@ -25,6 +26,9 @@ line:
   clients (their `_service_event` topics, read by a subscription of this node);
 - {"reply": {"service", "index", "response"}} per call answered, {"no_reply": {...}} per call not
   answered within timeout_s, {"calls_done": {"service", "available", "answered", "calls"}};
+- {"echoed": {"type", "equal"}} per message an echo took on its "in" topic (RELIABLE,
+  TRANSIENT_LOCAL, depth 1, as its "out" publisher) and published again on "out": "equal" says
+  whether it is the message rclpy_cdr.py's Filler makes for that type;
 - {"published": data} per message published, {"heard": {"topic", "data", "publisher_gid"}} per
   message taken;
 - {"parameters": {"list": [...], "get": [...], "set": [...]}} with what the parameter client got
@@ -55,7 +59,8 @@ import rclpy
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 from rclpy.parameter_client import AsyncParameterClient
-from rclpy.qos import qos_profile_services_default, QoSProfile
+from rclpy.qos import (DurabilityPolicy, qos_profile_services_default, QoSProfile,
+                       ReliabilityPolicy)
 from rclpy.service_introspection import ServiceIntrospectionState
 
 
@@ -164,6 +169,8 @@ class Peer:
         self.publishers = [self.add_publisher(p) for p in spec.get('publishers', [])]
         for s in spec.get('subscriptions', []):
             self.add_subscription(s)
+        for e in spec.get('echoes', []):
+            self.add_echo(e)
         for name, value in spec.get('parameters', {}).items():
             self.node.declare_parameter(name, value)
         self.parameter_client = spec.get('parameter_client')
@@ -225,6 +232,19 @@ class Peer:
                 state['done'] = True
         self.keep.append(self.node.create_timer(p.get('period_s', 0.05), publish))
         return state
+
+    def add_echo(self, e):
+        sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+        from rclpy_cdr import Filler, message_class
+        cls = message_class(e['type'])
+        qos = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE,
+                         durability=DurabilityPolicy.TRANSIENT_LOCAL)
+        publisher = self.node.create_publisher(cls, e['out'], qos)
+
+        def on_message(message):
+            emit('echoed', {'type': e['type'], 'equal': message == Filler().fill(cls())})
+            publisher.publish(message)
+        self.keep.append(self.node.create_subscription(cls, e['in'], on_message, qos))
 
     def add_subscription(self, s):
         def on_message(message):

@@ -15,12 +15,11 @@
 #[cfg(jazzy_interfaces)]
 mod cases {
     use std::collections::BTreeMap;
-    use std::io::Write;
-    use std::process::{Command, Stdio};
 
     use horus_ros_msgs::{from_cdr, to_cdr, Message};
     use horus_ros_services::dynamic::{cdr, Schema};
     use interop_tests::jazzy;
+    use interop_tests::rclpy::cdr::{ask, from_hex, to_hex};
     use serde_json::{json, Value};
 
     /// What each type must do; returns its name and our encodings (default, filled).
@@ -80,13 +79,7 @@ mod cases {
     }
 
     fn hex(s: &str) -> Vec<u8> {
-        (0..s.len() / 2)
-            .map(|i| u8::from_str_radix(&s[2 * i..2 * i + 2], 16).expect("hex from the peer"))
-            .collect()
-    }
-
-    fn to_hex(b: &[u8]) -> String {
-        b.iter().map(|b| format!("{b:02x}")).collect()
+        from_hex(s).unwrap_or_else(|e| panic!("{e}"))
     }
 
     macro_rules! types {
@@ -96,27 +89,7 @@ mod cases {
     }
 
     fn rclpy(request: Value) -> Value {
-        let script = concat!(env!("CARGO_MANIFEST_DIR"), "/peers/rclpy_cdr.py");
-        let mut child = Command::new(interop_tests::python())
-            .arg(script)
-            .stdin(Stdio::piped())
-            .stdout(Stdio::piped())
-            .stderr(Stdio::piped())
-            .spawn()
-            .expect("start the rclpy peer");
-        child
-            .stdin
-            .take()
-            .expect("stdin")
-            .write_all(request.to_string().as_bytes())
-            .expect("write to the peer");
-        let out = child.wait_with_output().expect("the peer's output");
-        assert!(
-            out.status.success(),
-            "rclpy_cdr.py failed: {}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        serde_json::from_slice(&out.stdout).expect("JSON from the peer")
+        ask(&request).unwrap_or_else(|e| panic!("{e}"))
     }
 
     #[test]

@@ -6,6 +6,7 @@
 //! - reading a child's output line by line as it is printed ([`line_reader`]);
 //! - running a program under valgrind's leak check ([`valgrind`]).
 
+pub mod fuzz;
 pub mod jazzy;
 pub mod valgrind;
 

@@ -5,6 +5,7 @@
 //! rclpy's own view of the graph, which [`wait_for_same_view`] compares with ours. [`wheels`]
 //! reads the type descriptions and hashes the wheels install.
 
+pub mod cdr;
 mod peer;
 mod view;
 pub mod wheels;
