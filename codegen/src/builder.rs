@@ -213,7 +213,7 @@ impl Builder {
                 .used_types()
                 .into_iter()
                 .filter(|t| {
-                    !set.defines(t) && !(self.compiled_types && compiled::path(t).is_some())
+                    !(set.defines(t) || (self.compiled_types && compiled::path(t).is_some()))
                 })
                 .map(|t| t.package)
                 .filter(|p| !set.packages.contains_key(p))
