@@ -221,7 +221,9 @@ impl Builder {
             let missing: BTreeSet<String> = set
                 .used_types()
                 .into_iter()
-                .filter(|t| !(set.defines(t) || self.compiled_types && compiled::path(t).is_some()))
+                .filter(|t| {
+                    !(set.defines(t) || (self.compiled_types && compiled::path(t).is_some()))
+                })
                 .map(|t| t.package)
                 .filter(|p| !set.packages.contains_key(p))
                 .collect();
