@@ -169,10 +169,11 @@ fn compiled_types_show_their_fields_without_an_install() {
         "std_msgs/Header header\n\tbuiltin_interfaces/Time stamp\n\t\tint32 sec\n\
          \t\tuint32 nanosec\n\tstring frame_id\ngeometry_msgs/Pose pose\n\
          \tgeometry_msgs/Point position\n\t\tfloat64 x\n\t\tfloat64 y\n\t\tfloat64 z\n\
-         \tgeometry_msgs/Quaternion orientation\n\t\tfloat64 x 0\n\t\tfloat64 y 0\n\
-         \t\tfloat64 z 0\n\t\tfloat64 w 1\n"
+         \tgeometry_msgs/Quaternion orientation\n\t\tfloat64 x 0.0\n\t\tfloat64 y 0.0\n\
+         \t\tfloat64 z 0.0\n\t\tfloat64 w 1.0\n"
     );
-    // The defaults are those of the compiled descriptions.
+    // The defaults are those of the compiled descriptions, which are Jazzy's (`0.0`, `1.0`);
+    // the files say `0` and `1`.
     // Not installed in the venv, compiled in: listed and shown.
     expect(
         &["show", "example_interfaces/srv/AddTwoInts"],
