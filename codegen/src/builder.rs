@@ -270,7 +270,7 @@ impl Builder {
         }
         root.push_str(
             "\n/// Every generated package with its interfaces (ROS type name, type description).\n\
-             pub const PACKAGES: &[(&str, &[(&str, fn() -> ::horus_ros_msgs::TypeDescription)])] = &[\n",
+             pub const PACKAGES: &[(&str, &[(&str, ::horus_ros_msgs::DescribeFn)])] = &[\n",
         );
         for package in packages.keys() {
             root.push_str(&format!("    (\"{package}\", {package}::TYPES),\n"));

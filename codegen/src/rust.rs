@@ -168,7 +168,7 @@ impl<'a> Generator<'a> {
     fn type_table(&mut self, interfaces: &[Interface]) {
         self.out.push_str(
             "/// Every interface of this package: ROS type name and type description.\n\
-             pub const TYPES: &[(&str, fn() -> ::horus_ros_msgs::TypeDescription)] = &[\n",
+             pub const TYPES: &[(&str, ::horus_ros_msgs::DescribeFn)] = &[\n",
         );
         for i in interfaces {
             let n = i.name();

@@ -29,7 +29,7 @@ pub mod srv {
 }
 
 /// Every interface of this package: ROS type name and type description.
-pub const TYPES: &[(&str, fn() -> crate::TypeDescription)] = &[(
+pub const TYPES: &[(&str, crate::DescribeFn)] = &[(
     "example_interfaces/srv/AddTwoInts",
     <srv::AddTwoInts as crate::Service>::type_description,
 )];

@@ -11,6 +11,10 @@ use crate::rihs::rihs01;
 use crate::type_description_interfaces::msg::TypeDescription;
 use crate::type_hash::TypeHash;
 
+/// What gives a type's full description: an entry of [`crate::INTERFACES`] and of the `TYPES`
+/// table of each generated package.
+pub type DescribeFn = fn() -> TypeDescription;
+
 /// A ROS 2 message type (a `.msg`, or the request/response part of a `.srv`).
 pub trait Message:
     serde::Serialize + serde::de::DeserializeOwned + Clone + std::fmt::Debug + Send + Sync + 'static

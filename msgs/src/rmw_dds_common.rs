@@ -113,7 +113,7 @@ impl crate::Message for ParticipantEntitiesInfo {
 }
 
 /// Every interface of this package: ROS type name and type description.
-pub const TYPES: &[(&str, fn() -> crate::TypeDescription)] = &[
+pub const TYPES: &[(&str, crate::DescribeFn)] = &[
     (
         "rmw_dds_common/msg/Gid",
         <Gid as crate::Message>::type_description,
