@@ -40,7 +40,7 @@ mod api;
 #[doc = include_str!("../../README.md")]
 pub struct ReadmeDoctests;
 
-pub use api::clock::{Clock, ManualClock, StopHandle, SystemClock};
+pub use api::clock::{timestamp_now, Clock, ManualClock, StopHandle, SystemClock};
 pub use api::current;
 pub use api::error::{BuildError, ConfigError, Error, MessageError, Result, SchedulerError};
 pub use api::log::LogLevel;
@@ -82,6 +82,7 @@ pub mod prelude {
         NodeMetrics, NodeState, Result, Scheduler, Topic, TopicMetadata, Units,
     };
     pub use crate::{Error, Message};
+    // Services, as the services guide (seed 000) uses them.
     pub use horus_ros_msgs::builtin_interfaces::msg::Time;
     pub use horus_ros_msgs::geometry_msgs::msg::{
         Point, Pose, PoseStamped, Quaternion, Twist, TwistStamped, Vector3,
@@ -90,6 +91,10 @@ pub mod prelude {
     pub use horus_ros_msgs::std_msgs::msg::{
         Bool, Float32, Float64, Header, Int16, Int32, Int64, Int8, String as StringMsg, UInt16,
         UInt32, UInt64, UInt8,
+    };
+    pub use horus_ros_services::{
+        AsyncServiceClient, PendingResponse, RetryConfig, ServiceClient, ServiceError,
+        ServiceServer, ServiceServerBuilder,
     };
     pub use std::time::Duration;
 }

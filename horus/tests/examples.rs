@@ -398,3 +398,49 @@ fn horus_ros_node_info_lists_a_horus_node_as_ros2_node_info() {
         node.wait_success();
     }
 }
+
+/// Runs an example that ends by itself, at most [`WAIT`] twice; its exit and all it printed.
+fn run_to_end(name: &str, domain: u32) -> (bool, String) {
+    let mut child = Command::new(example(name))
+        .env("ROS_DOMAIN_ID", domain.to_string())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap_or_else(|e| panic!("spawn {name}: {e}"));
+    let out = horus_ros_test_support::wait_with_output(&mut child, 2 * WAIT)
+        .unwrap_or_else(|e| panic!("{name}: {e}"));
+    (
+        out.code() == Some(0),
+        format!("{}{}", out.stdout, out.stderr),
+    )
+}
+
+/// The services guide's complete example (seed 000), on `horus::prelude`.
+#[test]
+fn get_joint_limits_answers_and_reports_the_failed_joint() {
+    let (ok, text) = run_to_end("get_joint_limits", 227);
+    assert!(ok, "{text}");
+    for line in [
+        "Elbow limits: [0.00, 2.61] rad",
+        "Gripper: the server said: Unknown joint: gripper",
+    ] {
+        assert!(text.contains(line), "no {line:?} in {text}");
+    }
+}
+
+/// The services guide's `GetMapRegion` (seed 000), each way of calling it, stamped with
+/// `horus::timestamp_now()`.
+#[test]
+fn get_map_region_shows_each_outcome() {
+    let (ok, text) = run_to_end("get_map_region", 228);
+    assert!(ok, "{text}");
+    for line in [
+        "Map: 200x200 pixels",
+        "ServiceFailed after",
+        "Resolution must be positive",
+        "/archived_map: No server available",
+        "served 3 requests, 3 failed",
+    ] {
+        assert!(text.contains(line), "no {line:?} in {text}");
+    }
+}

@@ -68,37 +68,6 @@ fn the_add_two_ints_client_gets_its_sum_from_the_add_two_ints_server() {
 }
 
 #[test]
-fn get_joint_limits_answers_and_reports_the_failed_joint() {
-    let (output, text) = run("get_joint_limits", &[], 227);
-    assert_ran(
-        "get_joint_limits",
-        &output,
-        &text,
-        &[
-            "Elbow limits: [0.00, 2.61] rad",
-            "Gripper: the server said: Unknown joint: gripper",
-        ],
-    );
-}
-
-#[test]
-fn get_map_region_shows_each_outcome() {
-    let (output, text) = run("get_map_region", &[], 228);
-    assert_ran(
-        "get_map_region",
-        &output,
-        &text,
-        &[
-            "Map: 200x200 pixels",
-            "ServiceFailed after",
-            "Resolution must be positive",
-            "/archived_map: No server available",
-            "served 3 requests, 3 failed",
-        ],
-    );
-}
-
-#[test]
 fn async_client_loop_never_blocks_its_ticks() {
     let (output, text) = run("async_client_loop", &[], 229);
     assert_ran(

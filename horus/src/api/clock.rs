@@ -139,3 +139,11 @@ impl StopHandle {
         Self { inner }
     }
 }
+
+/// Nanoseconds since the Unix epoch on the system (wall-clock) time, as HORUS stamps messages
+/// (`horus::timestamp_now()`); 0 before the epoch, `u64::MAX` past year 2554.
+pub fn timestamp_now() -> u64 {
+    std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| u64::try_from(d.as_nanos()).unwrap_or(u64::MAX))
+}

@@ -2,7 +2,7 @@
 //! client using each way of calling it.
 //!
 //! ```text
-//! cargo run -p horus-ros-services --example get_map_region
+//! cargo run -p horus-ros-nodes --example get_map_region
 //! ```
 //!
 //! - the server rejects a non-positive resolution and inverted bounds with the guide's messages;
@@ -14,9 +14,9 @@
 //! Server and clients run in one process (on the default node) but talk over DDS, so the map
 //! travels as a real, fragmented DDS sample (200 x 200 cells = 40 kB).
 
-use std::time::{Instant, SystemTime, UNIX_EPOCH};
+use std::time::Instant;
 
-use horus_ros_services::prelude::*;
+use horus::prelude::*;
 
 service! {
     GetMapRegion {
@@ -65,13 +65,6 @@ fn generate_map(x_min: f64, y_min: f64, x_max: f64, y_max: f64, resolution: f64)
     }
 }
 
-/// Nanoseconds since the Unix epoch (the guide's `horus::timestamp_now()`).
-fn timestamp_now() -> u64 {
-    SystemTime::now()
-        .duration_since(UNIX_EPOCH)
-        .map_or(0, |d| u64::try_from(d.as_nanos()).unwrap_or(u64::MAX))
-}
-
 fn main() -> Result<()> {
     // ---- Service server (the guide's, with its validation) ------------------------------------
     let server = ServiceServerBuilder::<GetMapRegion>::new()
@@ -88,7 +81,7 @@ fn main() -> Result<()> {
                 width: map.width,
                 height: map.height,
                 data: map.data,
-                timestamp: timestamp_now(),
+                timestamp: horus::timestamp_now(),
             })
         })
         .poll_interval(Duration::from_millis(1)) // the longest the server sleeps between checks (default: 5ms)

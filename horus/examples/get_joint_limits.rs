@@ -5,14 +5,14 @@
 //! (type `horus_ros/srv/GetJointLimits`) while it runs.
 //!
 //! ```text
-//! cargo run -p horus-ros-services --example get_joint_limits
+//! cargo run -p horus-ros-nodes --example get_joint_limits
 //! ```
 //!
-//! It is the guide's program with `horus::prelude` spelled `horus_ros_services::prelude`, the
+//! It is the guide's program with the
 //! limits written with `std::f64::consts` (clippy rejects the literal `3.14`), and one more call
 //! that asks for an unknown joint to show the handler's `Err` arriving as `ServiceFailed`.
 
-use horus_ros_services::prelude::*;
+use horus::prelude::*;
 use std::collections::HashMap;
 use std::f64::consts::{FRAC_PI_2, PI};
 
