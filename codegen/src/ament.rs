@@ -91,14 +91,14 @@ pub enum LookupError {
     #[error("Could not find the interface '{}'", .0.display())]
     NoInterface(PathBuf),
     /// A resource file could not be read.
-    #[error("Could not open the resource '{name}' of type '{resource_type}': {source}")]
+    #[error("Could not open the resource '{name}' of type '{resource_type}': {cause}")]
     Unreadable {
         /// The resource type.
         resource_type: String,
         /// The resource name.
         name: String,
         /// The error.
-        source: std::io::Error,
+        cause: std::io::Error,
     },
 }
 
@@ -182,7 +182,7 @@ impl AmentIndex {
         let content = std::fs::read_to_string(&path).map_err(|source| LookupError::Unreadable {
             resource_type: resource_type.to_owned(),
             name: name.to_owned(),
-            source,
+            cause: source,
         })?;
         Ok(Some((content, prefix)))
     }

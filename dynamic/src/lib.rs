@@ -182,15 +182,14 @@ pub enum SchemaError {
         type_name: String,
     },
     /// A field's type does not convert.
-    #[error("field '{field}' of '{type_name}': {source}")]
+    #[error("field '{field}' of '{type_name}': {cause}")]
     FieldType {
         /// The struct holding the field.
         type_name: String,
         /// The field's name.
         field: String,
         /// What is wrong with its type.
-        #[source]
-        source: FieldTypeError,
+        cause: FieldTypeError,
     },
     /// A type contains itself (directly or through other types).
     #[error("type '{type_name}' contains itself")]
@@ -438,7 +437,7 @@ fn convert_struct(t: &IndividualTypeDescription) -> Result<Struct, SchemaError> 
                 ty: convert_type(&f.r#type).map_err(|source| SchemaError::FieldType {
                     type_name: t.type_name.clone(),
                     field: f.name.clone(),
-                    source,
+                    cause: source,
                 })?,
                 default: f.default_value.clone(),
             })

@@ -20,11 +20,10 @@ use super::{Container, Elem, FieldTy, Member, Schema, SchemaError, Value};
 #[non_exhaustive]
 pub enum FillError {
     /// The text is not YAML.
-    #[error("invalid YAML: {source}")]
+    #[error("invalid YAML: {cause}")]
     Yaml {
         /// The YAML scanner's error (with its position).
-        #[source]
-        source: ScanError,
+        cause: ScanError,
     },
     /// The type (or a type it uses) cannot be used.
     #[error(transparent)]
@@ -108,7 +107,8 @@ fn short_name(type_name: &str) -> &str {
 
 /// Parses `text` as YAML and fills a message of type `type_name` with it.
 pub fn fill_from_yaml(schema: &Schema, type_name: &str, text: &str) -> Result<Value, FillError> {
-    let docs = YamlLoader::load_from_str(text).map_err(|source| FillError::Yaml { source })?;
+    let docs =
+        YamlLoader::load_from_str(text).map_err(|source| FillError::Yaml { cause: source })?;
     let doc = docs.into_iter().next().unwrap_or(Yaml::Null);
     let mut value = schema.default_value(type_name)?;
     fill_struct(schema, type_name, &mut value, &doc)?;
@@ -548,12 +548,13 @@ mod tests {
     }
 
     #[test]
-    fn invalid_yaml_keeps_the_scanner_error_as_its_source() {
+    fn invalid_yaml_keeps_the_scanner_error_and_shows_it_once() {
         let e = fill_error("{a: [");
-        let FillError::Yaml { source } = &e else {
+        let FillError::Yaml { cause } = &e else {
             panic!("{e:?}")
         };
-        assert_eq!(e.to_string(), format!("invalid YAML: {source}"));
-        assert!(e.source().is_some());
+        // The typed cause is kept; the message shows it, so `source()` does not repeat it.
+        assert_eq!(e.to_string(), format!("invalid YAML: {cause}"));
+        assert!(e.source().is_none());
     }
 }

@@ -29,7 +29,7 @@ pub enum GraphStartError {
     Feed(#[from] DiscoveryFeedError),
     /// The background thread could not be started.
     #[error("could not start the graph thread: {0}")]
-    Thread(#[from] std::io::Error),
+    Thread(std::io::Error),
 }
 
 /// Applies one discovery event to the cache; returns whether the cache changed.
@@ -545,5 +545,12 @@ fn run(shared: &Shared, mut feed: DiscoveryFeed) {
         if changed {
             shared.tell_watchers();
         }
+    }
+}
+
+// The message shows the cause, so it is no `source()` (not `#[from]`).
+impl From<std::io::Error> for GraphStartError {
+    fn from(e: std::io::Error) -> Self {
+        Self::Thread(e)
     }
 }

@@ -28,10 +28,10 @@ pub enum CdrError {
     UnsupportedEncapsulation([u8; 2]),
     /// The body does not decode as the expected type (truncated, bad bool, bad UTF-8…).
     #[error("malformed CDR body: {0}")]
-    Decode(#[source] cdr_encoding::Error),
+    Decode(cdr_encoding::Error),
     /// The value cannot be encoded.
     #[error("CDR encoding failed: {0}")]
-    Encode(#[source] cdr_encoding::Error),
+    Encode(cdr_encoding::Error),
     /// A bounded field (`string<=N`, `wstring<=N`, `T[<=N]`) holds more than its bound allows
     /// (checked by [`crate::runtime::Bounded`]).
     #[error(transparent)]

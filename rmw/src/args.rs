@@ -302,7 +302,7 @@ fn parse_replacement_name(lx: &mut Lookahead<'_>) -> Result<String, String> {
 }
 
 /// Parses one remap rule (`_rcl_parse_remap_rule`).
-pub fn parse_remap_rule(arg: &str) -> Result<RemapRule, String> {
+pub(crate) fn parse_remap_rule(arg: &str) -> Result<RemapRule, String> {
     let mut lx = Lookahead::new(arg);
     let mut node_name = None;
     if lx.peek2() == (Lexeme::Token, Lexeme::Colon) {
@@ -408,7 +408,7 @@ fn parse_param_name(lx: &mut Lookahead<'_>) -> Result<String, String> {
 }
 
 /// Parses one `-p` rule: `[node:]name:=yaml`.
-pub fn parse_param_rule(arg: &str) -> Result<ParameterOverride, String> {
+pub(crate) fn parse_param_rule(arg: &str) -> Result<ParameterOverride, String> {
     let mut lx = Lookahead::new(arg);
     let node = if lx.peek2() == (Lexeme::Token, Lexeme::Colon) {
         let n = lx.accept().to_owned();
@@ -596,14 +596,14 @@ mod yaml {
 
 /// Reads a parameters file (`rcl_parse_yaml_file`): `<node pattern>: {ros__parameters: {…}}`,
 /// node patterns nested as namespaces, nested maps as dotted names.
-pub fn parse_params_file(path: &str) -> Result<Vec<ParameterOverride>, String> {
+pub(crate) fn parse_params_file(path: &str) -> Result<Vec<ParameterOverride>, String> {
     let text =
         std::fs::read_to_string(path).map_err(|e| format!("Error opening YAML file: {e}"))?;
     parse_params_yaml(&text)
 }
 
 /// Parses the contents of a parameters file.
-pub fn parse_params_yaml(text: &str) -> Result<Vec<ParameterOverride>, String> {
+pub(crate) fn parse_params_yaml(text: &str) -> Result<Vec<ParameterOverride>, String> {
     let Some(root) = yaml::parse(text)? else {
         return Ok(Vec::new());
     };

@@ -13,20 +13,20 @@ use crate::Gid;
 #[non_exhaustive]
 pub enum NodeError {
     /// The node name breaks ROS's rules.
-    #[error("invalid node name '{name}': {source}")]
+    #[error("invalid node name '{name}': {cause}")]
     InvalidName {
         /// The name given.
         name: String,
         /// Which rule it breaks.
-        source: NodeNameError,
+        cause: NodeNameError,
     },
     /// The namespace breaks ROS's rules.
-    #[error("invalid node namespace '{namespace}': {source}")]
+    #[error("invalid node namespace '{namespace}': {cause}")]
     InvalidNamespace {
         /// The namespace given (after rcl's normalisation).
         namespace: String,
         /// Which rule it breaks.
-        source: NamespaceError,
+        cause: NamespaceError,
     },
 }
 
@@ -68,7 +68,7 @@ impl Context {
         let name = arguments.remap_node_name(name).unwrap_or(name);
         let node_name = NodeName::new(name).map_err(|source| NodeError::InvalidName {
             name: name.to_owned(),
-            source,
+            cause: source,
         })?;
         let normalized = match namespace {
             "" => "/".to_owned(),
@@ -78,7 +78,7 @@ impl Context {
         let node_namespace =
             Namespace::new(&normalized).map_err(|source| NodeError::InvalidNamespace {
                 namespace: normalized.clone(),
-                source,
+                cause: source,
             })?;
         let key = self
             .inner()

@@ -22,31 +22,30 @@ use crate::Gid;
 #[non_exhaustive]
 pub enum EndpointError {
     /// The topic name does not expand to a valid ROS name.
-    #[error("invalid topic name '{name}': {source}")]
+    #[error("invalid topic name '{name}': {cause}")]
     InvalidName {
         /// The name given.
         name: String,
         /// Why it is invalid.
-        source: ExpandError,
+        cause: ExpandError,
     },
     /// The QoS profile cannot be expressed in DDS.
-    #[error("invalid QoS for '{name}': {source}")]
+    #[error("invalid QoS for '{name}': {cause}")]
     InvalidQos {
         /// The topic name given.
         name: String,
         /// Why.
-        source: QosError,
+        cause: QosError,
     },
     /// The DDS layer refused to create the reader or writer.
-    #[error("could not create the DDS {kind} for '{topic}': {source}")]
+    #[error("could not create the DDS {kind} for '{topic}': {cause}")]
     Dds {
         /// `reader` or `writer`.
         kind: &'static str,
         /// The DDS topic name.
         topic: String,
         /// What the DDS layer said.
-        #[source]
-        source: DdsError,
+        cause: DdsError,
     },
 }
 
@@ -77,24 +76,22 @@ impl From<DdsError> for SampleError {
 
 /// Why a sample could not be published.
 #[derive(Debug, thiserror::Error)]
-#[error("could not publish on '{topic}': {source}")]
+#[error("could not publish on '{topic}': {cause}")]
 pub struct PublishError {
     /// The ROS topic name ([`Publisher`]), or the DDS topic name ([`RawWriter`]).
     pub topic: String,
     /// What went wrong: the message's encoding, or the DDS layer.
-    #[source]
-    pub source: SampleError,
+    pub cause: SampleError,
 }
 
 /// Why a sample could not be taken.
 #[derive(Debug, thiserror::Error)]
-#[error("could not take a sample from '{topic}': {source}")]
+#[error("could not take a sample from '{topic}': {cause}")]
 pub struct TakeError {
     /// The ROS topic name ([`Subscription`]), or the DDS topic name ([`RawReader`]).
     pub topic: String,
     /// What went wrong (e.g. a malformed sample from the wire).
-    #[source]
-    pub source: SampleError,
+    pub cause: SampleError,
 }
 
 /// Resolves `name` for `node` (remapped as rcl does) and checks that `qos` maps to DDS; returns
@@ -108,13 +105,13 @@ fn resolve_topic<M: Message>(
     qos.to_dds(kind)
         .map_err(|source| EndpointError::InvalidQos {
             name: name.to_owned(),
-            source,
+            cause: source,
         })?;
     let mut topic_name =
         TopicName::expand(name, node.name(), node.namespace()).map_err(|source| {
             EndpointError::InvalidName {
                 name: name.to_owned(),
-                source,
+                cause: source,
             }
         })?;
     // `-r from:=to` (rcl_remap_topic_name), unless the QoS avoids ROS conventions.
@@ -126,9 +123,9 @@ fn resolve_topic<M: Message>(
             topic_name =
                 TopicName::new(&remapped).map_err(|source| EndpointError::InvalidName {
                     name: name.to_owned(),
-                    source: ExpandError::InvalidExpansion {
+                    cause: ExpandError::InvalidExpansion {
                         expanded: remapped.clone(),
-                        source,
+                        cause: source,
                     },
                 })?;
         }
@@ -196,13 +193,13 @@ impl<M: Message> Publisher<M> {
     pub fn publish(&self, message: M) -> Result<(), PublishError> {
         let fail = |source: SampleError| PublishError {
             topic: self.topic.to_string(),
-            source,
+            cause: source,
         };
         let body = horus_ros_msgs::cdr::to_cdr_body(&message).map_err(|e| fail(e.into()))?;
         self.writer
             .write(body, None, None)
             .map(|_| ())
-            .map_err(|e| fail(e.source))
+            .map_err(|e| fail(e.cause))
     }
 
     /// Waits until every matched reliable reader acknowledged what was published, at most
@@ -235,9 +232,9 @@ impl<M: Message> Subscription<M> {
     pub fn try_take(&mut self) -> Result<Option<M>, TakeError> {
         let fail = |source: SampleError| TakeError {
             topic: self.topic.to_string(),
-            source,
+            cause: source,
         };
-        let Some(sample) = self.reader.take().map_err(|e| fail(e.source))? else {
+        let Some(sample) = self.reader.take().map_err(|e| fail(e.cause))? else {
             return Ok(None);
         };
         let decoded = if sample.big_endian {

@@ -232,7 +232,7 @@ fn dds_error<'a>(
     move |source| EndpointError::Dds {
         kind,
         topic: spec.dds_topic_name.clone(),
-        source,
+        cause: source,
     }
 }
 
@@ -244,7 +244,7 @@ impl Node {
                 .to_dds(EndpointKind::Writer)
                 .map_err(|source| EndpointError::InvalidQos {
                     name: spec.dds_topic_name.clone(),
-                    source,
+                    cause: source,
                 })?;
         let (writer, gid) = match &self.context().inner().dds {
             Dds::RustDds(p) => {
@@ -315,7 +315,7 @@ impl Node {
                 .to_dds(EndpointKind::Reader)
                 .map_err(|source| EndpointError::InvalidQos {
                     name: spec.dds_topic_name.clone(),
-                    source,
+                    cause: source,
                 })?;
         let (reader, gid, waker) = match &self.context().inner().dds {
             Dds::RustDds(p) => {
@@ -392,7 +392,7 @@ impl RawWriter {
     ) -> Result<SampleId, PublishError> {
         let fail = |e: DdsError| PublishError {
             topic: self.topic.clone(),
-            source: SampleError::Dds(e),
+            cause: SampleError::Dds(e),
         };
         match &self.writer {
             WriterImpl::RustDds(writer) => writer.write(body, related, only_to).map_err(fail),
@@ -426,7 +426,7 @@ impl RawReader {
     pub fn take(&mut self) -> Result<Option<RawSample>, TakeError> {
         let fail = |e: DdsError| TakeError {
             topic: self.topic.clone(),
-            source: SampleError::Dds(e),
+            cause: SampleError::Dds(e),
         };
         match &mut self.reader {
             ReaderImpl::RustDds(reader) => reader.take().map_err(fail),

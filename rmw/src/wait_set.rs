@@ -22,7 +22,7 @@ const WAKE: usize = usize::MAX;
 pub enum WaitSetError {
     /// The DDS layer refused.
     #[error("wait set: {0}")]
-    Dds(#[source] DdsError),
+    Dds(DdsError),
     /// The reader belongs to another backend than the set.
     #[error("wait set: the reader is of another DDS backend than the set")]
     OtherBackend,

@@ -37,7 +37,7 @@ fn raw_samples_carry_identity_and_related_identity() {
         let refused = writer.write(body.clone(), Some(related), None);
         assert!(
             refused.is_err_and(|e| matches!(
-                e.source,
+                e.cause,
                 SampleError::Dds(DdsError::RelatedSampleIdentityUnsupported)
             ) && e.to_string().contains("related_sample_identity")),
             "a related identity must be refused on {}",

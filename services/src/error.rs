@@ -49,12 +49,12 @@ pub enum SetupError {
     #[error(transparent)]
     Node(#[from] NodeError),
     /// The service name is not a valid ROS name.
-    #[error("invalid service name '{name}': {source}")]
+    #[error("invalid service name '{name}': {cause}")]
     InvalidName {
         /// The name given.
         name: String,
         /// Why it is invalid.
-        source: ExpandError,
+        cause: ExpandError,
     },
     /// The DDS reader or writer could not be created.
     #[error(transparent)]
@@ -68,14 +68,14 @@ pub enum SetupError {
     WaitSet(#[from] horus_ros_rmw::WaitSetError),
     /// The server thread could not be started.
     #[error("could not start the service thread: {0}")]
-    Thread(#[from] std::io::Error),
+    Thread(std::io::Error),
     /// The service's introspection topic (`<service>/_service_event`) is not a valid topic name.
-    #[error("invalid service event topic '{name}': {source}")]
+    #[error("invalid service event topic '{name}': {cause}")]
     InvalidEventTopic {
         /// The topic name.
         name: String,
         /// Why it is invalid.
-        source: TopicNameError,
+        cause: TopicNameError,
     },
     /// Introspection was asked of a client whose service type is known only by name (its
     /// `_Event` message cannot be built).
@@ -114,5 +114,12 @@ impl From<ContextError> for Error {
 impl From<NodeError> for Error {
     fn from(e: NodeError) -> Self {
         Self::Setup(e.into())
+    }
+}
+
+// The message shows the cause, so it is no `source()` (not `#[from]`).
+impl From<std::io::Error> for SetupError {
+    fn from(e: std::io::Error) -> Self {
+        Self::Thread(e)
     }
 }

@@ -229,7 +229,7 @@ impl Introspection {
         let topic = format!("{}{SERVICE_EVENT_TOPIC_POSTFIX}", self.service);
         let topic = TopicName::new(&topic).map_err(|source| SetupError::InvalidEventTopic {
             name: topic.clone(),
-            source,
+            cause: source,
         })?;
         let spec = RawEndpointSpec {
             dds_topic_name: topic.to_dds_topic_name(qos.avoid_ros_namespace_conventions),

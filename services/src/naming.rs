@@ -81,7 +81,7 @@ impl ServiceTopics {
         let name = ServiceName::expand(name, node.name(), node.namespace()).map_err(|source| {
             SetupError::InvalidName {
                 name: name.to_owned(),
-                source,
+                cause: source,
             }
         })?;
         // `-r from:=to` (rcl_remap_service_name), unless the QoS avoids ROS conventions.
@@ -96,9 +96,9 @@ impl ServiceTopics {
                 Some(remapped) => {
                     ServiceName::new(&remapped).map_err(|source| SetupError::InvalidName {
                         name: remapped.clone(),
-                        source: horus_ros_rmw::names::ExpandError::InvalidExpansion {
+                        cause: horus_ros_rmw::names::ExpandError::InvalidExpansion {
                             expanded: remapped.clone(),
-                            source,
+                            cause: source,
                         },
                     })?
                 }

@@ -48,7 +48,7 @@ fn a_run_time_type_is_called_with_yaml_json_and_values() {
     // Values that do not fit the type never reach the wire.
     let refused = client.call_json(&serde_json::json!({"c": 1}), WAIT);
     assert!(
-        matches!(&refused, Err(DynamicCallError::Request { source, .. }) if source.to_string().contains("'c'")),
+        matches!(&refused, Err(DynamicCallError::Request { cause, .. }) if cause.to_string().contains("'c'")),
         "{refused:?}"
     );
     let refused = client.call_yaml("{a: x}", WAIT);

@@ -33,7 +33,7 @@ const WRITE_TIMEOUT: Duration = Duration::from_secs(2);
 pub enum ClientError {
     /// The socket could not be created or connected.
     #[error("could not reach the daemon's socket: {0}")]
-    Connect(#[source] io::Error),
+    Connect(io::Error),
     /// The daemon's socket accepts no more connections (its backlog is full: a stopped daemon).
     #[error("the daemon's socket accepts no connection (is the daemon stopped?)")]
     Busy,
@@ -46,13 +46,12 @@ pub enum ClientError {
         pid: u32,
     },
     /// The exchange failed (timeout, closed connection, malformed answer, other version).
-    #[error("the daemon (pid {pid}) did not answer: {source}")]
+    #[error("the daemon (pid {pid}) did not answer: {cause}")]
     Exchange {
         /// The daemon's process id.
         pid: u32,
         /// What went wrong.
-        #[source]
-        source: FrameError,
+        cause: FrameError,
     },
     /// The daemon serves another graph (a digest collision of the keys).
     #[error("the daemon (pid {pid}) serves another graph: {daemon:?}")]
@@ -130,7 +129,7 @@ impl Connection {
         deadline: Instant,
     ) -> Result<Response, ClientError> {
         let pid = self.pid;
-        let exchange = |source| ClientError::Exchange { pid, source };
+        let exchange = |source| ClientError::Exchange { pid, cause: source };
         let frame = RequestFrame {
             version: protocol::VERSION,
             key: key.clone(),

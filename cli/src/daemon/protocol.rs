@@ -104,7 +104,7 @@ pub struct Status {
 #[derive(Debug, thiserror::Error)]
 pub enum FrameError {
     /// The socket failed.
-    #[error("{0}")]
+    #[error(transparent)]
     Io(#[from] io::Error),
     /// Nothing (or not all of it) arrived before the deadline.
     #[error("no answer within {:.1} s", .0.as_secs_f64())]
@@ -125,7 +125,7 @@ pub enum FrameError {
     Version(u32),
     /// The frame is not the JSON expected.
     #[error("malformed message: {0}")]
-    Json(#[from] serde_json::Error),
+    Json(serde_json::Error),
 }
 
 /// Writes `value` as one frame.
@@ -280,5 +280,12 @@ mod tests {
         drop(a);
         let got = read_frame::<RequestFrame>(&mut b, MAX_REQUEST, soon());
         assert!(matches!(got, Err(FrameError::Closed)), "{got:?}");
+    }
+}
+
+// The message shows the cause, so it is no `source()` (not `#[from]`).
+impl From<serde_json::Error> for FrameError {
+    fn from(e: serde_json::Error) -> Self {
+        Self::Json(e)
     }
 }

@@ -24,13 +24,13 @@ pub enum Spawned {
 pub enum SpawnError {
     /// This program's own path is unknown.
     #[error("could not find the horus-ros binary: {0}")]
-    Binary(#[source] io::Error),
+    Binary(io::Error),
     /// The process could not be started.
     #[error("could not start the daemon: {0}")]
-    Start(#[source] io::Error),
+    Start(io::Error),
     /// Its first line could not be read.
     #[error("could not read the daemon's output: {0}")]
-    Output(#[source] io::Error),
+    Output(io::Error),
     /// It did not say it was ready within [`START_STOP_TIMEOUT`] (it was killed).
     #[error("Timed out waiting for daemon to become ready")]
     TimedOut,

@@ -218,7 +218,7 @@ fn a_value_over_a_bound_is_a_typed_error() {
         .expect("publisher");
     match publisher.publish(telemetry("robot7", 1, 9)) {
         Err(PublishError {
-            source: SampleError::Cdr(CdrError::BoundExceeded(e)),
+            cause: SampleError::Cdr(CdrError::BoundExceeded(e)),
             ..
         }) => assert_eq!(
             (e.field.as_str(), e.bound, e.length),

@@ -49,7 +49,7 @@ pub enum CurrentNodeError {
     NoRos(String),
     /// The service server or client could not be created (the cause is the error's source).
     #[error("could not create the service server or client: {0}")]
-    Setup(#[source] Arc<SetupError>),
+    Setup(Arc<SetupError>),
 }
 
 impl From<SetupError> for CurrentNodeError {

@@ -53,19 +53,15 @@ impl<E: std::error::Error + Send + Sync + 'static> From<E> for Error {
 
 impl fmt::Display for Error {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        // The chain, each cause once: this workspace's errors already end their message with
-        // their source's (thiserror's `…: {source}`), other crates' errors may not.
-        let mut text = self.0.to_string();
+        // The chain: an error shows its cause in its message or returns it as `source()`, never
+        // both (this workspace's errors show theirs), so each link is printed once.
+        write!(f, "{}", self.0)?;
         let mut source = self.0.source();
         while let Some(s) = source {
-            let cause = s.to_string();
-            if !text.contains(&cause) {
-                text.push_str(": ");
-                text.push_str(&cause);
-            }
+            write!(f, ": {s}")?;
             source = s.source();
         }
-        f.write_str(&text)
+        Ok(())
     }
 }
 
@@ -90,8 +86,8 @@ pub enum BuildError {
     InvalidName {
         /// The name.
         name: String,
-        /// Why.
-        reason: String,
+        /// The ROS rule the mapped name breaks.
+        reason: horus_ros_rmw::names::NodeNameError,
     },
     /// A rate of zero (or not finite) was given.
     #[error("node '{name}': the rate must be a positive, finite frequency (got {hz} Hz)")]
@@ -160,12 +156,12 @@ mod chain_tests {
     #[error("inner")]
     struct Inner;
 
-    /// This workspace's way: the message ends with the source's.
+    /// This workspace's way: the message shows the cause, which is no `source()`.
     #[derive(Debug, thiserror::Error)]
     #[error("outer: {0}")]
-    struct Says(#[source] Inner);
+    struct Says(Inner);
 
-    /// Another crate's way: the source is only the source.
+    /// The other way: the cause is only the `source()`.
     #[derive(Debug, thiserror::Error)]
     #[error("outer")]
     struct Keeps(#[source] Inner);

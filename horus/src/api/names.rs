@@ -11,26 +11,41 @@
 //!   by `_`; what is left must be a valid ROS node name (letters, digits, `_`, not starting with
 //!   a digit), else [`build`](crate::NodeBuilder::build) fails.
 
-use horus_ros_rmw::names::{validate_unexpanded_name, Namespace, NodeName, TopicName};
+use horus_ros_rmw::names::{
+    validate_unexpanded_name, ExpandError, Namespace, NodeName, NodeNameError, TopicName,
+    UnexpandedNameError,
+};
+
+/// The ROS rule a mapped topic name breaks.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum TopicNameError {
+    /// Not a valid topic name as written (rcl `rcl_validate_topic_name`).
+    #[error(transparent)]
+    Invalid(#[from] UnexpandedNameError),
+    /// Valid as written, but not once expanded (e.g. `//`).
+    #[error(transparent)]
+    Expanded(#[from] ExpandError),
+}
 
 /// The ROS topic name of a HORUS topic name (see the module documentation).
-pub fn ros_topic_name(horus_name: &str) -> Result<String, String> {
+pub fn ros_topic_name(horus_name: &str) -> Result<String, TopicNameError> {
     let mapped = horus_name.replace('.', "/");
-    validate_unexpanded_name(&mapped).map_err(|e| e.to_string())?;
+    validate_unexpanded_name(&mapped)?;
     // The expanded form must be a valid full name too (no `//`): checked under a placeholder
     // node; the real node and namespace are applied when the topic is used.
-    let node = NodeName::new("n").map_err(|e| e.to_string())?;
-    TopicName::expand(&mapped, &node, &Namespace::root()).map_err(|e| e.to_string())?;
+    if let Ok(node) = NodeName::new("n") {
+        TopicName::expand(&mapped, &node, &Namespace::root())?;
+    }
     Ok(mapped)
 }
 
 /// The ROS node name of a HORUS node name (see the module documentation).
-pub fn ros_node_name(horus_name: &str) -> Result<String, String> {
+pub fn ros_node_name(horus_name: &str) -> Result<String, NodeNameError> {
     let mapped: String = horus_name
         .chars()
         .map(|c| if matches!(c, '.' | '-' | ' ') { '_' } else { c })
         .collect();
-    NodeName::new(&mapped).map_err(|e| e.to_string())?;
+    NodeName::new(&mapped)?;
     Ok(mapped)
 }
 

@@ -20,7 +20,7 @@ pub enum TopicError {
         /// The name given.
         name: String,
         /// The ROS rule it breaks.
-        reason: String,
+        reason: crate::names::TopicNameError,
     },
     /// The topic's node has no ROS side (a scheduler built with `without_ros`).
     #[error(

@@ -38,13 +38,12 @@ pub enum ContextError {
     #[error(transparent)]
     Arguments(#[from] crate::args::ArgumentsError),
     /// The DDS participant could not be created (e.g. no free ports).
-    #[error("could not create the DDS participant in domain {domain}: {source}")]
+    #[error("could not create the DDS participant in domain {domain}: {cause}")]
     Participant {
         /// The domain asked for.
         domain: DomainId,
         /// What the DDS layer said.
-        #[source]
-        source: DdsError,
+        cause: DdsError,
     },
     /// The SIGINT/SIGTERM handlers asked for could not be installed.
     #[error(transparent)]
@@ -173,7 +172,10 @@ impl Dds {
         discovery: &DiscoveryOptions,
         enclave: &str,
     ) -> Result<(Self, Vec<String>), ContextError> {
-        let fail = |source| ContextError::Participant { domain, source };
+        let fail = |source| ContextError::Participant {
+            domain,
+            cause: source,
+        };
         match backend {
             Backend::RustDds => {
                 let (p, warnings) = RustddsParticipant::create(domain, discovery).map_err(fail)?;
@@ -512,18 +514,16 @@ pub enum DiscoveryFeedError {
     #[error("this context already has a discovery feed")]
     AlreadyOpen,
     /// The wake-up machinery (an OS poll instance) could not be set up.
-    #[error("could not set up waiting for discovery events: {source}")]
+    #[error("could not set up waiting for discovery events: {cause}")]
     Poll {
         /// What the OS (rustdds backend) or Cyclone DDS said.
-        #[source]
-        source: DdsError,
+        cause: DdsError,
     },
     /// A reader (`ros_discovery_info` or a built-in topic) could not be created.
-    #[error("could not create a discovery reader: {source}")]
+    #[error("could not create a discovery reader: {cause}")]
     Reader {
         /// What the DDS layer said.
-        #[source]
-        source: DdsError,
+        cause: DdsError,
     },
 }
 

@@ -103,10 +103,10 @@ impl CycloneDiscoveryFeed {
         info_topic: &cyc::Topic,
     ) -> Result<(Self, LocalSink), DiscoveryFeedError> {
         let reader = |e| DiscoveryFeedError::Reader {
-            source: DdsError::Cyclone(e),
+            cause: DdsError::Cyclone(e),
         };
         let poll = |e| DiscoveryFeedError::Poll {
-            source: DdsError::Cyclone(e),
+            cause: DdsError::Cyclone(e),
         };
         let participants = p
             .participant

@@ -118,11 +118,11 @@ impl RustddsParticipant {
         own_gid: Gid,
     ) -> Result<(DdsDiscoveryFeed, LocalSink), DiscoveryFeedError> {
         let reader_error = |e| DiscoveryFeedError::Reader {
-            source: DdsError::RustDdsCreate(e),
+            cause: DdsError::RustDdsCreate(e),
         };
         let participant = self
             .participant()
-            .map_err(|source| DiscoveryFeedError::Reader { source })?;
+            .map_err(|source| DiscoveryFeedError::Reader { cause: source })?;
         let topic = discovery_info::topic(&participant).map_err(reader_error)?;
         let reader = self
             .subscriber
@@ -132,7 +132,7 @@ impl RustddsParticipant {
             Some(status) => status,
             None => StatusPoll::new(Arc::clone(&self.status_listener)).map_err(|e| {
                 DiscoveryFeedError::Poll {
-                    source: DdsError::Io(e),
+                    cause: DdsError::Io(e),
                 }
             })?,
         };
@@ -144,7 +144,7 @@ impl RustddsParticipant {
         DdsDiscoveryFeed::new(status, reader, factory, own_gid, snapshot).map_err(|(status, e)| {
             *lock(&self.status_poll) = Some(status);
             DiscoveryFeedError::Poll {
-                source: DdsError::Io(e),
+                cause: DdsError::Io(e),
             }
         })
     }

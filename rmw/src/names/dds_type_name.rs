@@ -35,12 +35,12 @@ pub enum DdsTypeNameError {
     #[error("service type contains 'dds_::' but does not have a suffix: '{0}'")]
     NoServiceSuffix(String),
     /// The demangled name is not a valid `package/kind/Name`.
-    #[error("demangled type name '{demangled}' is invalid: {source}")]
+    #[error("demangled type name '{demangled}' is invalid: {cause}")]
     InvalidTypeName {
         /// The demangled string.
         demangled: String,
         /// Why it is invalid.
-        source: RosTypeNameError,
+        cause: RosTypeNameError,
     },
 }
 
@@ -99,6 +99,8 @@ impl RosTypeName {
 /// Joins `pkg::kind::` and `Name` into `pkg/kind/Name` and validates it.
 fn parse_demangled(namespace: &str, name: &str) -> Result<RosTypeName, DdsTypeNameError> {
     let demangled = format!("{}{name}", namespace.replace("::", "/"));
-    RosTypeName::new(&demangled)
-        .map_err(|source| DdsTypeNameError::InvalidTypeName { demangled, source })
+    RosTypeName::new(&demangled).map_err(|source| DdsTypeNameError::InvalidTypeName {
+        demangled,
+        cause: source,
+    })
 }

@@ -34,12 +34,12 @@ pub enum ExpandError {
     },
     /// The expanded name fails `rmw_validate_full_topic_name` (rcl
     /// `RCL_RET_TOPIC_NAME_INVALID` / `RCL_RET_SERVICE_NAME_INVALID`).
-    #[error("expanded name '{expanded}' is invalid: {source}")]
+    #[error("expanded name '{expanded}' is invalid: {cause}")]
     InvalidExpansion {
         /// The expanded string.
         expanded: String,
         /// Why it is invalid; indices refer to `expanded`.
-        source: TopicNameError,
+        cause: TopicNameError,
     },
 }
 
@@ -119,7 +119,10 @@ fn expand_validated(
     let expanded = expand_name(input, node, namespace, substitutions)?;
     match validate_full_topic_name(&expanded) {
         Ok(()) => Ok(expanded),
-        Err(source) => Err(ExpandError::InvalidExpansion { expanded, source }),
+        Err(source) => Err(ExpandError::InvalidExpansion {
+            expanded,
+            cause: source,
+        }),
     }
 }
 

@@ -16,11 +16,11 @@ pub enum FqNodeNameError {
     NotAbsolute,
     /// The part before the last `/` is not a valid namespace.
     #[error("invalid namespace in fully-qualified node name: {0}")]
-    Namespace(#[source] NamespaceError),
+    Namespace(NamespaceError),
     /// The part after the last `/` is not a valid node name; its index is
     /// relative to that part.
     #[error("invalid node name in fully-qualified node name: {0}")]
-    NodeName(#[source] NodeNameError),
+    NodeName(NodeNameError),
 }
 
 /// A node's namespace and name together, shown as `/ns/name`.

@@ -42,25 +42,23 @@ pub enum DynamicCallError {
     )]
     NoSchema,
     /// The request values do not fit the request type.
-    #[error("invalid request for {service_type}: {source}")]
+    #[error("invalid request for {service_type}: {cause}")]
     Request {
         /// The service type.
         service_type: String,
         /// What is wrong (the field named).
-        #[source]
-        source: RequestError,
+        cause: RequestError,
     },
     /// The call itself failed.
     #[error(transparent)]
     Call(#[from] ServiceError),
     /// The response does not decode as the response type.
-    #[error("cannot decode the response as {service_type}: {source}")]
+    #[error("cannot decode the response as {service_type}: {cause}")]
     Response {
         /// The service type.
         service_type: String,
         /// What is wrong.
-        #[source]
-        source: DecodeError,
+        cause: DecodeError,
     },
 }
 
@@ -70,7 +68,7 @@ fn invalid_request<E: Into<RequestError>>(
 ) -> impl Fn(E) -> DynamicCallError + '_ {
     |source| DynamicCallError::Request {
         service_type: service_type.name().to_owned(),
-        source: source.into(),
+        cause: source.into(),
     }
 }
 
@@ -249,7 +247,7 @@ impl DynamicServiceClient {
             .decode_response(&reply.body, reply.big_endian)
             .map_err(|source| DynamicCallError::Response {
                 service_type: schema.name().to_owned(),
-                source,
+                cause: source,
             })
     }
 

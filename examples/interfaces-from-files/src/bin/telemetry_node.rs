@@ -85,7 +85,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             Ok(()) => {}
             // A bound of the message exceeded: nothing was sent; the error says which field.
             Err(PublishError {
-                source: SampleError::Cdr(CdrError::BoundExceeded(bound)),
+                cause: SampleError::Cdr(CdrError::BoundExceeded(bound)),
                 ..
             }) => {
                 eprintln!("[ERROR] [telemetry_node]: telemetry not published: {bound}");

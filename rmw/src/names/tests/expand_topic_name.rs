@@ -75,7 +75,7 @@ fn rcl_expansion_caught_by_rmw_validation() {
         TopicName::expand("/foo/{namespace}", &node, &ns),
         Err(ExpandError::InvalidExpansion {
             expanded: "/foo//my_ns".to_owned(),
-            source: TopicNameError::RepeatedForwardSlash { index: 5 },
+            cause: TopicNameError::RepeatedForwardSlash { index: 5 },
         })
     );
 }
