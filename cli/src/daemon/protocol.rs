@@ -128,6 +128,13 @@ pub enum FrameError {
     Json(serde_json::Error),
 }
 
+// The message shows the cause, so it is no `source()` (not `#[from]`).
+impl From<serde_json::Error> for FrameError {
+    fn from(e: serde_json::Error) -> Self {
+        Self::Json(e)
+    }
+}
+
 /// Writes `value` as one frame.
 pub fn write_frame<T: Serialize>(stream: &mut impl Write, value: &T) -> Result<(), FrameError> {
     let body = serde_json::to_vec(value)?;
@@ -280,12 +287,5 @@ mod tests {
         drop(a);
         let got = read_frame::<RequestFrame>(&mut b, MAX_REQUEST, soon());
         assert!(matches!(got, Err(FrameError::Closed)), "{got:?}");
-    }
-}
-
-// The message shows the cause, so it is no `source()` (not `#[from]`).
-impl From<serde_json::Error> for FrameError {
-    fn from(e: serde_json::Error) -> Self {
-        Self::Json(e)
     }
 }
