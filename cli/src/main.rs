@@ -13,7 +13,7 @@ use std::io::IsTerminal;
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
-// The dynamic type system lives in the library target (src/lib.rs), reachable by fuzz targets.
+// Types known at run time: the dynamic crate (its decoders are what the fuzz targets call).
 use horus_ros_dynamic as dynamic;
 
 use error::CliError;

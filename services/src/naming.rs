@@ -10,19 +10,9 @@ use crate::SetupError;
 /// The name a service gets when none is given: its type's name in snake case, absolute
 /// (`horus_ros/srv/GetMapRegion` → `/get_map_region`).
 pub fn default_service_name<S: Service>() -> String {
+    use heck::ToSnakeCase as _;
     let short = S::TYPE_NAME.rsplit('/').next().unwrap_or(S::TYPE_NAME);
-    let mut out = String::from("/");
-    for (i, c) in short.chars().enumerate() {
-        if c.is_ascii_uppercase() {
-            if i > 0 {
-                out.push('_');
-            }
-            out.push(c.to_ascii_lowercase());
-        } else {
-            out.push(c);
-        }
-    }
-    out
+    format!("/{}", short.to_snake_case())
 }
 
 /// The history depth of every service writer at least: replies to many concurrent calls must

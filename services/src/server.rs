@@ -50,7 +50,7 @@ impl<S: Service> Default for ServiceServerBuilder<S> {
 
 impl<S: Service> ServiceServerBuilder<S> {
     /// A builder for the service `S`: default node, name [`default_service_name`], QoS
-    /// `services_default`, poll interval 5 ms.
+    /// `services_default`; the server thread wakes on events, never on a timer.
     pub fn new() -> Self {
         Self {
             node: None,

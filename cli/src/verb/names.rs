@@ -46,7 +46,8 @@
 use horus_ros_graph::{NamesAndTypes, ServiceEndpointInfo, TopicEndpointInfo};
 use horus_ros_msgs::TypeHash;
 use horus_ros_rmw::qos::{Qos, QosDuration};
-use serde_json::{json, Value};
+use serde::Serialize;
+use serde_json::Value;
 
 use crate::CliError;
 
@@ -138,84 +139,138 @@ pub fn print_json(value: &Value) -> Result<(), CliError> {
     Ok(())
 }
 
+/// A value as JSON (the documents below cannot fail to serialize: strings, numbers, lists).
+fn to_json(value: impl Serialize) -> Value {
+    serde_json::to_value(value).unwrap_or(Value::Null)
+}
+
+// The documents, as serde writes them: fields in the order the keys print (sorted, as
+// `serde_json` sorts an object's keys), so the text is the same whichever way a document is
+// built.
+
+/// `{"count": N}`.
+#[derive(Serialize)]
+struct Count {
+    count: usize,
+}
+
+/// A names-and-types entry.
+#[derive(Serialize)]
+struct Entry<'a> {
+    name: &'a str,
+    types: Vec<&'a str>,
+}
+
+/// A QoS object.
+#[derive(Serialize)]
+struct QosJson {
+    deadline_ns: Option<i64>,
+    depth: usize,
+    durability: String,
+    history: String,
+    lifespan_ns: Option<i64>,
+    liveliness: String,
+    liveliness_lease_duration_ns: Option<i64>,
+    reliability: String,
+}
+
+/// A topic endpoint.
+#[derive(Serialize)]
+struct TopicEndpoint<'a> {
+    endpoint_type: String,
+    gid: String,
+    node_name: &'a str,
+    node_namespace: &'a str,
+    qos: QosJson,
+    #[serde(rename = "type")]
+    topic_type: &'a str,
+    type_hash: Option<String>,
+}
+
+/// A service endpoint.
+#[derive(Serialize)]
+struct ServiceEndpoint<'a> {
+    endpoint_type: String,
+    gids: Vec<String>,
+    node_name: &'a str,
+    node_namespace: &'a str,
+    qos: Vec<QosJson>,
+    #[serde(rename = "type")]
+    service_type: &'a str,
+    type_hash: Option<String>,
+}
+
 /// `{"count": N}`.
 pub fn count_json(count: usize) -> Value {
-    json!({ "count": count })
+    to_json(Count { count })
 }
 
 /// A names-and-types entry.
 pub fn entry_json<S: AsRef<str>>(name: &str, types: &[S]) -> Value {
-    json!({
-        "name": name,
-        "types": types.iter().map(AsRef::as_ref).collect::<Vec<&str>>(),
+    to_json(Entry {
+        name,
+        types: types.iter().map(AsRef::as_ref).collect(),
     })
 }
 
 /// A names-and-types map as a list of entries.
 pub fn names_and_types_json(names_and_types: &NamesAndTypes) -> Value {
-    Value::Array(
+    to_json(
         names_and_types
             .iter()
-            .map(|(name, types)| {
-                json!({ "name": name, "types": types.iter().collect::<Vec<&String>>() })
+            .map(|(name, types)| Entry {
+                name,
+                types: types.iter().map(String::as_str).collect(),
             })
-            .collect(),
+            .collect::<Vec<_>>(),
     )
 }
 
-fn duration_json(d: QosDuration) -> Value {
-    if d.is_infinite() {
-        Value::Null
-    } else {
-        json!(d.total_nanos())
+/// Nanoseconds, or nothing for an infinite duration.
+fn nanos(d: QosDuration) -> Option<i64> {
+    (!d.is_infinite()).then(|| d.total_nanos())
+}
+
+fn qos_document(qos: &Qos) -> QosJson {
+    QosJson {
+        deadline_ns: nanos(qos.deadline),
+        depth: qos.depth,
+        durability: qos.durability.to_string(),
+        history: qos.history.to_string(),
+        lifespan_ns: nanos(qos.lifespan),
+        liveliness: qos.liveliness.to_string(),
+        liveliness_lease_duration_ns: nanos(qos.liveliness_lease_duration),
+        reliability: qos.reliability.to_string(),
     }
 }
 
-/// A QoS object.
-pub fn qos_json(qos: &Qos) -> Value {
-    json!({
-        "reliability": qos.reliability.to_string(),
-        "history": qos.history.to_string(),
-        "depth": qos.depth,
-        "durability": qos.durability.to_string(),
-        "lifespan_ns": duration_json(qos.lifespan),
-        "deadline_ns": duration_json(qos.deadline),
-        "liveliness": qos.liveliness.to_string(),
-        "liveliness_lease_duration_ns": duration_json(qos.liveliness_lease_duration),
-    })
-}
-
-fn type_hash_json(hash: &TypeHash) -> Value {
-    if hash.is_set() {
-        json!(hash.to_string())
-    } else {
-        Value::Null
-    }
+fn type_hash_text(hash: &TypeHash) -> Option<String> {
+    hash.is_set().then(|| hash.to_string())
 }
 
 /// A topic endpoint.
 pub fn topic_endpoint_json(info: &TopicEndpointInfo) -> Value {
-    json!({
-        "node_name": info.node_name,
-        "node_namespace": info.node_namespace,
-        "type": info.topic_type,
-        "type_hash": type_hash_json(&info.topic_type_hash),
-        "endpoint_type": info.endpoint_type.to_string(),
-        "gid": info.endpoint_gid.to_string(),
-        "qos": qos_json(&info.qos_profile),
+    to_json(TopicEndpoint {
+        endpoint_type: info.endpoint_type.to_string(),
+        gid: info.endpoint_gid.to_string(),
+        node_name: &info.node_name,
+        node_namespace: &info.node_namespace,
+        qos: qos_document(&info.qos_profile),
+        topic_type: &info.topic_type,
+        type_hash: type_hash_text(&info.topic_type_hash),
     })
 }
 
 /// A service endpoint.
 pub fn service_endpoint_json(info: &ServiceEndpointInfo) -> Value {
-    json!({
-        "node_name": info.node_name,
-        "node_namespace": info.node_namespace,
-        "type": info.service_type,
-        "type_hash": type_hash_json(&info.service_type_hash),
-        "endpoint_type": info.endpoint_type.to_string(),
-        "gids": info.endpoint_gids.iter().map(ToString::to_string).collect::<Vec<String>>(),
-        "qos": info.qos_profiles.iter().map(qos_json).collect::<Vec<Value>>(),
+    to_json(ServiceEndpoint {
+        endpoint_type: info.endpoint_type.to_string(),
+        gids: info.endpoint_gids.iter().map(ToString::to_string).collect(),
+        node_name: &info.node_name,
+        node_namespace: &info.node_namespace,
+        qos: info.qos_profiles.iter().map(qos_document).collect(),
+        service_type: &info.service_type,
+        type_hash: type_hash_text(&info.service_type_hash),
     })
 }
 

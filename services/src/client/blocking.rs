@@ -148,8 +148,9 @@ impl<S: Service> ServiceClient<S> {
         self.core.call_blocking(&self.responses, &request, timeout)
     }
 
-    /// Calls with retries on Timeout and Transport: 3 retries, backoff 10, 20, 40 ms; each
-    /// attempt has the whole `timeout`.
+    /// Calls with retries on transient errors ([`ServiceError::is_transient`]: Timeout,
+    /// Transport, ServerGone): 3 retries, backoff 10, 20, 40 ms; each attempt has the whole
+    /// `timeout`.
     pub fn call_resilient(
         &mut self,
         request: S::Request,
@@ -158,7 +159,8 @@ impl<S: Service> ServiceClient<S> {
         self.call_resilient_with(request, timeout, RetryConfig::default())
     }
 
-    /// Calls with the given retry policy (only Timeout and Transport are retried).
+    /// Calls with the given retry policy (only transient errors are retried:
+    /// [`ServiceError::is_transient`]).
     pub fn call_resilient_with(
         &mut self,
         request: S::Request,
