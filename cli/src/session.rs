@@ -57,7 +57,7 @@ impl Session {
             e => e.into(),
         })?;
         let node = context.create_node(node_name, "/")?;
-        let graph = Graph::shared(&context)?;
+        let graph = Graph::of(&context)?;
         let outstanding = Some(Outstanding::watch(&graph));
         Ok(Self {
             context,

@@ -180,7 +180,7 @@ fn pair(domain: u32, service: &str, state: IntrospectionState) -> Pair {
         .build()
         .expect("context");
     let node = context.create_node("introspected", "/").expect("node");
-    let graph = Graph::shared(&context).expect("graph");
+    let graph = Graph::of(&context).expect("graph");
     let qos = Qos::services_default();
     let server = ServiceServerBuilder::<AddTwoInts>::new()
         .node(&node)

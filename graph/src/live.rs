@@ -197,17 +197,16 @@ impl std::fmt::Debug for Graph {
 }
 
 impl Graph {
-    /// The graph of `context`, shared: started on first use, then the same one for every caller
-    /// while any of them keeps it (services, the CLI and applications can all look at one graph).
-    /// The context holds it (see [`Context::shared`]), as rmw_zenoh's context holds its graph
-    /// cache.
-    pub fn shared(context: &Context) -> Result<Arc<Self>, GraphStartError> {
-        context.shared(|| Self::new(context))
+    /// The graph of `context` — the one way to it: started on first use, then the same one for
+    /// every caller while any of them keeps it (services, the CLI and applications all look at
+    /// one graph). The context holds it (see [`Context::shared`]), as rmw_zenoh's context holds
+    /// its graph cache.
+    pub fn of(context: &Context) -> Result<Arc<Self>, GraphStartError> {
+        context.shared(|| Self::start(context))
     }
 
-    /// Starts following `context`'s discovery (one `Graph` per context at a time: see
-    /// [`shared`](Self::shared) to share it).
-    pub fn new(context: &Context) -> Result<Self, GraphStartError> {
+    /// Starts following `context`'s discovery (a context's discovery feed can be taken once).
+    fn start(context: &Context) -> Result<Self, GraphStartError> {
         let feed = context.discovery_feed()?;
         let mut cache = GraphCache::new();
         cache.record_events(true);

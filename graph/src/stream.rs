@@ -26,7 +26,7 @@ pub const DEFAULT_EVENTS_CAPACITY: usize = 1024;
 /// use horus_ros_rmw::Context;
 ///
 /// let context = Context::from_env()?;
-/// let graph = Graph::shared(&context)?;
+/// let graph = Graph::of(&context)?;
 /// let mut events = graph.events();
 /// // With `futures::StreamExt`: `while let Some(event) = events.next().await`.
 /// while let Some(event) = std::future::poll_fn(|cx| events.poll_next_event(cx)).await {

@@ -21,7 +21,7 @@ fn a_topic_and_a_client_made_without_a_node_share_the_process_default_node() {
         .build()
         .expect("client");
     let node = horus_ros_services::default_node().expect("default node");
-    let graph = Graph::shared(node.context()).expect("graph");
+    let graph = Graph::of(node.context()).expect("graph");
     // Our own endpoints are in our graph; both must name the one default node.
     let found = |c: &horus_ros_graph::GraphCache| {
         let subscriptions = c.subscriptions_info_by_topic("/default_node_topic", false);

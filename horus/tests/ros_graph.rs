@@ -35,7 +35,7 @@ fn context(domain: u32, args: &[&str]) -> Context {
 fn scheduled_nodes_are_ros_nodes_with_their_topics_services_parameters_and_rosout() {
     let domain = 171;
     let observer = context(domain, &[]);
-    let graph = Graph::shared(&observer).expect("graph");
+    let graph = Graph::of(&observer).expect("graph");
     let observer_node = observer.create_node("observer", "/").expect("node");
     let mut rosout = observer_node
         .create_subscription::<Log>("/rosout", &Qos::rosout_default())

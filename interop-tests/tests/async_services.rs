@@ -208,7 +208,7 @@ async fn our_awaited_calls_reach_an_rclpy_server() {
     let (_, reply_reader) = client.gids();
     if refusing {
         // Once the server is on the graph, the awaited call fails at once, naming why.
-        let graph = horus_ros_graph::Graph::shared(&context).expect("graph");
+        let graph = horus_ros_graph::Graph::of(&context).expect("graph");
         let seen =
             tokio::task::spawn_blocking(move || graph.wait_for_service(SERVICE, 20 * SECOND));
         assert!(

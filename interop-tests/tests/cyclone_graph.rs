@@ -24,7 +24,7 @@ fn servers_info_matches_what_cyclone_holds() {
         .domain_id(DOMAIN)
         .build()
         .expect("context");
-    let graph = Graph::new(&context).expect("graph");
+    let graph = Graph::of(&context).expect("graph");
     let node = context.create_node("horus_watcher", "/").expect("node");
     let publisher = node
         .create_publisher::<Time>("watch", &Qos::default())
@@ -158,8 +158,11 @@ fn wait_for_graph_change_wakes_on_a_new_node_and_times_out_otherwise() {
         .domain_id(DOMAIN + 1)
         .build()
         .expect("context");
-    let graph = Graph::new(&context).expect("graph");
-    assert!(Graph::new(&context).is_err(), "one graph per context");
+    let graph = Graph::of(&context).expect("graph");
+    assert!(
+        std::sync::Arc::ptr_eq(&graph, &Graph::of(&context).expect("graph")),
+        "one graph per context"
+    );
     // Let the initial snapshot settle, then nothing changes.
     graph.wait_until(WAIT, |c| c.node_count() == 0);
     while graph.wait_for_graph_change(Duration::from_millis(200)) {}

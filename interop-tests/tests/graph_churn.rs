@@ -70,7 +70,7 @@ fn nodes_created_and_dropped_in_waves_leave_the_graph_as_it_was() {
         .domain_id(DOMAIN)
         .build()
         .expect("watcher context");
-    let graph = Graph::new(&watcher).expect("graph");
+    let graph = Graph::of(&watcher).expect("graph");
     let churn = Context::builder()
         .domain_id(DOMAIN)
         .build()

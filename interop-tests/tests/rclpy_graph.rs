@@ -147,7 +147,7 @@ fn our_graph_is_what_rclpy_sees() {
         .build()
         .expect("context");
     let us = Us::of(&context);
-    let graph = Graph::shared(&context).expect("graph");
+    let graph = Graph::of(&context).expect("graph");
     let node = context
         .create_node("horus_node", "/horus_ns")
         .expect("node");

@@ -153,7 +153,7 @@ fn our_clients_call_rclpy_servers() {
         .build()
         .expect("context");
     let node = context.create_node("horus_caller", "/").expect("node");
-    let graph = Graph::shared(&context).expect("graph");
+    let graph = Graph::of(&context).expect("graph");
     let refusing = !context.backend().carries_sample_identity();
     let mut peer = RclpyPeer::start(&json!({
         "domain": DOMAIN, "namespace": "/rclpy_ns", "name": "rclpy_server",

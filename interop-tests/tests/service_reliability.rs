@@ -182,7 +182,7 @@ fn a_killed_server_is_reported_to_its_client_and_leaves_the_graph_within_its_lea
         }
     });
     let caller_node = node(DOMAIN, "bereaved_client");
-    let graph = Graph::shared(caller_node.context()).expect("graph");
+    let graph = Graph::of(caller_node.context()).expect("graph");
     let mut c = client(&caller_node, "/doomed");
     assert!(c.wait_for_service(30 * SECOND), "no server");
     let caller = thread::spawn(move || {

@@ -36,7 +36,7 @@ async fn main() -> Result<()> {
     let node = context.create_node("async_node", "/")?;
 
     // Graph changes, as they happen.
-    let graph = Graph::shared(&context).map_err(horus_ros_services::SetupError::from)?;
+    let graph = Graph::of(&context).map_err(horus_ros_services::SetupError::from)?;
     let mut events = graph.events();
     let follower = tokio::spawn(async move {
         while let Some(event) = events.next().await {

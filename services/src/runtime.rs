@@ -83,7 +83,7 @@ fn default_node_name() -> String {
 
 /// The graph of `context`, shared with everything else in the process that looks at it.
 fn graph_of(context: &Context) -> Result<Arc<Graph>, SetupError> {
-    Ok(Graph::shared(context)?)
+    Ok(Graph::of(context)?)
 }
 
 #[cfg(test)]

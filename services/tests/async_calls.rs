@@ -492,7 +492,7 @@ async fn an_async_server_publishes_introspection_events_like_a_blocking_one() {
     let client = async_client(&n, "/introspected");
     assert!(client.wait_for_service_async(10 * SECOND).await);
     // Volatile events: the call is made once the event publisher has matched the reader.
-    let graph = horus_ros_graph::Graph::shared(n.context()).expect("graph");
+    let graph = horus_ros_graph::Graph::of(n.context()).expect("graph");
     assert!(
         graph.wait_for_match(publisher, reader.gid(), 10 * SECOND),
         "the event publisher never matched the reader"

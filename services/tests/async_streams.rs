@@ -23,7 +23,7 @@ fn context(domain: u32) -> Context {
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_graph_event_wakes_the_task_awaiting_the_stream() {
     let context = context(210);
-    let graph = Graph::shared(&context).expect("graph");
+    let graph = Graph::of(&context).expect("graph");
     let mut events = graph.events();
     let watcher = tokio::spawn(async move {
         while let Some(event) = events.next().await {
@@ -45,7 +45,7 @@ async fn a_graph_event_wakes_the_task_awaiting_the_stream() {
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_slow_graph_event_consumer_holds_at_most_the_capacity_and_learns_what_it_missed() {
     let context = context(211);
-    let graph = Graph::shared(&context).expect("graph");
+    let graph = Graph::of(&context).expect("graph");
     let mut events = graph.events_with_capacity(4);
     let node = context.create_node("stream_burst", "/").expect("node");
     let publishers: Vec<_> = (0..20)
@@ -82,7 +82,7 @@ async fn a_slow_subscription_consumer_holds_at_most_the_capacity_and_counts_what
     const SENT: i32 = 400;
     const CAPACITY: usize = 16;
     let context = context(212);
-    let graph = Graph::shared(&context).expect("graph");
+    let graph = Graph::of(&context).expect("graph");
     let node = context.create_node("stream_topic", "/").expect("node");
     let qos = Qos::default_profile().keep_last(SENT as usize).reliable();
     let publisher = node

@@ -231,7 +231,7 @@ fn call_resilient_retries_a_timeout() {
     let release = release_tx;
     let mut c = client(&n, "/flaky");
     assert!(c.wait_for_service(10 * SECOND));
-    let graph = Graph::shared(n.context()).expect("graph");
+    let graph = Graph::of(n.context()).expect("graph");
     assert!(
         graph.wait_for_match(c.gids().0, observer.gids().0, 20 * SECOND),
         "the observer never matched the client"

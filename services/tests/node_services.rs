@@ -421,7 +421,7 @@ fn get_type_description_answers_by_hash_as_rcl() {
 
     // Dropping NodeServices takes the services off the graph.
     drop(services);
-    let graph = Graph::shared(peer.context()).expect("graph");
+    let graph = Graph::of(peer.context()).expect("graph");
     let gone = graph.wait_until(10 * SECOND, |cache| {
         cache
             .servers_info_by_service(c.name().as_str(), false)
@@ -515,7 +515,7 @@ fn parameter_events_tell_each_change_as_rclcpp() {
         .expect("subscription");
     // The events published from now on reach the watcher once its reader is matched with the
     // node's writer.
-    let graph = Graph::new(watcher.context()).expect("graph");
+    let graph = Graph::of(watcher.context()).expect("graph");
     let mut writer = None;
     assert!(
         graph.wait_until(15 * SECOND, |g| {

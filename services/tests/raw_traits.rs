@@ -85,7 +85,7 @@ fn until_graph<T>(
     also_at: Option<Instant>,
     look: impl FnMut(&Waker) -> Option<T>,
 ) -> Option<T> {
-    let graph = Graph::shared(node.context()).expect("graph");
+    let graph = Graph::of(node.context()).expect("graph");
     wait_for(Some(&graph), timeout, also_at, look)
 }
 

@@ -73,7 +73,7 @@ fn raw_request_writer(node: &Node, service: &str) -> RawWriter {
 /// Waits until `writer` is matched with the server's request reader, so that what it writes
 /// reaches the server.
 fn wait_until_heard(peer: &Node, writer: &RawWriter, server: &ServiceServer<AddTwoInts>) {
-    let graph = Graph::shared(peer.context()).expect("graph");
+    let graph = Graph::of(peer.context()).expect("graph");
     assert!(
         graph.wait_for_match(writer.gid(), server.gids().0, 20 * SECOND),
         "the hostile peer's writer never matched the server's request reader"
