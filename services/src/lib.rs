@@ -26,6 +26,20 @@
 //! - Feature `tokio`: `AsyncServiceClient::call` and `wait_for_service_async` as futures,
 //!   async handlers (`ServiceServerBuilder::on_request_async`, `AsyncServiceServer`) run on the
 //!   caller's tokio runtime, and the graph's changes as a stream (`horus_ros_graph::Graph::events`).
+//!
+//! # Readiness
+//!
+//! Every client ([`ServiceClient`], [`AsyncServiceClient`], [`DynamicServiceClient`], and the
+//! raw [`ServiceClientTrait`] of the seeds) speaks of its servers in the same words, as rcl and
+//! rclcpp draw the line between what the graph knows and what can be called:
+//!
+//! - `server_available()`: a server of this service and type is **known** — discovered on the
+//!   graph with both its endpoints (request reader, reply writer). It may not hear us yet.
+//! - `is_server_ready()`: a server is **ready** — known, and matched with this client both ways
+//!   (our request writer with its reader, its reply writer with our reader), so neither the
+//!   request nor the first reply can be lost (rclcpp `Client::service_is_ready`).
+//! - `wait_for_service(timeout)` / `wait_for_service_async(timeout)`: wait until ready, woken by
+//!   graph changes (rclcpp `wait_for_service`). `call` waits the same way within its timeout.
 
 #[macro_use]
 mod macros;

@@ -513,3 +513,33 @@ fn block_on<F: std::future::Future>(future: F) -> F::Output {
         std::thread::park();
     }
 }
+
+/// Every client speaks of its servers in the same words (the crate's "Readiness"): known to the
+/// graph, then ready (matched both ways); `wait_for_service` waits for ready.
+#[test]
+fn every_client_says_known_and_ready_alike() {
+    let n = node(98, "readiness");
+    let blocking = client(&n, "/readiness");
+    let pending = AsyncServiceClient::<AddTwoInts>::builder()
+        .node(&n)
+        .name("/readiness")
+        .build_async()
+        .expect("async client");
+    assert!(!blocking.server_available() && !blocking.is_server_ready());
+    assert!(!pending.server_available() && !pending.is_server_ready());
+    assert!(!blocking.wait_for_service(Duration::from_millis(50)));
+    let _server = adder(&n, "/readiness");
+    assert!(blocking.wait_for_service(10 * SECOND));
+    assert!(blocking.server_available() && blocking.is_server_ready());
+    let graph_changes = Graph::of(n.context()).expect("graph").subscribe();
+    let deadline = Instant::now() + 10 * SECOND;
+    while !pending.is_server_ready() {
+        let left = deadline.saturating_duration_since(Instant::now());
+        assert!(
+            !left.is_zero(),
+            "the async client never saw the server ready"
+        );
+        let _ = graph_changes.recv(Some(left));
+    }
+    assert!(pending.server_available());
+}

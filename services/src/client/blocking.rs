@@ -125,12 +125,20 @@ impl<S: Service> ServiceClient<S> {
         self.core.gids()
     }
 
-    /// Whether a server is on the graph with both its endpoints (rclcpp `service_is_ready`).
+    /// Whether a server of this service and type is known to the graph with both its endpoints
+    /// (discovered; see [the readiness words](crate#readiness)).
     pub fn server_available(&self) -> bool {
         self.core.server_available()
     }
 
-    /// Waits until a server can take a call, at most `timeout` (rclcpp `wait_for_service`).
+    /// Whether a server can take a call now: known, and matched with this client both ways
+    /// (rclcpp `service_is_ready`; see [the readiness words](crate#readiness)).
+    pub fn is_server_ready(&self) -> bool {
+        self.core.is_server_ready()
+    }
+
+    /// Waits until [`is_server_ready`](Self::is_server_ready), at most `timeout` (rclcpp
+    /// `wait_for_service`); woken by graph changes, never polled.
     pub fn wait_for_service(&self, timeout: Duration) -> bool {
         self.core.wait_ready(Instant::now() + timeout).is_ok()
     }

@@ -338,9 +338,14 @@ impl<C: Codec> ClientCore<C> {
         })
     }
 
-    /// Whether a server is on the graph with both endpoints (rcl `service_is_ready`).
+    /// Whether a server is on the graph with both endpoints (discovered).
     pub(crate) fn server_available(&self) -> bool {
         !self.servers().is_empty()
+    }
+
+    /// Whether a server can take a call now ([`ready_server`](Self::ready_server)).
+    pub(crate) fn is_server_ready(&self) -> bool {
+        self.ready_server().is_some()
     }
 
     /// A server usable now, if any: known to the graph with both endpoints, and its request

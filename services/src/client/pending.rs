@@ -83,6 +83,18 @@ impl<S: Service> AsyncServiceClient<S> {
         self.core.gids()
     }
 
+    /// Whether a server of this service and type is known to the graph with both its endpoints
+    /// (discovered; see [the readiness words](crate#readiness)).
+    pub fn server_available(&self) -> bool {
+        self.core.server_available()
+    }
+
+    /// Whether a server can take a call now: known, and matched with this client both ways
+    /// (rclcpp `service_is_ready`; see [the readiness words](crate#readiness)).
+    pub fn is_server_ready(&self) -> bool {
+        self.core.is_server_ready()
+    }
+
     /// Requests sent whose replies are still awaited (0 once every call ended or was dropped:
     /// nothing leaks).
     pub fn pending_requests(&self) -> usize {

@@ -294,14 +294,13 @@ impl<S: Service> ServiceClientTrait for DdsServiceClient<S> {
         deserialize(&reply_buf[..reply_len])
     }
 
-    /// Whether a server can take a request now: its request reader and reply writer are known
-    /// and matched with our writer and reader (rmw_fastrtps `service_is_ready`).
+    /// Whether a server is ready (see [the readiness words](crate#readiness)).
     fn is_server_ready(&self) -> bool {
-        self.shared.core.ready_server().is_some()
+        self.shared.core.is_server_ready()
     }
 
-    /// Whether the graph knows a server of this service and type with both its endpoints
-    /// (rcl `service_is_available`), matched with ours or not yet.
+    /// Whether a server is known (see [the readiness words](crate#readiness)); this backend
+    /// always knows, so never `Err`.
     fn server_available(&self) -> Result<bool, TransportError> {
         Ok(self.shared.core.server_available())
     }
