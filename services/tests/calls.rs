@@ -543,3 +543,20 @@ fn every_client_says_known_and_ready_alike() {
     }
     assert!(pending.server_available());
 }
+
+/// A builder builds the client it came from.
+#[test]
+fn the_async_clients_builder_builds_an_async_client() {
+    let n = node(99, "builders");
+    let built: AsyncServiceClient<AddTwoInts> = AsyncServiceClient::<AddTwoInts>::builder()
+        .node(&n)
+        .name("/built")
+        .build()
+        .expect("async client");
+    let blocking: ServiceClient<AddTwoInts> = ServiceClient::<AddTwoInts>::builder()
+        .node(&n)
+        .name("/built")
+        .build()
+        .expect("blocking client");
+    assert_eq!(built.name(), blocking.name());
+}

@@ -15,23 +15,25 @@ use super::responses::Membership;
 use crate::WireFlavour;
 use crate::{IntrospectionState, RetryConfig, ServiceError, SetupError};
 
-/// Builds a [`ServiceClient`] or an [`AsyncServiceClient`].
+/// Builds a client `C` of service `S`: `build()` gives the client the builder came from
+/// ([`ServiceClient::builder`] a [`ServiceClient`], [`AsyncServiceClient::builder`] an
+/// [`AsyncServiceClient`]); the setters are the same for both.
 #[must_use = "a builder does nothing until .build() is called"]
-pub struct ServiceClientBuilder<S: Service> {
+pub struct ServiceClientBuilder<S: Service, C = ServiceClient<S>> {
     options: ClientOptions,
-    _service: std::marker::PhantomData<fn() -> S>,
+    _client: std::marker::PhantomData<fn() -> (S, C)>,
 }
 
-impl<S: Service> Default for ServiceClientBuilder<S> {
+impl<S: Service, C> Default for ServiceClientBuilder<S, C> {
     fn default() -> Self {
         Self {
             options: ClientOptions::default(),
-            _service: std::marker::PhantomData,
+            _client: std::marker::PhantomData,
         }
     }
 }
 
-impl<S: Service> ServiceClientBuilder<S> {
+impl<S: Service, C> ServiceClientBuilder<S, C> {
     /// Calls from `node` instead of the process's default node.
     pub fn node(mut self, node: &Node) -> Self {
         self.options.node = Some(node.clone());
@@ -69,15 +71,24 @@ impl<S: Service> ServiceClientBuilder<S> {
         self
     }
 
-    /// A blocking client.
+    /// A non-blocking client, whichever client the builder came from.
+    pub fn build_async(self) -> Result<AsyncServiceClient<S>, SetupError> {
+        AsyncServiceClient::from_core(ClientCore::new(self.options)?)
+    }
+}
+
+impl<S: Service> ServiceClientBuilder<S, ServiceClient<S>> {
+    /// The blocking client.
     pub fn build(self) -> Result<ServiceClient<S>, SetupError> {
         let (core, responses) = ClientCore::new(self.options)?.join_responses()?;
         Ok(ServiceClient { core, responses })
     }
+}
 
-    /// A non-blocking client.
-    pub fn build_async(self) -> Result<AsyncServiceClient<S>, SetupError> {
-        AsyncServiceClient::from_core(ClientCore::new(self.options)?)
+impl<S: Service> ServiceClientBuilder<S, AsyncServiceClient<S>> {
+    /// The non-blocking client.
+    pub fn build(self) -> Result<AsyncServiceClient<S>, SetupError> {
+        self.build_async()
     }
 }
 

@@ -41,8 +41,8 @@ impl<S: Service> AsyncServiceClient<S> {
         ServiceClientBuilder::<S>::default().build_async()
     }
 
-    /// A builder to choose node, name, QoS and wire convention (`build_async()`).
-    pub fn builder() -> ServiceClientBuilder<S> {
+    /// A builder to choose node, name, QoS and wire convention; `build()` gives this client.
+    pub fn builder() -> ServiceClientBuilder<S, Self> {
         ServiceClientBuilder::default()
     }
 
