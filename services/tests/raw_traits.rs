@@ -371,6 +371,9 @@ fn a_raw_server_and_a_raw_client_talk_typed_and_raw() {
             (handled == 2).then_some(())
         });
         assert!(served.is_some(), "served {handled} of the 2 blocking calls");
+        // Kept until the calls have their replies: a server dropped right after its last
+        // reply may leave before the reply is delivered (ServerGone, as with rclcpp).
+        server
     });
     #[allow(deprecated)]
     {
@@ -388,7 +391,8 @@ fn a_raw_server_and_a_raw_client_talk_typed_and_raw() {
             Ok(AddTwoIntsResponse { sum: 2 })
         );
     }
-    serving.join().expect("the serving thread");
+    let server = serving.join().expect("the serving thread");
+    drop(server);
 
     // With no server, a blocking call ends at the client's send timeout with NoServer.
     let mut lonely = DdsServiceClient::<AddTwoInts>::builder()
