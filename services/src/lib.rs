@@ -58,6 +58,7 @@ mod raw_traits;
 mod retry;
 mod runtime;
 mod server;
+mod server_core;
 mod server_wire;
 
 #[cfg(feature = "tokio")]

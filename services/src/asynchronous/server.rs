@@ -5,28 +5,21 @@ use std::future::Future;
 use std::marker::PhantomData;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::pin::Pin;
-use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Arc;
 use std::thread::JoinHandle;
 use std::time::Instant;
 
 use futures_util::future::Either;
 use futures_util::FutureExt;
-use horus_ros_msgs::description::EVENT_SUFFIX;
-use horus_ros_msgs::service_msgs::msg::ServiceEventInfo;
-use horus_ros_msgs::{dds_type_name, Service};
-use horus_ros_rmw::names::ServiceName;
-use horus_ros_rmw::qos::Qos;
-use horus_ros_rmw::service::{ReplyRoute, Request, TakenRequest};
-use horus_ros_rmw::{Gid, Node, RawReader, RawReaderWaker, RawWriter};
+use horus_ros_msgs::Service;
+use horus_ros_rmw::service::{Request, TakenRequest};
+use horus_ros_rmw::RawReader;
 use tokio::runtime::Handle;
 
-use crate::cdr::{decode, encode};
-use crate::introspection::{encode_event, EventType, Introspection, IntrospectionState};
-use crate::naming::{default_service_name, ServiceTopics};
-use crate::runtime::Runtime;
+use crate::cdr::decode;
 use crate::server::{panic_message, MAX_ERRORS_PER_DRAIN};
-use crate::server_wire::ServerWire;
+use crate::server_core::{server_handle_methods, ServerCore};
 use crate::{ServiceServerBuilder, SetupError};
 
 /// How many requests one [`AsyncServiceServer`] handles at once unless told otherwise
@@ -123,53 +116,16 @@ impl<S: Service> AsyncServiceServerBuilder<S> {
             Some(handle) => handle,
             None => Handle::try_current().map_err(|e| SetupError::NoAsyncRuntime(e.to_string()))?,
         };
-        let base = self.base;
-        let runtime = Runtime::for_service::<S>(base.node.as_ref())?;
-        let name = base.name.unwrap_or_else(default_service_name::<S>);
-        let topics = ServiceTopics::resolve::<S>(
-            &runtime.node,
-            &name,
-            &base.qos,
-            horus_ros_rmw::ServiceEndpointRole::Server,
-        )?;
-        let requests = runtime.node.create_raw_reader(&topics.request)?;
-        let replies = Arc::new(runtime.node.create_raw_writer(&topics.reply)?);
-        let waker = requests.waker();
-        let (request_reader, reply_writer) = (requests.gid(), replies.gid());
-        let introspection = Introspection::new(
-            runtime.node.clone(),
-            topics.name.clone(),
-            Some(EventType {
-                dds_type_name: dds_type_name(&format!("{}{EVENT_SUFFIX}", S::TYPE_NAME)),
-                type_hash: S::event_type_hash(),
-            }),
-        );
-        if let Some((state, qos)) = &base.introspection {
-            introspection.configure(*state, qos)?;
-        }
-        // Parked replies go out when their client's reader is matched: the graph wakes us.
-        let wire = Arc::new(ServerWire::new(
-            &runtime,
-            topics.name.clone(),
-            reply_writer,
-            base.flavour,
-            waker.clone(),
-        ));
+        let (core, requests) = ServerCore::create::<S>(self.base.settings())?;
         let shared = Arc::new(Shared {
-            stop: AtomicBool::new(false),
-            served: AtomicU64::new(0),
-            failed: AtomicU64::new(0),
             in_flight: AtomicUsize::new(0),
             peak_in_flight: AtomicUsize::new(0),
             cancel: tokio::sync::watch::Sender::new(false),
-            waker: waker.clone(),
         });
         let worker = Dispatcher::<S> {
             requests,
             work: Work {
-                replies,
-                wire,
-                introspection: Arc::clone(&introspection),
+                core: Arc::clone(&core),
                 shared: Arc::clone(&shared),
             },
             handler: self.handler,
@@ -177,18 +133,14 @@ impl<S: Service> AsyncServiceServerBuilder<S> {
             max_in_flight: self.max_in_flight,
         };
         let thread = std::thread::Builder::new()
-            .name(format!("horus-asrv{}", topics.name))
+            .name(format!("horus-asrv{}", core.name()))
             .spawn(move || worker.run())?;
-        tracing::debug!(service = %topics.name, "async service server started");
+        tracing::debug!(service = %core.name(), "async service server started");
         Ok(AsyncServiceServer {
+            core,
             shared,
             thread: Some(thread),
-            name: topics.name,
-            request_reader,
-            reply_writer,
             max_in_flight: self.max_in_flight,
-            introspection,
-            _node: runtime.node,
             _service: PhantomData,
         })
     }
@@ -196,15 +148,10 @@ impl<S: Service> AsyncServiceServerBuilder<S> {
 
 /// What the server, its reader thread and its handler tasks share.
 struct Shared {
-    stop: AtomicBool,
-    served: AtomicU64,
-    failed: AtomicU64,
     in_flight: AtomicUsize,
     peak_in_flight: AtomicUsize,
     /// Set when the server goes: the handlers still running are dropped.
     cancel: tokio::sync::watch::Sender<bool>,
-    /// Wakes the reader thread.
-    waker: RawReaderWaker,
 }
 
 /// A running server whose handler is async; it serves until [`stop`](Self::stop)ped or dropped.
@@ -229,46 +176,24 @@ struct Shared {
 /// ```
 #[must_use = "a server serves only while it is held: dropping it stops serving"]
 pub struct AsyncServiceServer<S: Service> {
+    core: Arc<ServerCore>,
     shared: Arc<Shared>,
     thread: Option<JoinHandle<()>>,
-    name: ServiceName,
-    request_reader: Gid,
-    reply_writer: Gid,
     max_in_flight: usize,
-    introspection: Arc<Introspection>,
-    _node: Node,
     _service: PhantomData<fn() -> S>,
 }
 
 impl<S: Service> std::fmt::Debug for AsyncServiceServer<S> {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("AsyncServiceServer")
-            .field("name", &self.name)
+            .field("name", self.core.name())
             .field("type", &S::TYPE_NAME)
             .finish()
     }
 }
 
 impl<S: Service> AsyncServiceServer<S> {
-    /// The fully-qualified service name.
-    pub fn name(&self) -> &ServiceName {
-        &self.name
-    }
-
-    /// The GIDs of the request reader and the reply writer.
-    pub fn gids(&self) -> (Gid, Gid) {
-        (self.request_reader, self.reply_writer)
-    }
-
-    /// Requests answered with a response so far.
-    pub fn served_count(&self) -> u64 {
-        self.shared.served.load(Ordering::Relaxed)
-    }
-
-    /// Requests whose handler failed (returned `Err` or panicked) so far.
-    pub fn failed_count(&self) -> u64 {
-        self.shared.failed.load(Ordering::Relaxed)
-    }
+    server_handle_methods!();
 
     /// Handlers running now.
     pub fn in_flight(&self) -> usize {
@@ -285,31 +210,10 @@ impl<S: Service> AsyncServiceServer<S> {
         self.max_in_flight
     }
 
-    /// Turns service introspection on or off while serving (see
-    /// [`ServiceServer::configure_introspection`](crate::ServiceServer::configure_introspection)).
-    pub fn configure_introspection(
-        &self,
-        state: IntrospectionState,
-        qos: &Qos,
-    ) -> Result<(), SetupError> {
-        self.introspection.configure(state, qos)
-    }
-
-    /// The introspection state in force.
-    pub fn introspection_state(&self) -> IntrospectionState {
-        self.introspection.state()
-    }
-
-    /// The GID of the `<service>/_service_event` publisher, while introspection is on.
-    pub fn introspection_gid(&self) -> Option<Gid> {
-        self.introspection.publisher_gid()
-    }
-
     /// Stops taking requests (handlers running finish); the endpoints leave the graph when the
     /// server is dropped.
     pub fn stop(&self) {
-        self.shared.stop.store(true, Ordering::SeqCst);
-        self.shared.waker.wake();
+        self.core.stop();
     }
 }
 
@@ -324,22 +228,10 @@ impl<S: Service> Drop for AsyncServiceServer<S> {
 }
 
 /// What a handler's task needs to answer: shared with the reader thread.
+#[derive(Clone)]
 struct Work {
-    replies: Arc<RawWriter>,
-    wire: Arc<ServerWire>,
-    introspection: Arc<Introspection>,
+    core: Arc<ServerCore>,
     shared: Arc<Shared>,
-}
-
-impl Clone for Work {
-    fn clone(&self) -> Self {
-        Self {
-            replies: Arc::clone(&self.replies),
-            wire: Arc::clone(&self.wire),
-            introspection: Arc::clone(&self.introspection),
-            shared: Arc::clone(&self.shared),
-        }
-    }
 }
 
 /// The server's reader thread: takes requests while fewer than the bound are in flight and
@@ -355,26 +247,26 @@ struct Dispatcher<S: Service> {
 /// Counts one handler in flight; dropped when its task ends (finished, aborted, or dropped by a
 /// runtime shutting down), it frees the place and wakes the reader thread.
 struct InFlight {
-    shared: Arc<Shared>,
+    work: Work,
 }
 
 impl Drop for InFlight {
     fn drop(&mut self) {
-        self.shared.in_flight.fetch_sub(1, Ordering::SeqCst);
-        self.shared.waker.wake();
+        self.work.shared.in_flight.fetch_sub(1, Ordering::SeqCst);
+        self.work.core.wake();
     }
 }
 
 impl<S: Service> Dispatcher<S> {
     fn run(mut self) {
         let shared = Arc::clone(&self.work.shared);
-        while !shared.stop.load(Ordering::SeqCst) {
+        while !self.work.core.stopping() {
             let mut errors = 0;
             // Whether a drain stopped at its error bound with requests possibly left behind.
             let mut cut_short = false;
             // At the bound, requests stay in the reader: a finishing handler wakes us.
             while shared.in_flight.load(Ordering::SeqCst) < self.max_in_flight {
-                match self.work.wire.take_request(&mut self.requests) {
+                match self.work.core.take_request(&mut self.requests) {
                     TakenRequest::Request(request) => self.dispatch(request),
                     TakenRequest::Empty => break,
                     TakenRequest::Dropped => {
@@ -387,7 +279,7 @@ impl<S: Service> Dispatcher<S> {
                 }
             }
             // Parked replies whose client can hear them now go out; old ones are dropped.
-            let next_expiry = self.work.wire.flush_parked(&self.work.replies);
+            let next_expiry = self.work.core.flush_parked();
             if cut_short {
                 // Wake-ups are edge-triggered: what is left would not wake us.
                 continue;
@@ -410,8 +302,8 @@ impl<S: Service> Dispatcher<S> {
         let decoded = match decode::<S::Request>(request.message(), request.big_endian) {
             Ok(decoded) => decoded,
             Err(e) => {
-                self.work.finish::<S>(
-                    route,
+                self.work.core.finish::<S>(
+                    &route,
                     client_gid,
                     sequence,
                     Err(format!("malformed request: {e}")),
@@ -419,20 +311,12 @@ impl<S: Service> Dispatcher<S> {
                 return;
             }
         };
-        // rcl `rcl_take_request_with_info`: REQUEST_RECEIVED once the request is taken.
-        self.work.introspection.emit(
-            ServiceEventInfo::REQUEST_RECEIVED,
-            client_gid,
-            sequence,
-            |info, contents| {
-                encode_event::<S::Request, S::Response>(info, contents, Some(&decoded), None)
-            },
-        );
+        self.work.core.received::<S>(&request, &decoded);
         let shared = &self.work.shared;
         let now = shared.in_flight.fetch_add(1, Ordering::SeqCst) + 1;
         shared.peak_in_flight.fetch_max(now, Ordering::SeqCst);
         let guard = InFlight {
-            shared: Arc::clone(shared),
+            work: self.work.clone(),
         };
         let mut cancelled = shared.cancel.subscribe();
         // Making the future runs user code too: a panic there fails this request only.
@@ -462,60 +346,7 @@ impl<S: Service> Dispatcher<S> {
                     panic_message(panic.as_ref())
                 ))
             });
-            work.finish::<S>(route, client_gid, sequence, outcome);
+            work.core.finish::<S>(&route, client_gid, sequence, outcome);
         });
-    }
-}
-
-impl Work {
-    /// Answers one request with the handler's `outcome`, in its client's convention, through the
-    /// servers' common reply path (sent at once, or parked until the client can hear it).
-    fn finish<S: Service>(
-        &self,
-        route: ReplyRoute,
-        client_gid: [u8; 16],
-        sequence: i64,
-        outcome: Result<S::Response, String>,
-    ) {
-        let (result, response) = match outcome {
-            Ok(response) => match encode(&response) {
-                Ok(body) => (Ok(body), Some(response)),
-                Err(e) => (Err(e.to_string()), None),
-            },
-            Err(message) => (Err(message), None),
-        };
-        let counter = if result.is_ok() {
-            &self.shared.served
-        } else {
-            &self.shared.failed
-        };
-        counter.fetch_add(1, Ordering::Relaxed);
-        let Some(mut reply) = self.wire.response(&route, result) else {
-            return;
-        };
-        // rcl `rcl_send_response`: RESPONSE_SENT once the response is sent.
-        if let Some(response) = response {
-            if self.introspection.state() != IntrospectionState::Off {
-                let introspection = Arc::clone(&self.introspection);
-                reply = reply.on_sent(Box::new(move || {
-                    introspection.emit(
-                        ServiceEventInfo::RESPONSE_SENT,
-                        client_gid,
-                        sequence,
-                        |info, contents| {
-                            encode_event::<S::Request, S::Response>(
-                                info,
-                                contents,
-                                None,
-                                Some(&response),
-                            )
-                        },
-                    );
-                }));
-            }
-        }
-        if let Err(e) = self.wire.send_response(&self.replies, reply) {
-            tracing::warn!(service = %self.wire.service(), "could not send a reply: {e}");
-        }
     }
 }
