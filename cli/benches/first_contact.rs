@@ -1,5 +1,5 @@
 //! A new user's first contact: time to a complete answer about a real ROS 2 Jazzy node — rclpy
-//! 7.1 on rmw_fastrtps_cpp (Fast DDS 2.14), `cli/tests/peers/rclpy_set_bool.py`: a SetBool
+//! 7.1 on rmw_fastrtps_cpp (Fast DDS 2.14), `cli/tests/peers/jazzy_set_bool.py`: a SetBool
 //! server and client, up for `HORUS_ROS_BENCH_PEER_AGE_MS` (default 4000) before the first
 //! command — beside rclpy's own time to see that node, on each of our backends.
 //!
@@ -9,7 +9,7 @@
 //! cold (`--no-daemon`, `HORUS_ROS_BENCH_RUNS` runs, default 10); the first call as typed, which
 //! starts the daemon and asks it (`HORUS_ROS_BENCH_FIRST_RUNS`, default 3, the daemon stopped
 //! before each); later calls through that daemon (`HORUS_ROS_BENCH_RUNS`). rclpy's own: a fresh
-//! rclpy process (`cli/tests/peers/rclpy_graph_probe.py`, `HORUS_ROS_BENCH_RCLPY_RUNS`, default
+//! rclpy process (`cli/tests/peers/jazzy_graph_probe.py`, `HORUS_ROS_BENCH_RCLPY_RUNS`, default
 //! 5) from its spawn until its graph API lists the node and the service (Python start-up and
 //! imports included: the user's wait, as for our process), and the same from `rclpy.init()`.
 //! Printed: p50 and max of each, their ratios to rclpy's, and the goals (cold ≤ 300 ms, daemon
@@ -199,7 +199,7 @@ struct Peer {
 impl Peer {
     fn start(domain: u32) -> Result<Self, String> {
         let mut child = Command::new(python())
-            .arg(peer_script("rclpy_set_bool.py"))
+            .arg(peer_script("jazzy_set_bool.py"))
             .args([
                 &domain.to_string(),
                 "set_bool_server",
@@ -247,7 +247,7 @@ fn first_line(child: &mut Child, limit: Duration) -> Option<String> {
 fn rclpy_run(domain: u32) -> Option<(Duration, Duration)> {
     let started = Instant::now();
     let mut child = Command::new(python())
-        .arg(peer_script("rclpy_graph_probe.py"))
+        .arg(peer_script("jazzy_graph_probe.py"))
         .args([&domain.to_string(), NODE, SERVICE, "30"])
         .stdin(Stdio::null())
         .stdout(Stdio::piped())

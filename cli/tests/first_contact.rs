@@ -1,5 +1,5 @@
 //! A new user's first answers about a real ROS 2 Jazzy node — rclpy 7.1 on rmw_fastrtps_cpp
-//! (Fast DDS 2.14), up for a few seconds before (`peers/rclpy_set_bool.py`) — with default
+//! (Fast DDS 2.14), up for a few seconds before (`peers/jazzy_set_bool.py`) — with default
 //! options: cold `service info -v` and `node list` (discovering directly with `--no-daemon`,
 //! and as typed, which starts the daemon and asks it) and `service echo` are complete and say
 //! nothing on stderr. And a DDS participant that is not a ROS participant
@@ -33,7 +33,7 @@ fn rclpy_peer(domain: u32, extra: &[&str]) -> Peer {
     let d = domain.to_string();
     let mut args = vec![d.as_str(), "set_bool_server", "/set_bool", LINGER];
     args.extend_from_slice(extra);
-    let peer = Peer::start_path(&cli_peer_script("rclpy_set_bool.py"), &args, RCLPY_START);
+    let peer = Peer::start_path(&cli_peer_script("jazzy_set_bool.py"), &args, RCLPY_START);
     assert_eq!(peer.field("/node"), "/set_bool_server");
     // The scenario, not a synchronisation: the node has been up for a while when the user
     // asks (nothing of it is awaited here).

@@ -320,7 +320,7 @@ fn refused_on_cyclone(out: &Out) -> bool {
 #[test]
 fn from_graph_reads_a_message_type_off_a_publishing_node() {
     let _peer = Peer::start_path(
-        &cli_peer_script("rclpy_publisher.py"),
+        &cli_peer_script("jazzy_publisher.py"),
         &[
             "131",
             "point_talker",
@@ -370,7 +370,7 @@ fn from_graph_reads_a_message_type_off_a_publishing_node() {
 #[test]
 fn from_graph_reads_a_service_type_off_its_server() {
     let _peer = Peer::start_path(
-        &cli_peer_script("rclpy_set_bool.py"),
+        &cli_peer_script("jazzy_set_bool.py"),
         &[
             "132",
             "set_bool_server",

@@ -131,6 +131,15 @@ impl AmentIndex {
         &self.prefixes
     }
 
+    /// `<prefix>/share/<package>` of the first prefix where the package has interface folders
+    /// (`msg/`, `srv/` or `action/`), registered in the resource index or not.
+    pub fn package_share(&self, package: &str) -> Option<PathBuf> {
+        self.prefixes
+            .iter()
+            .map(|p| p.join("share").join(package))
+            .find(|d| ["msg", "srv", "action"].iter().any(|k| d.join(k).is_dir()))
+    }
+
     /// ament_index_python `get_resources`: every resource of `resource_type` with the prefix it
     /// is found in first (subfolders and names starting with `.` skipped).
     pub fn resources(&self, resource_type: &str) -> BTreeMap<String, PathBuf> {

@@ -21,6 +21,7 @@ use std::cell::RefCell;
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
+use crate::ament::AmentIndex;
 use crate::compiled;
 use crate::definition::{BaseType, Interface, NamedType};
 use crate::error::ParseError;
@@ -180,15 +181,14 @@ impl Builder {
         self
     }
 
-    /// Install prefixes searched, in order.
-    fn search_prefixes(&self) -> Vec<PathBuf> {
-        let mut out = self.prefixes.clone();
+    /// The install prefixes searched, in order: [`prefix`](Self::prefix)es, then
+    /// `AMENT_PREFIX_PATH`'s.
+    fn index(&self) -> AmentIndex {
+        let mut prefixes = self.prefixes.clone();
         if self.ament_prefix_path {
-            if let Some(v) = std::env::var_os("AMENT_PREFIX_PATH") {
-                out.extend(std::env::split_paths(&v).filter(|p| !p.as_os_str().is_empty()));
-            }
+            prefixes.extend(AmentIndex::from_env().prefixes().iter().cloned());
         }
-        out
+        AmentIndex::from_prefixes(prefixes)
     }
 
     /// Parses every input and what it needs, and writes one file per package plus the root file.
@@ -199,7 +199,7 @@ impl Builder {
             (None, Some(d)) => PathBuf::from(d),
             (None, None) => return Err(GenerateError::NoOutDir),
         };
-        let prefixes = self.search_prefixes();
+        let index = self.index();
         let mut set = InterfaceSet::default();
         for dir in &self.package_dirs {
             let name = package_name(dir)?;
@@ -209,7 +209,7 @@ impl Builder {
             set.add(package, file)?;
         }
         for name in &self.prefix_packages {
-            let dir = find_in_prefixes(&prefixes, name).ok_or_else(|| UnknownType {
+            let dir = index.package_share(name).ok_or_else(|| UnknownType {
                 missing: format!("{name}/*"),
                 user: "Builder::prefix_package".to_owned(),
             })?;
@@ -232,7 +232,7 @@ impl Builder {
             }
             let mut added = false;
             for package in missing {
-                if let Some(dir) = find_in_prefixes(&prefixes, &package) {
+                if let Some(dir) = index.package_share(&package) {
                     set.add_package(&package, &dir)?;
                     added = true;
                 }
@@ -324,14 +324,6 @@ pub fn package_name(dir: &Path) -> Result<String, GenerateError> {
         return Err(fail(format!("'{name}' is not a valid ROS package name")));
     }
     Ok(name.to_owned())
-}
-
-/// `<prefix>/share/<package>` of the first prefix that has one with interfaces.
-fn find_in_prefixes(prefixes: &[PathBuf], package: &str) -> Option<PathBuf> {
-    prefixes
-        .iter()
-        .map(|p| p.join("share").join(package))
-        .find(|d| ["msg", "srv", "action"].iter().any(|k| d.join(k).is_dir()))
 }
 
 /// Parsed interfaces by package.

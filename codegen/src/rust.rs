@@ -14,7 +14,7 @@ use crate::definition::{
     Action, BaseType, Constant, Container, Field, FieldType, Interface, Literal, Message,
     NamedType, Primitive, Service, Value,
 };
-use crate::type_description::{default_value_text, SERVICE_EVENT_INFO_TYPE};
+use crate::type_description::default_value_text;
 use crate::type_description::{event_message, field_type, ActionTypes};
 
 /// Where the generated code finds a message type it uses: a Rust path per type name.
@@ -605,10 +605,4 @@ fn default_expr(ty: &FieldType, v: &Value) -> String {
         }
         _ => "::core::default::Default::default()".to_owned(),
     }
-}
-
-/// The event message's `info` type, for generators that must know it exists.
-pub fn service_event_info() -> NamedType {
-    let (p, n, t) = SERVICE_EVENT_INFO_TYPE;
-    NamedType::new(p, n, t)
 }

@@ -243,19 +243,21 @@ impl ActionTypes {
 /// A service's `Name_Event`: `info`, `request[<=1]`, `response[<=1]` (rosidl_parser
 /// `Service.__init__`).
 pub fn event_message(service: &Service) -> Message {
-    let seq1 = |t: &NamedType| FieldType {
-        base: BaseType::Named(t.clone()),
-        container: Container::BoundedSequence(1),
+    // `request` and `response`: `Name_Request[<=1]`, `Name_Response[<=1]`.
+    let at_most_one = |name: &str, t: &NamedType| Field {
+        ty: FieldType {
+            base: BaseType::Named(t.clone()),
+            container: Container::BoundedSequence(1),
+        },
+        ..member(name, BaseType::Named(t.clone()))
     };
-    let mut info = member("info", named(SERVICE_EVENT_INFO_TYPE));
-    info.comment.clear();
-    let mut request = member("request", BaseType::Primitive(Primitive::Bool));
-    request.ty = seq1(&service.request.name);
-    let mut response = member("response", BaseType::Primitive(Primitive::Bool));
-    response.ty = seq1(&service.response.name);
     struct_of(
         service.name.with_suffix("_Event"),
-        vec![info, request, response],
+        vec![
+            member("info", named(SERVICE_EVENT_INFO_TYPE)),
+            at_most_one("request", &service.request.name),
+            at_most_one("response", &service.response.name),
+        ],
     )
 }
 

@@ -3,7 +3,7 @@
 //! The peers are Python programs (`peers/`): small DDS participants on the Eclipse Cyclone DDS
 //! Python binding, and real ROS 2 Jazzy nodes on rclpy ([`rclpy`]), run with the interpreter
 //! named by `HORUS_ROS_INTEROP_PYTHON` (set by `scripts/test` to the private virtual environment
-//! that `scripts/setup` creates), else `python3`.
+//! that `scripts/setup` creates; else that environment if it exists, else `python3`).
 
 pub mod rclpy;
 

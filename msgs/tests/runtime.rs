@@ -367,10 +367,7 @@ fn wstrings_msg() -> WStrings {
 
 /// The Python interpreter with Jazzy's rclpy.
 fn python() -> PathBuf {
-    if let Some(p) = std::env::var_os("HORUS_ROS_INTEROP_PYTHON") {
-        return PathBuf::from(p);
-    }
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../target/interop-venv/bin/python")
+    horus_ros_test_support::jazzy::python()
 }
 
 /// Runs tests/runtime/test_msgs_bytes.py with `args`, `stdin` as its input; returns its output.

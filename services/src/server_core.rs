@@ -136,6 +136,7 @@ impl ServerCore {
     }
 
     /// Wakes the thread that takes requests (a handler finished: room for another).
+    #[cfg(feature = "tokio")]
     pub(crate) fn wake(&self) {
         self.waker.wake();
     }

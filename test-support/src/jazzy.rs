@@ -4,10 +4,18 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::sync::OnceLock;
 
-/// The Python interpreter that has the ROS 2 wheels: `HORUS_ROS_INTEROP_PYTHON`, else `python3`.
+/// The Python interpreter that has the ROS 2 wheels: `HORUS_ROS_INTEROP_PYTHON`, else the
+/// workspace's venv (`target/interop-venv`, made by `scripts/setup`) if it exists, else `python3`.
 pub fn python() -> PathBuf {
-    std::env::var_os("HORUS_ROS_INTEROP_PYTHON")
-        .map_or_else(|| PathBuf::from("python3"), PathBuf::from)
+    if let Some(p) = std::env::var_os("HORUS_ROS_INTEROP_PYTHON") {
+        return PathBuf::from(p);
+    }
+    let venv = Path::new(env!("CARGO_MANIFEST_DIR")).join("../target/interop-venv/bin/python");
+    if venv.exists() {
+        venv
+    } else {
+        PathBuf::from("python3")
+    }
 }
 
 /// `<prefix>/share` of [`python`]'s environment: each package's interface files (`.msg`,

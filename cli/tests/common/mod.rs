@@ -25,15 +25,7 @@ pub const LINGER: &str = "30";
 /// The Python interpreter with the `cyclonedds` package (as interop-tests: the
 /// `HORUS_ROS_INTEROP_PYTHON` variable, else the workspace's venv, else `python3`).
 pub fn python() -> PathBuf {
-    if let Some(p) = std::env::var_os("HORUS_ROS_INTEROP_PYTHON") {
-        return PathBuf::from(p);
-    }
-    let venv = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../target/interop-venv/bin/python");
-    if venv.exists() {
-        venv
-    } else {
-        PathBuf::from("python3")
-    }
+    horus_ros_test_support::jazzy::python()
 }
 
 /// `interop-tests/peers/<name>`.

@@ -113,6 +113,41 @@ pub fn compiled(type_name: &str) -> Option<Definition> {
     })
 }
 
+/// `--from-graph` and its `--timeout`, as `show` and `proto` take them.
+#[derive(Debug, clap::Args)]
+pub struct TypeSource {
+    /// Read the type off a running node (its ~/get_type_description service) instead of the
+    /// installed and compiled interfaces: a message type from a node that publishes or
+    /// subscribes to it, a service type from a node that serves it.
+    #[arg(long)]
+    pub from_graph: bool,
+    /// With --from-graph: longest wait for each node's answer, in seconds.
+    #[arg(
+        long,
+        value_name = "SECONDS",
+        default_value_t = 10.0,
+        allow_negative_numbers = true,
+        value_parser = crate::args::seconds
+    )]
+    pub timeout: f64,
+}
+
+impl TypeSource {
+    /// The definition of `type_name`, from the graph or else from `catalog`.
+    pub fn definition(
+        &self,
+        global: &Global,
+        catalog: &Catalog,
+        type_name: &str,
+    ) -> Result<Definition, CliError> {
+        if self.from_graph {
+            from_graph(global, type_name, Duration::from_secs_f64(self.timeout))
+        } else {
+            resolve(catalog, type_name)
+        }
+    }
+}
+
 /// The definition of `type_name` as a node in the graph describes it: a message type by a node
 /// that publishes or subscribes to it, a service type by a node that serves it.
 pub fn from_graph(

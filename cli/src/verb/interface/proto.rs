@@ -5,7 +5,7 @@
 use horus_ros_codegen::ament::InterfaceKind;
 
 use super::catalog::Catalog;
-use super::definition::{self, split_type, Definition};
+use super::definition::{self, split_type, Definition, TypeSource};
 use crate::dynamic::convert::{to_ordereddict, ConvertOptions};
 use crate::dynamic::{json, pyyaml, Schema};
 use crate::verb::names::print_json;
@@ -20,19 +20,9 @@ pub struct ProtoArgs {
     /// if true output has no outer quotes.
     #[arg(long)]
     pub no_quotes: bool,
-    /// Read the type off a running node (its ~/get_type_description service) instead of the
-    /// installed and compiled interfaces.
-    #[arg(long)]
-    pub from_graph: bool,
-    /// With --from-graph: longest wait for each node's answer, in seconds.
-    #[arg(
-        long,
-        value_name = "SECONDS",
-        default_value_t = 10.0,
-        allow_negative_numbers = true,
-        value_parser = crate::args::seconds
-    )]
-    pub timeout: f64,
+    /// Where the type comes from.
+    #[command(flatten)]
+    pub source: TypeSource,
 }
 
 /// The type ros2cli instantiates for `type_name`: a message itself, a service's `_Request`, an
@@ -51,15 +41,7 @@ pub fn run(global: &Global, args: &ProtoArgs) -> Result<(), CliError> {
     let type_name = args.type_name.as_str();
     let root = instance_type(type_name)?;
     let catalog = Catalog::from_env();
-    let definition = if args.from_graph {
-        definition::from_graph(
-            global,
-            type_name,
-            std::time::Duration::from_secs_f64(args.timeout),
-        )?
-    } else {
-        definition::resolve(&catalog, type_name)?
-    };
+    let definition = args.source.definition(global, &catalog, type_name)?;
     let schema = match definition {
         Definition::File { package, path } => {
             let description = definition::describe_files(&catalog, &package, &path, &root)?;

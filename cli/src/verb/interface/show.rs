@@ -19,7 +19,7 @@ use regex::Regex;
 use serde_json::json;
 
 use super::catalog::Catalog;
-use super::definition::{self, Definition};
+use super::definition::{self, Definition, TypeSource};
 use crate::dynamic::{Container, Elem, FieldTy, Schema};
 use crate::verb::names::print_json;
 use crate::{CliError, Global};
@@ -38,20 +38,9 @@ pub struct ShowArgs {
     /// Show no comments or whitespace.
     #[arg(long)]
     pub no_comments: bool,
-    /// Read the type off a running node (its ~/get_type_description service) instead of the
-    /// installed and compiled interfaces: a message type from a node that publishes or
-    /// subscribes to it, a service type from a node that serves it.
-    #[arg(long)]
-    pub from_graph: bool,
-    /// With --from-graph: longest wait for each node's answer, in seconds.
-    #[arg(
-        long,
-        value_name = "SECONDS",
-        default_value_t = 10.0,
-        allow_negative_numbers = true,
-        value_parser = crate::args::seconds
-    )]
-    pub timeout: f64,
+    /// Where the type comes from.
+    #[command(flatten)]
+    pub source: TypeSource,
 }
 
 /// ros2interface `ReadStdinPipe`: `-` is the first line of stdin, stripped; an empty value is
@@ -83,15 +72,7 @@ pub fn read_type_argument(value: &str) -> Result<String, CliError> {
 pub fn run(global: &Global, args: &ShowArgs) -> Result<(), CliError> {
     let type_name = read_type_argument(&args.type_name)?;
     let catalog = Catalog::from_env();
-    let definition = if args.from_graph {
-        definition::from_graph(
-            global,
-            &type_name,
-            std::time::Duration::from_secs_f64(args.timeout),
-        )?
-    } else {
-        definition::resolve(&catalog, &type_name)?
-    };
+    let definition = args.source.definition(global, &catalog, &type_name)?;
     let mut out = String::new();
     let result = show(
         &catalog,

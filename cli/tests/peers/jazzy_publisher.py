@@ -6,7 +6,7 @@ It publishes a default TYPE (`pkg/msg/Name`) on TOPIC every 0.5 s from a node na
   {"node": "/NODE", "topic": TOPIC, "pid": PID}
 then runs until LINGER seconds have passed, stdin closes, or it is signalled.
 
-usage: rclpy_publisher.py DOMAIN NODE TOPIC TYPE LINGER
+usage: jazzy_publisher.py DOMAIN NODE TOPIC TYPE LINGER
 The domain goes to ROS_DOMAIN_ID before rclpy starts.
 """
 

@@ -11,7 +11,7 @@ Once serving, it prints one JSON line on stdout:
 then runs until LINGER seconds have passed, stdin closes, or it is signalled. The loop wakes on its
 own every 0.1 s (rclpy 7.1's executor can miss a shutdown signal otherwise).
 
-usage: rclpy_set_bool.py DOMAIN NODE SERVICE LINGER [--namespace NS] [--client]
+usage: jazzy_set_bool.py DOMAIN NODE SERVICE LINGER [--namespace NS] [--client]
                          [--introspection off|metadata|contents]
 The domain goes to ROS_DOMAIN_ID before rclpy starts (the environment wins otherwise).
 """

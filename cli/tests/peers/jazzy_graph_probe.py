@@ -10,7 +10,7 @@ Prints one JSON line and exits (status 0 when found, 3 after TIMEOUT seconds):
   {"found": true, "import_ms": …, "from_init_ms": …}
 import_ms: importing rclpy; from_init_ms: from before `rclpy.init()` until both were listed.
 
-usage: rclpy_graph_probe.py DOMAIN NODE SERVICE TIMEOUT
+usage: jazzy_graph_probe.py DOMAIN NODE SERVICE TIMEOUT
 """
 
 import json
