@@ -153,7 +153,7 @@ fn context(domain: u32) -> Context {
 /// The JSON `type_hash` of an endpoint of ours of type Time: announced in USER_DATA by a backend
 /// that announces it (Cyclone), else none (rustdds: null).
 fn ours_time_hash(ctx: &Context) -> Value {
-    if ctx.backend().announces_user_data() {
+    if ctx.capabilities().announces_user_data {
         Value::from(Time::type_hash().to_string())
     } else {
         Value::Null
@@ -331,7 +331,7 @@ Services:
     // Enclaves come from participant USER_DATA: ours is announced and read on Cyclone (the CLI
     // runs on the same backend, from HORUS_ROS_BACKEND), neither on rustdds; the Python peer
     // announces none.
-    let our_enclave = if ctx.backend().announces_user_data() {
+    let our_enclave = if ctx.capabilities().announces_user_data {
         Value::from("/")
     } else {
         Value::Null

@@ -58,7 +58,7 @@ const OURS_HISTORY_SERVICE: &str = "UNKNOWN (0)";
 /// The `Topic type hash` line value for an endpoint of ours announcing `hash`: the hash where
 /// the backend announces USER_DATA, else INVALID.
 fn ours_hash_text(ctx: &Context, hash: &str) -> String {
-    if ctx.backend().announces_user_data() {
+    if ctx.capabilities().announces_user_data {
         hash.to_owned()
     } else {
         "INVALID".to_owned()
@@ -67,7 +67,7 @@ fn ours_hash_text(ctx: &Context, hash: &str) -> String {
 
 /// The JSON `type_hash` of an endpoint of ours announcing `hash` (null where none is announced).
 fn ours_hash_json(ctx: &Context, hash: &str) -> Value {
-    if ctx.backend().announces_user_data() {
+    if ctx.capabilities().announces_user_data {
         Value::from(hash)
     } else {
         Value::Null

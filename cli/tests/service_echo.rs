@@ -218,8 +218,7 @@ impl Pair {
     /// The `client_gid` the server's events carry, as the client's RMW convention makes it.
     fn server_side_gid(&self) -> Gid {
         let (request_writer, reply_reader) = self.client.gids();
-        let backend = self._context.backend();
-        if backend.carries_sample_identity() {
+        if self._context.capabilities().carries_sample_identity {
             // rmw_fastrtps: the related_sample_identity GUID, the client's reply reader.
             reply_reader
         } else {
@@ -289,13 +288,13 @@ fn run_call(domain: u32, service: &str, state: IntrospectionState, contents: boo
     assert_eq!(reply.sum, 5);
     let out = echo.rest();
     let server_gid = p.server_side_gid();
-    let out = if p._context.backend().carries_sample_identity() {
+    let out = if p._context.capabilities().carries_sample_identity {
         out
     } else {
         mask_handle(&out, &server_gid.as_bytes()[..8])
     };
     let client_gid = p.client.introspection_client_gid();
-    if !p._context.backend().carries_sample_identity() {
+    if !p._context.capabilities().carries_sample_identity {
         // rmw_cyclonedds' client id: the participant's GUID prefix and a counter.
         assert_eq!(
             client_gid.as_bytes()[..12],
@@ -430,7 +429,7 @@ fn an_independent_cyclone_peer_decodes_our_events() {
     assert_eq!(types, [0, 1, 2, 3]);
     assert_eq!(got[0]["client_gid"], client_gid.as_str());
     assert_eq!(got[3]["client_gid"], client_gid.as_str());
-    if p._context.backend().carries_sample_identity() {
+    if p._context.capabilities().carries_sample_identity {
         assert_eq!(got[1]["client_gid"], server_gid.as_str());
         assert_eq!(got[2]["client_gid"], server_gid.as_str());
     } else {

@@ -213,7 +213,7 @@ impl Graph {
         let shared = Arc::new(Shared {
             state: Mutex::new(State {
                 cache,
-                reads_user_data: context.backend().reads_participant_user_data(),
+                reads_user_data: context.capabilities().reads_participant_user_data,
                 vendors: BTreeMap::new(),
                 matches: HashMap::new(),
                 client_ids: HashMap::new(),

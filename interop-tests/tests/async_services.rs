@@ -185,7 +185,7 @@ async fn our_awaited_calls_reach_an_rclpy_server() {
     const DOMAIN: u32 = 222;
     const SERVICE: &str = "/rclpy_async/set";
     let (context, node) = node(DOMAIN, "horus_async_caller");
-    let refusing = !context.backend().carries_sample_identity();
+    let refusing = !context.capabilities().carries_sample_identity;
     let mut peer = tokio::task::spawn_blocking(move || {
         let mut peer = RclpyPeer::start(&json!({
             "domain": DOMAIN, "namespace": "/rclpy_async", "name": "rclpy_server",
@@ -297,7 +297,7 @@ async fn an_rclpy_client_calls_our_async_server() {
     const DOMAIN: u32 = 223;
     const SERVICE: &str = "/horus_async/set";
     let (context, node) = node(DOMAIN, "horus_async_server");
-    let refusing = !context.backend().carries_sample_identity();
+    let refusing = !context.capabilities().carries_sample_identity;
     let server = ServiceServerBuilder::<SetBool>::new()
         .node(&node)
         .name(SERVICE)

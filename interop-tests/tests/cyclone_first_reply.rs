@@ -138,7 +138,7 @@ fn cyclone_rounds(domain: u32, rounds: &[Round]) {
         expected += clients as u64 * round.calls;
         assert!(
             failures.is_empty(),
-            "{} backend, round {n}: {first_replies} of {clients} first calls answered, {} \
+            "{:?} backend, round {n}: {first_replies} of {clients} first calls answered, {} \
              requests served in all; failed processes:\n{}",
             context.backend(),
             server.served_count(),

@@ -74,7 +74,7 @@ impl Seen {
             .backend(backend)
             .build()
             .expect("context");
-        assert_eq!(context.backend(), backend);
+        assert_eq!(context.backend(), Some(backend));
         let node = context.create_node("ud_node", "/ud").expect("node");
         let publisher = node
             .create_publisher::<Time>("chatter", &Qos::default())

@@ -154,7 +154,7 @@ fn our_clients_call_rclpy_servers() {
         .expect("context");
     let node = context.create_node("horus_caller", "/").expect("node");
     let graph = Graph::of(&context).expect("graph");
-    let refusing = !context.backend().carries_sample_identity();
+    let refusing = !context.capabilities().carries_sample_identity;
     let mut peer = RclpyPeer::start(&json!({
         "domain": DOMAIN, "namespace": "/rclpy_ns", "name": "rclpy_server",
         "servers": [
@@ -386,7 +386,7 @@ fn rclpy_clients_call_our_servers() {
         .domain_id(DOMAIN)
         .build()
         .expect("context");
-    let refusing = !context.backend().carries_sample_identity();
+    let refusing = !context.capabilities().carries_sample_identity;
     let node = context
         .create_node("horus_node", "/horus_ns")
         .expect("node");

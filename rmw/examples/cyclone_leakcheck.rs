@@ -46,7 +46,7 @@ fn run(round: usize) -> Result<(), Error> {
         .backend(Backend::Cyclone)
         .enclave("/leakcheck")
         .build()?;
-    assert_eq!(context.backend(), Backend::Cyclone);
+    assert_eq!(context.backend(), Some(Backend::Cyclone));
     let node = context.create_node("leakcheck", "/")?;
     let mut feed = context.discovery_feed()?;
 

@@ -17,6 +17,10 @@
 
 use std::fmt;
 use std::str::FromStr;
+use std::sync::Arc;
+
+use crate::contract::{Capabilities, Implementation};
+use crate::discovery::VendorId;
 
 /// The environment variable that chooses the backend of contexts that do not set one; it wins
 /// over [`RMW_IMPLEMENTATION_ENV`].
@@ -71,6 +75,35 @@ impl Backend {
         match self {
             Self::RustDds => true,
             Self::Cyclone => cfg!(feature = "cyclone"),
+        }
+    }
+
+    /// Its implementation of the [backend contract](crate::contract): the one place that knows
+    /// which backends are built in.
+    pub fn implementation(self) -> Result<Arc<dyn Implementation>, BackendError> {
+        match self {
+            Self::RustDds => Ok(Arc::new(crate::rustdds::RustDds)),
+            #[cfg(feature = "cyclone")]
+            Self::Cyclone => Ok(Arc::new(crate::cyclone::Cyclone)),
+            #[cfg(not(feature = "cyclone"))]
+            Self::Cyclone => Err(BackendError::NotBuiltIn { backend: self }),
+        }
+    }
+
+    /// What it can do (the same as its [`implementation`](Self::implementation) reports).
+    pub const fn capabilities(self) -> Capabilities {
+        Capabilities {
+            carries_sample_identity: self.carries_sample_identity(),
+            announces_user_data: self.announces_user_data(),
+            reads_participant_user_data: self.reads_participant_user_data(),
+        }
+    }
+
+    /// The RTPS vendor id of its participants.
+    pub const fn vendor_id(self) -> VendorId {
+        match self {
+            Self::RustDds => VendorId::RUSTDDS,
+            Self::Cyclone => VendorId::CYCLONE_DDS,
         }
     }
 

@@ -1,45 +1,48 @@
 //! [`DdsError`]: the DDS layer refused an operation or failed in it.
 
-/// Why the DDS layer refused an operation or failed in it: the backend's own error where it
-/// gives a typed one (held in the variant: a variant that only forwards it is transparent, so
-/// an error chain does not print the message twice; `topic:` and `poll:` add context and keep
-/// it as their [`source`](std::error::Error::source)), or what our side of the backend found
-/// wrong.
+/// A backend's own error, kept as it gave it (any backend: see [`crate::contract`]).
+pub type BackendCause = Box<dyn std::error::Error + Send + Sync>;
+
+/// Boxes a backend's error as a [`BackendCause`].
+pub(crate) fn boxed(e: impl std::error::Error + Send + Sync + 'static) -> BackendCause {
+    Box::new(e)
+}
+
+/// Why the backend refused an operation or failed in it: the backend's own error, shown in the
+/// message (the variant says which operation), or what our side of the backend found wrong.
 ///
-/// Held as the source of [`ContextError::Participant`](crate::ContextError::Participant),
+/// Held as the cause of [`ContextError::Participant`](crate::ContextError::Participant),
 /// [`EndpointError::Dds`](crate::EndpointError::Dds), [`PublishError`](crate::PublishError),
 /// [`TakeError`](crate::TakeError), [`DiscoveryFeedError`](crate::DiscoveryFeedError) and
-/// [`WaitSetError::Dds`](crate::WaitSetError::Dds). Its text is the backend's message.
-///
-/// The `RustDds*` variants come from the rustdds backend, `Cyclone` (cargo feature `cyclone`)
-/// from the Cyclone DDS backend; more may be added.
+/// [`WaitSetError::Dds`](crate::WaitSetError::Dds). No backend's types show in it: what a
+/// backend reports is kept as a [`BackendCause`], which callers may downcast.
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
 pub enum DdsError {
-    /// rustdds could not create the topic of a reader or writer.
+    /// The topic of a reader or writer could not be created.
     #[error("topic: {0}")]
-    RustDdsTopic(rustdds::dds::CreateError),
-    /// rustdds could not create an entity: the participant, its publisher or subscriber, the
+    Topic(BackendCause),
+    /// An entity could not be created: the participant, its publisher or subscriber, the
     /// `ros_discovery_info` topic, a reader or a writer.
-    #[error(transparent)]
-    RustDdsCreate(rustdds::dds::CreateError),
-    /// rustdds could not write a sample.
-    #[error(transparent)]
-    RustDdsWrite(rustdds::dds::WriteError<()>),
-    /// rustdds could not take a sample (e.g. one it could not decode, which is consumed).
-    #[error(transparent)]
-    RustDdsRead(rustdds::dds::ReadError),
-    /// The OS poll a rustdds reader waits on could not be set up.
+    #[error("{0}")]
+    Create(BackendCause),
+    /// A sample could not be written.
+    #[error("{0}")]
+    Write(BackendCause),
+    /// A sample could not be taken (e.g. one the backend could not decode, which is consumed).
+    #[error("{0}")]
+    Read(BackendCause),
+    /// Any other call of the backend failed (e.g. a Cyclone DDS call: the function, its return
+    /// code and its text).
+    #[error("{0}")]
+    Backend(BackendCause),
+    /// The OS poll a reader waits on could not be set up.
     #[error("poll: {0}")]
     Poll(std::io::Error),
-    /// An OS call of the rustdds backend's waiting failed (setting up a wait set's or a
-    /// discovery feed's poll, or moving a reader to a wait set's poll).
-    #[error(transparent)]
+    /// An OS call of the backend's waiting failed (setting up a wait set's or a discovery
+    /// feed's poll, or moving a reader to a wait set's poll).
+    #[error("{0}")]
     Io(std::io::Error),
-    /// A Cyclone DDS call failed (the function, Cyclone's return code and its text).
-    #[cfg(feature = "cyclone")]
-    #[error(transparent)]
-    Cyclone(horus_ros_rmw_cyclone::Error),
     /// The context's participant was deleted (the process is ending on a signal: see
     /// [`signal_handler`](crate::signal_handler)).
     #[error("the participant was deleted")]
@@ -57,11 +60,9 @@ pub enum DdsError {
         /// The sample's encapsulation identifier.
         id: [u8; 2],
     },
-    /// A `related_sample_identity` was asked for on the Cyclone backend, which cannot send one
-    /// (nothing was sent).
-    #[error(
-        "the Cyclone backend cannot send related_sample_identity (Cyclone DDS has no API for it)"
-    )]
+    /// A `related_sample_identity` was asked of a backend that cannot send one (nothing was
+    /// sent; see [`Capabilities::carries_sample_identity`](crate::contract::Capabilities)).
+    #[error("this backend cannot send related_sample_identity")]
     RelatedSampleIdentityUnsupported,
 }
 
@@ -75,13 +76,13 @@ mod tests {
         let create = || rustdds::dds::CreateError::BadParameter {
             reason: "no".to_owned(),
         };
-        let e = DdsError::RustDdsTopic(create());
-        // The message shows the backend's error, kept typed in the variant (so no `source()`).
+        let e = DdsError::Topic(boxed(create()));
+        // The message shows the backend's error, kept in the variant (so no `source()`).
         assert_eq!(e.to_string(), format!("topic: {}", create()));
-        assert!(matches!(
-            e,
-            DdsError::RustDdsTopic(rustdds::dds::CreateError::BadParameter { .. })
-        ));
+        let DdsError::Topic(cause) = &e else {
+            panic!("{e:?}")
+        };
+        assert!(cause.downcast_ref::<rustdds::dds::CreateError>().is_some());
         assert!(e.source().is_none());
         let io = || std::io::Error::from(std::io::ErrorKind::Other);
         assert_eq!(DdsError::Poll(io()).to_string(), format!("poll: {}", io()));

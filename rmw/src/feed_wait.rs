@@ -1,32 +1,18 @@
-//! The discovery feed's blocking wait, one loop for both backends: each backend says how to
-//! take a queued event and how to block on its DDS layer's wake-ups (mio for rustdds, a
-//! waitset for Cyclone); the deadline, the late-joiner retry and the "woken with nothing to
-//! report" rule live here once.
+//! The discovery feed's blocking wait, one loop for every backend: each backend says how to
+//! take a queued event and how to block on its wake-ups ([`FeedBackend`]: mio for rustdds, a
+//! waitset for Cyclone); the deadline and the "woken with nothing to report" rule live here
+//! once.
 
 use std::time::{Duration, Instant};
 
+use crate::contract::FeedBackend;
 use crate::discovery::DiscoveryEvent;
-use crate::late_joiner::LateJoinerReader;
-
-/// One backend's discovery feed, as [`next_timeout`] drives it.
-pub(crate) trait FeedSource {
-    /// The next event, if any (non-blocking; also applies what the last wait gathered and
-    /// renews the late-joiner reader when it is due).
-    fn try_next(&mut self) -> Option<DiscoveryEvent>;
-
-    /// The late-joiner bookkeeping, for when its reader's retry is due.
-    fn late_joiner(&self) -> &LateJoinerReader;
-
-    /// Blocks until the DDS layer reports something or the feed is woken (`Ok(true)`), or
-    /// `limit` passes (`Ok(false)`; `None`: no limit), gathering what it reports.
-    fn wait(&mut self, limit: Option<Duration>) -> std::io::Result<bool>;
-}
 
 /// The next event of `feed`, waiting for one at most `timeout` (`None`: until one comes or the
 /// feed is woken). A wake-up with nothing to report returns `None`; so does a failed wait
 /// (logged).
 pub(crate) fn next_timeout(
-    feed: &mut impl FeedSource,
+    feed: &mut (impl FeedBackend + ?Sized),
     timeout: Option<Duration>,
 ) -> Option<DiscoveryEvent> {
     let deadline = timeout.and_then(|t| Instant::now().checked_add(t));
@@ -44,9 +30,7 @@ pub(crate) fn next_timeout(
             None if woken => return None,
             None => None,
         };
-        // The late-joiner reader's retry is due at most then (see `crate::late_joiner`).
-        let limit = feed.late_joiner().wait_limit(left, now);
-        match feed.wait(limit) {
+        match feed.wait(left) {
             Ok(reported) => woken |= reported,
             Err(e) if e.kind() == std::io::ErrorKind::Interrupted => {}
             Err(e) => {
@@ -62,9 +46,11 @@ mod tests {
     use std::collections::VecDeque;
     use std::time::{Duration, Instant};
 
-    use super::{next_timeout, FeedSource};
+    use std::sync::Arc;
+
+    use super::next_timeout;
+    use crate::contract::{FeedBackend, Wake};
     use crate::discovery::DiscoveryEvent;
-    use crate::late_joiner::LateJoinerReader;
     use crate::Gid;
 
     /// A feed whose waits hand out scripted outcomes, each bringing the events listed.
@@ -73,15 +59,20 @@ mod tests {
         queued: VecDeque<DiscoveryEvent>,
         waits: VecDeque<(std::io::Result<bool>, Vec<DiscoveryEvent>)>,
         limits: Vec<Option<Duration>>,
-        late_joiner: LateJoinerReader,
     }
 
-    impl FeedSource for Scripted {
+    struct NoWake;
+
+    impl Wake for NoWake {
+        fn wake(&self) {}
+    }
+
+    impl FeedBackend for Scripted {
         fn try_next(&mut self) -> Option<DiscoveryEvent> {
             self.queued.pop_front()
         }
-        fn late_joiner(&self) -> &LateJoinerReader {
-            &self.late_joiner
+        fn waker(&self) -> Arc<dyn Wake> {
+            Arc::new(NoWake)
         }
         fn wait(&mut self, limit: Option<Duration>) -> std::io::Result<bool> {
             self.limits.push(limit);
@@ -146,18 +137,13 @@ mod tests {
     }
 
     #[test]
-    fn a_due_late_joiner_retry_bounds_an_unlimited_wait() {
+    fn a_backend_ending_its_wait_early_is_waited_on_again() {
+        // A backend may end a wait with nothing reported (e.g. at its late-joiner retry): that
+        // is no wake-up, so an unlimited wait goes on.
         let mut feed = Scripted::default();
-        // A writer of `ros_discovery_info` (entity kind 0x03) whose sample is awaited.
-        let mut writer = [7u8; 16];
-        writer[12..].copy_from_slice(&[0, 0, 1, 0x03]);
-        feed.late_joiner.writer_discovered(Gid::from_bytes(writer));
-        let _ = feed.late_joiner.action(false, Instant::now());
-        // The wait ends at the retry (nothing reported), then the next one is woken.
         feed.waits.push_back((Ok(false), vec![]));
         feed.waits.push_back((Ok(true), vec![lost(4)]));
         assert_eq!(next_timeout(&mut feed, None), Some(lost(4)));
-        let first = feed.limits[0].expect("bounded by the retry");
-        assert!(first <= crate::late_joiner::FIRST_RETRY);
+        assert_eq!(feed.limits, vec![None, None]);
     }
 }

@@ -1,5 +1,8 @@
 //! horus-ros RMW core: the one layer that talks to DDS.
 //!
+//! - [`contract`]: what a backend implements (participant, writer, reader, wait set, discovery
+//!   feed); RustDDS and Cyclone DDS implement it, each in its own module, and nothing outside
+//!   them knows which one runs.
 //! - [`Context`]: a participant in one domain, configured from `ROS_DOMAIN_ID`,
 //!   `ROS_AUTOMATIC_DISCOVERY_RANGE`, `ROS_STATIC_PEERS` (and the deprecated `ROS_LOCALHOST_ONLY`).
 //! - [`Node`]: a named node; nodes and their endpoints are announced on `ros_discovery_info`
@@ -15,9 +18,9 @@
 pub mod args;
 pub mod backend;
 pub mod context;
+pub mod contract;
 #[cfg(feature = "cyclone")]
 mod cyclone;
-mod dds;
 mod dds_error;
 pub mod discovery;
 mod entities;
@@ -33,6 +36,7 @@ pub mod pubsub;
 pub mod qos;
 pub mod queue;
 pub mod raw;
+mod rustdds;
 pub mod service;
 pub mod signal_handler;
 #[cfg(feature = "tokio")]
@@ -48,7 +52,8 @@ pub use context::{
     Context, ContextBuilder, ContextError, DiscoveryFeed, DiscoveryFeedError, FeedWaker,
     ShutdownFuture,
 };
-pub use dds_error::DdsError;
+pub use contract::Capabilities;
+pub use dds_error::{BackendCause, DdsError};
 pub use discovery::{DiscoveredEndpoint, DiscoveredParticipant, DiscoveryEvent, VendorId};
 pub use gid::Gid;
 pub use node::{Node, NodeError, WeakNode};

@@ -3,33 +3,34 @@
 
 use std::sync::{mpsc, Arc};
 
+use crate::contract::{LocalEvents, Wake};
 use crate::discovery::DiscoveryEvent;
 
-/// Wakes a discovery feed blocked in its backend's wait.
-pub(crate) trait Wake: Send + Sync {
-    /// Wakes the feed; a failure only delays the event until the feed's next wake-up.
-    fn wake(&self);
-}
-
-/// The sending side of a feed's local event channel.
+/// The sending side of a feed's [`LocalEvents`].
 #[derive(Clone)]
 pub(crate) struct LocalSink {
     tx: mpsc::Sender<DiscoveryEvent>,
-    waker: Arc<dyn Wake>,
+    waker: Option<Arc<dyn Wake>>,
 }
 
 impl LocalSink {
-    /// A sink waking the feed through `waker`, and the receiving side for the feed.
-    pub(crate) fn new(waker: Arc<dyn Wake>) -> (Self, mpsc::Receiver<DiscoveryEvent>) {
+    /// A sink and the events it sends, for the feed to be opened with; it wakes nobody until
+    /// [`wake_with`](Self::wake_with) says whom.
+    pub(crate) fn new() -> (Self, LocalEvents) {
         let (tx, rx) = mpsc::channel();
-        (Self { tx, waker }, rx)
+        (Self { tx, waker: None }, LocalEvents(rx))
+    }
+
+    /// Wakes `waker` (the open feed's) on every event sent from now on.
+    pub(crate) fn wake_with(&mut self, waker: Arc<dyn Wake>) {
+        self.waker = Some(waker);
     }
 
     /// Sends `event` to the feed; `false` if the feed is gone.
     pub(crate) fn send(&self, event: DiscoveryEvent) -> bool {
         let sent = self.tx.send(event).is_ok();
-        if sent {
-            self.waker.wake();
+        if let (true, Some(waker)) = (sent, &self.waker) {
+            waker.wake();
         }
         sent
     }

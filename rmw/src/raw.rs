@@ -6,11 +6,12 @@
 //! ([`DiscoveryEvent::Matched`](crate::DiscoveryEvent::Matched)): rustdds' per-endpoint status
 //! channels hold only 4 events and drop the rest.
 
+use std::sync::Arc;
 use std::time::Duration;
 
 use horus_ros_msgs::TypeHash;
 
-use crate::context::Dds;
+use crate::contract::{ReaderBackend, Wake, WriterBackend};
 use crate::dds_error::DdsError;
 use crate::discovery::DiscoveredEndpoint;
 use crate::entities::EndpointSide;
@@ -121,7 +122,7 @@ fn describe(
     gid: Gid,
     kind: EndpointKind,
 ) -> DiscoveredEndpoint {
-    let user_data = if node.context().backend().announces_user_data() {
+    let user_data = if node.context().capabilities().announces_user_data {
         spec.user_data().into_bytes()
     } else {
         Vec::new()
@@ -143,15 +144,7 @@ pub struct RawWriter {
     // Dropped first: withdrawn from ros_discovery_info before the writer is deleted.
     registration: Registration,
     topic: String,
-    writer: WriterImpl,
-}
-
-// One per entity, used in place: boxing the larger variant would buy nothing.
-#[allow(clippy::large_enum_variant)]
-enum WriterImpl {
-    RustDds(crate::dds::endpoints::RawWriter),
-    #[cfg(feature = "cyclone")]
-    Cyclone(crate::cyclone::endpoints::RawWriter),
+    writer: Box<dyn WriterBackend>,
 }
 
 impl std::fmt::Debug for RawWriter {
@@ -166,25 +159,15 @@ impl std::fmt::Debug for RawWriter {
 pub struct RawReader {
     registration: Registration,
     topic: String,
-    pub(crate) reader: ReaderImpl,
+    pub(crate) reader: Box<dyn ReaderBackend>,
     waker: RawReaderWaker,
-    /// The wait sets this reader is attached to (see [`WaitSet`](crate::WaitSet)).
-    #[cfg(feature = "cyclone")]
-    pub(crate) attachments: Vec<horus_ros_rmw_cyclone::DataNotice>,
 }
 
 /// Makes a [`RawReader`]'s current or next [`wait`](RawReader::wait) return, from any thread
 /// (e.g. to stop the thread waiting on it, or to tell it of something other than data). Cheap
 /// to clone; all clones wake the same reader.
 #[derive(Clone)]
-pub struct RawReaderWaker(pub(crate) WakerImpl);
-
-#[derive(Clone)]
-pub(crate) enum WakerImpl {
-    RustDds(crate::dds::waiter::Waker),
-    #[cfg(feature = "cyclone")]
-    Cyclone(std::sync::Arc<horus_ros_rmw_cyclone::Signal>),
-}
+pub struct RawReaderWaker(pub(crate) Arc<dyn Wake>);
 
 impl std::fmt::Debug for RawReaderWaker {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
@@ -195,26 +178,8 @@ impl std::fmt::Debug for RawReaderWaker {
 impl RawReaderWaker {
     /// Wakes the reader's waiting thread (or makes its next wait return at once).
     pub fn wake(&self) {
-        let result = match &self.0 {
-            WakerImpl::RustDds(waker) => waker.wake().map_err(DdsError::Io),
-            #[cfg(feature = "cyclone")]
-            WakerImpl::Cyclone(signal) => {
-                signal.wake();
-                Ok(())
-            }
-        };
-        if let Err(e) = result {
-            tracing::debug!("could not wake a reader: {e}");
-        }
+        self.0.wake();
     }
-}
-
-// One per entity, used in place: boxing the larger variant would buy nothing.
-#[allow(clippy::large_enum_variant)]
-pub(crate) enum ReaderImpl {
-    RustDds(crate::dds::endpoints::RawReader),
-    #[cfg(feature = "cyclone")]
-    Cyclone(crate::cyclone::endpoints::RawReader),
 }
 
 impl std::fmt::Debug for RawReader {
@@ -246,30 +211,12 @@ impl Node {
                     name: spec.dds_topic_name.clone(),
                     cause: source,
                 })?;
-        let (writer, gid) = match &self.context().inner().dds {
-            Dds::RustDds(p) => {
-                let (writer, gid) = crate::dds::endpoints::RawWriter::create(
-                    p,
-                    &spec.dds_topic_name,
-                    &spec.dds_type_name,
-                    &dds_qos,
-                )
-                .map_err(dds_error("writer", spec))?;
-                (WriterImpl::RustDds(writer), gid)
-            }
-            #[cfg(feature = "cyclone")]
-            Dds::Cyclone(p) => {
-                let (writer, gid) = crate::cyclone::endpoints::RawWriter::create(
-                    p,
-                    &spec.dds_topic_name,
-                    &spec.dds_type_name,
-                    &dds_qos,
-                    spec.user_data().as_bytes(),
-                )
-                .map_err(dds_error("writer", spec))?;
-                (WriterImpl::Cyclone(writer), gid)
-            }
-        };
+        let (writer, gid) = self
+            .context()
+            .inner()
+            .participant
+            .create_writer(spec, &dds_qos)
+            .map_err(dds_error("writer", spec))?;
         let registration = Registration::new(
             self,
             EndpointSide::Writer,
@@ -307,9 +254,6 @@ impl Node {
         spec: &RawEndpointSpec,
         responses_of: Option<u64>,
     ) -> Result<RawReader, EndpointError> {
-        // Only the Cyclone backend needs (and has) the filter.
-        #[cfg(not(feature = "cyclone"))]
-        let _ = responses_of;
         let dds_qos =
             spec.qos
                 .to_dds(EndpointKind::Reader)
@@ -317,32 +261,13 @@ impl Node {
                     name: spec.dds_topic_name.clone(),
                     cause: source,
                 })?;
-        let (reader, gid, waker) = match &self.context().inner().dds {
-            Dds::RustDds(p) => {
-                let (reader, gid, waker) = crate::dds::endpoints::RawReader::create(
-                    p,
-                    &spec.dds_topic_name,
-                    &spec.dds_type_name,
-                    &dds_qos,
-                )
-                .map_err(dds_error("reader", spec))?;
-                (ReaderImpl::RustDds(reader), gid, WakerImpl::RustDds(waker))
-            }
-            #[cfg(feature = "cyclone")]
-            Dds::Cyclone(p) => {
-                let (reader, gid) = crate::cyclone::endpoints::RawReader::create(
-                    p,
-                    &spec.dds_topic_name,
-                    &spec.dds_type_name,
-                    &dds_qos,
-                    spec.user_data().as_bytes(),
-                    responses_of,
-                )
-                .map_err(dds_error("reader", spec))?;
-                let waker = WakerImpl::Cyclone(reader.signal());
-                (ReaderImpl::Cyclone(reader), gid, waker)
-            }
-        };
+        let (reader, gid) = self
+            .context()
+            .inner()
+            .participant
+            .create_reader(spec, &dds_qos, responses_of)
+            .map_err(dds_error("reader", spec))?;
+        let waker = RawReaderWaker(reader.waker());
         let registration = Registration::new(
             self,
             EndpointSide::Reader,
@@ -352,9 +277,7 @@ impl Node {
             registration,
             topic: spec.dds_topic_name.clone(),
             reader,
-            waker: RawReaderWaker(waker),
-            #[cfg(feature = "cyclone")]
-            attachments: Vec::new(),
+            waker,
         })
     }
 }
@@ -370,11 +293,7 @@ impl RawWriter {
     /// Cyclone DDS delivers unacknowledged samples of a deleted writer itself (its writer
     /// linger duration).
     pub fn wait_for_acknowledgments(&self, timeout: Duration) -> bool {
-        match &self.writer {
-            WriterImpl::RustDds(writer) => writer.wait_for_acknowledgments(timeout),
-            #[cfg(feature = "cyclone")]
-            WriterImpl::Cyclone(_) => true,
-        }
+        self.writer.wait_for_acknowledgments(timeout)
     }
 
     /// Writes `body` (a CDR_LE body) and returns the sample's identity. With `related`, the sample
@@ -390,25 +309,12 @@ impl RawWriter {
         related: Option<SampleId>,
         only_to: Option<Gid>,
     ) -> Result<SampleId, PublishError> {
-        let fail = |e: DdsError| PublishError {
-            topic: self.topic.clone(),
-            cause: SampleError::Dds(e),
-        };
-        match &self.writer {
-            WriterImpl::RustDds(writer) => writer.write(body, related, only_to).map_err(fail),
-            #[cfg(feature = "cyclone")]
-            WriterImpl::Cyclone(writer) => {
-                if related.is_some() {
-                    return Err(fail(DdsError::RelatedSampleIdentityUnsupported));
-                }
-                let _ = only_to;
-                let sequence_number = writer.write(&body).map_err(fail)?;
-                Ok(SampleId {
-                    writer: self.gid(),
-                    sequence_number,
-                })
-            }
-        }
+        self.writer
+            .write(body, related, only_to)
+            .map_err(|e| PublishError {
+                topic: self.topic.clone(),
+                cause: SampleError::Dds(e),
+            })
     }
 }
 
@@ -424,28 +330,10 @@ impl RawReader {
     /// On the Cyclone backend, samples carry no `related_sample_identity` and their sequence
     /// number is [`SampleId::UNKNOWN_SEQUENCE_NUMBER`] (Cyclone DDS reports neither).
     pub fn take(&mut self) -> Result<Option<RawSample>, TakeError> {
-        let fail = |e: DdsError| TakeError {
+        self.reader.take().map_err(|e| TakeError {
             topic: self.topic.clone(),
             cause: SampleError::Dds(e),
-        };
-        match &mut self.reader {
-            ReaderImpl::RustDds(reader) => reader.take().map_err(fail),
-            #[cfg(feature = "cyclone")]
-            ReaderImpl::Cyclone(reader) => match reader.take() {
-                Ok(Some(sample)) => Ok(Some(RawSample {
-                    body: sample.body,
-                    big_endian: sample.big_endian,
-                    id: SampleId {
-                        writer: sample.writer,
-                        sequence_number: SampleId::UNKNOWN_SEQUENCE_NUMBER,
-                    },
-                    related: None,
-                    publication_handle: Some(sample.publication_handle),
-                })),
-                Ok(None) => Ok(None),
-                Err(e) => Err(fail(e)),
-            },
-        }
+        })
     }
 
     /// A handle that wakes this reader's [`wait`](Self::wait) from any thread.
@@ -457,12 +345,7 @@ impl RawReader {
     /// `timeout` (a `Duration`, or `None` for no limit); returns whether something was
     /// signalled. Take until `None` after it: wake-ups are edge-triggered.
     pub fn wait(&mut self, timeout: impl Into<Option<Duration>>) -> bool {
-        let timeout = timeout.into();
-        match &mut self.reader {
-            ReaderImpl::RustDds(reader) => reader.wait(timeout),
-            #[cfg(feature = "cyclone")]
-            ReaderImpl::Cyclone(reader) => reader.wait(timeout),
-        }
+        self.reader.wait(timeout.into())
     }
 }
 

@@ -5,16 +5,14 @@
 //! detaches it. The set's [`waker`](WaitSet::waker) ends the current or next wait from any
 //! thread.
 
-#[cfg(feature = "cyclone")]
-use std::sync::Arc;
 use std::time::Duration;
 
+use crate::contract::WaitSetBackend;
 use crate::dds_error::DdsError;
-use crate::raw::{ReaderImpl, WakerImpl};
-use crate::{Backend, Context, RawReader, RawReaderWaker};
+use crate::{Context, RawReader, RawReaderWaker};
 
-/// The token of the set's own waker (no reader key may take it).
-const WAKE: usize = usize::MAX;
+/// The key no reader may take (backends may use it for the set's own waker).
+const RESERVED: usize = usize::MAX;
 
 /// Why a wait set could not be made, or a reader not attached.
 #[derive(Debug, thiserror::Error)]
@@ -34,16 +32,8 @@ pub enum WaitSetError {
 /// Waits on many readers' data at once; one thread waits at a time (a second caller of
 /// [`wait`](Self::wait) blocks until the first returns).
 pub struct WaitSet {
-    imp: Imp,
+    set: Box<dyn WaitSetBackend>,
     waker: RawReaderWaker,
-}
-
-enum Imp {
-    RustDds(crate::dds::waiter::Waiter),
-    /// Raised by the attached readers' data (each reader holds its notice, so dropping the
-    /// reader detaches it, as rustdds' poll forgets a closed channel) and by the waker.
-    #[cfg(feature = "cyclone")]
-    Cyclone(Arc<horus_ros_rmw_cyclone::Signal>),
 }
 
 impl std::fmt::Debug for WaitSet {
@@ -55,47 +45,18 @@ impl std::fmt::Debug for WaitSet {
 impl WaitSet {
     /// An empty set for readers of `context`'s backend.
     pub fn new(context: &Context) -> Result<Self, WaitSetError> {
-        match context.backend() {
-            Backend::RustDds => {
-                let (waiter, waker) = crate::dds::waiter::Waiter::new(WAKE)
-                    .map_err(|e| WaitSetError::Dds(DdsError::Io(e)))?;
-                Ok(Self {
-                    imp: Imp::RustDds(waiter),
-                    waker: RawReaderWaker(WakerImpl::RustDds(waker)),
-                })
-            }
-            #[cfg(feature = "cyclone")]
-            Backend::Cyclone => {
-                let signal = horus_ros_rmw_cyclone::Signal::new();
-                Ok(Self {
-                    imp: Imp::Cyclone(Arc::clone(&signal)),
-                    waker: RawReaderWaker(WakerImpl::Cyclone(signal)),
-                })
-            }
-            #[cfg(not(feature = "cyclone"))]
-            Backend::Cyclone => Err(WaitSetError::OtherBackend),
-        }
+        let set = context.inner().participant.create_wait_set()?;
+        let waker = RawReaderWaker(set.waker());
+        Ok(Self { set, waker })
     }
 
     /// Attaches `reader` under `key` (reported by [`wait`](Self::wait) when it may have data),
     /// for the rest of the reader's life. May be called while another thread waits.
     pub fn attach(&self, reader: &mut RawReader, key: usize) -> Result<(), WaitSetError> {
-        if key == WAKE {
+        if key == RESERVED {
             return Err(WaitSetError::ReservedKey(key));
         }
-        match (&self.imp, &mut reader.reader) {
-            (Imp::RustDds(waiter), ReaderImpl::RustDds(dds)) => {
-                dds.attach_to(waiter, key).map_err(WaitSetError::Dds)
-            }
-            #[cfg(feature = "cyclone")]
-            (Imp::Cyclone(signal), ReaderImpl::Cyclone(cyclone)) => {
-                let notice = cyclone.attach_to(signal, key);
-                reader.attachments.push(notice);
-                Ok(())
-            }
-            #[cfg(feature = "cyclone")]
-            _ => Err(WaitSetError::OtherBackend),
-        }
+        reader.reader.attach_to(self.set.as_ref(), key)
     }
 
     /// Wakes the current or next [`wait`](Self::wait), from any thread.
@@ -109,11 +70,6 @@ impl WaitSet {
     /// reported once per arrival (or burst of arrivals) after its previous report.
     pub fn wait(&self, timeout: impl Into<Option<Duration>>, ready: &mut Vec<usize>) -> bool {
         ready.clear();
-        let timeout = timeout.into();
-        match &self.imp {
-            Imp::RustDds(waiter) => waiter.wait(timeout, ready),
-            #[cfg(feature = "cyclone")]
-            Imp::Cyclone(signal) => signal.wait(timeout, ready),
-        }
+        self.set.wait(timeout.into(), ready)
     }
 }

@@ -63,12 +63,12 @@ fn own_entities_are_reported_as_snapshot_then_changes() {
             assert_eq!(e.type_hash, Time::type_hash());
             // What peers receive: rmw_cyclonedds' `typehash=` where the backend announces
             // USER_DATA (Cyclone), nothing on rustdds.
-            let user_data = if context.backend().announces_user_data() {
+            let user_data = if context.capabilities().announces_user_data {
                 format!("typehash={};", Time::type_hash()).into_bytes()
             } else {
                 Vec::new()
             };
-            assert_eq!(e.user_data, user_data, "on {}", context.backend());
+            assert_eq!(e.user_data, user_data, "on {:?}", context.backend());
         }
         other => panic!("expected our writer, got {other:?}"),
     }

@@ -42,13 +42,13 @@ fn enclaves_are_announced_and_read_where_the_backend_can() {
     }
     assert_eq!(own, Some(Some("/".to_owned())), "our own enclave");
     let expected = secure
-        .backend()
-        .announces_user_data()
+        .capabilities()
+        .announces_user_data
         .then(|| "/secure/arm".to_owned());
     assert_eq!(
         other,
         Some(expected),
-        "the other participant's enclave on {}",
+        "the other participant's enclave on {:?}",
         secure.backend()
     );
 }

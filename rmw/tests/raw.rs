@@ -31,7 +31,7 @@ fn raw_samples_carry_identity_and_related_identity() {
         sequence_number: SampleId::UNKNOWN_SEQUENCE_NUMBER,
     };
     let body = vec![1, 0, 0, 0, 2, 0, 0, 0];
-    let carries_identity = context.backend().carries_sample_identity();
+    let carries_identity = context.capabilities().carries_sample_identity;
     if !carries_identity {
         // Cyclone DDS cannot send related_sample_identity: refused, nothing sent.
         let refused = writer.write(body.clone(), Some(related), None);
@@ -40,7 +40,7 @@ fn raw_samples_carry_identity_and_related_identity() {
                 e.cause,
                 SampleError::Dds(DdsError::RelatedSampleIdentityUnsupported)
             ) && e.to_string().contains("related_sample_identity")),
-            "a related identity must be refused on {}",
+            "a related identity must be refused on {:?}",
             context.backend()
         );
     }

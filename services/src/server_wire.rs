@@ -52,7 +52,10 @@ impl ServerWire {
             service,
             reply_writer,
             flavour,
-            runtime.node.context().backend(),
+            (
+                runtime.node.context().capabilities(),
+                runtime.node.context().vendor_id(),
+            ),
         ));
         let watch = Arc::new(ParkWatch {
             server: Arc::clone(&server),

@@ -83,9 +83,9 @@ fn wait_until_heard(peer: &Node, writer: &RawWriter, server: &ServiceServer<AddT
 /// A well-formed request no reply can reach: in the rmw_fastrtps convention naming a reply
 /// reader that does not exist, or (on a backend without related_sample_identity) with an
 /// rmw_cyclonedds header from a participant that has no reply reader.
-fn write_unanswerable(writer: &RawWriter, backend: horus_ros_rmw::Backend, n: i64) {
+fn write_unanswerable(writer: &RawWriter, capabilities: horus_ros_rmw::Capabilities, n: i64) {
     let body = horus_ros_msgs::cdr::to_cdr_body(&AddTwoIntsRequest { a: n, b: n }).expect("cdr");
-    let result = if backend.carries_sample_identity() {
+    let result = if capabilities.carries_sample_identity {
         let mut ghost = [0u8; 16];
         ghost[..12].copy_from_slice(&writer.gid().as_bytes()[..12]);
         ghost[12..].copy_from_slice(&[0x7f, 0xff, 0x00, 0x04]);
@@ -225,7 +225,7 @@ fn a_peer_whose_requests_cannot_be_answered_does_not_stall_the_server() {
     let mut good = client(&node(121, "good"), "/stalled");
     assert!(good.wait_for_service(20 * SECOND));
     let peer = node(121, "stalling_peer");
-    let backend = peer.context().backend();
+    let capabilities = peer.context().capabilities();
     let writer = Arc::new(raw_request_writer(&peer, "/stalled"));
     wait_until_heard(&peer, &writer, &server);
     let _warm_up = latencies(&mut good, 50);
@@ -234,7 +234,7 @@ fn a_peer_whose_requests_cannot_be_answered_does_not_stall_the_server() {
     let before = served.load(Ordering::SeqCst);
     let w = Arc::clone(&writer);
     let stalling = PeerThread::start(Duration::from_millis(50), move |n| {
-        write_unanswerable(&w, backend, n)
+        write_unanswerable(&w, capabilities, n)
     });
     // At least 2 s of calls while the peer sends 20 unanswerable requests a second (each held up
     // the server for 500 ms before).

@@ -48,7 +48,7 @@ impl Us {
     pub fn of(context: &Context) -> Self {
         Self {
             participant: context.gid(),
-            announces_user_data: context.backend().announces_user_data(),
+            announces_user_data: context.capabilities().announces_user_data,
         }
     }
 

@@ -12,7 +12,9 @@ use std::sync::atomic::{AtomicBool, AtomicU32, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard, Weak};
 
 use crate::backend::{Backend, BackendError};
-use crate::dds::{self, RustddsParticipant};
+use crate::contract::{
+    Capabilities, FeedBackend, Implementation, ParticipantBackend, ParticipantConfig,
+};
 use crate::dds_error::DdsError;
 use crate::discovery::{DiscoveredEndpoint, DiscoveredParticipant, DiscoveryEvent, VendorId};
 use crate::entities::{EndpointSide, LocalEntities, NodeKey};
@@ -57,6 +59,7 @@ pub struct ContextBuilder {
     domain_id: Option<u32>,
     discovery: Option<DiscoveryOptions>,
     backend: Option<Backend>,
+    implementation: Option<Arc<dyn Implementation>>,
     enclave: Option<String>,
     arguments: Option<crate::args::Arguments>,
     signal_handler: Option<SignalHandlerOptions>,
@@ -83,6 +86,14 @@ impl ContextBuilder {
     /// is then not consulted for it at all.
     pub fn backend(mut self, backend: Backend) -> Self {
         self.backend = Some(backend);
+        self
+    }
+
+    /// Runs on this implementation of the [backend contract](crate::contract) instead of a
+    /// built-in backend (e.g. an in-memory one in tests); it wins over
+    /// [`backend`](Self::backend) and the environment.
+    pub fn implementation(mut self, implementation: Arc<dyn Implementation>) -> Self {
+        self.implementation = Some(implementation);
         self
     }
 
@@ -122,13 +133,16 @@ impl ContextBuilder {
         for w in &environment.warnings {
             tracing::warn!("{w}");
         }
-        let backend = match self.backend {
-            Some(b) => b,
-            None => Backend::from_env_with(get)?,
+        let (backend, implementation) = match self.implementation {
+            Some(implementation) => (None, implementation),
+            None => {
+                let backend = match self.backend {
+                    Some(b) => b,
+                    None => Backend::from_env_with(get)?,
+                };
+                (Some(backend), backend.implementation()?)
+            }
         };
-        if !backend.is_available() {
-            return Err(BackendError::NotBuiltIn { backend }.into());
-        }
         let arguments = match self.arguments {
             Some(a) => a,
             None => crate::args::Arguments::from_process()?,
@@ -142,7 +156,14 @@ impl ContextBuilder {
         let signals = self
             .signal_handler
             .unwrap_or_else(signal_handler::default_signal_handler_options);
-        Context::create(domain, discovery, backend, enclave, arguments, signals)
+        Context::create(
+            domain,
+            discovery,
+            (backend, implementation),
+            enclave,
+            arguments,
+            signals,
+        )
     }
 }
 
@@ -154,94 +175,16 @@ pub struct Context {
     inner: Arc<ContextInner>,
 }
 
-/// The DDS side of a context, one variant per backend.
-// One per entity, used in place: boxing the larger variant would buy nothing.
-#[allow(clippy::large_enum_variant)]
-pub(crate) enum Dds {
-    /// RustDDS.
-    RustDds(RustddsParticipant),
-    /// Cyclone DDS.
-    #[cfg(feature = "cyclone")]
-    Cyclone(crate::cyclone::CycloneParticipant),
-}
-
-impl Dds {
-    fn create(
-        backend: Backend,
-        domain: DomainId,
-        discovery: &DiscoveryOptions,
-        enclave: &str,
-    ) -> Result<(Self, Vec<String>), ContextError> {
-        let fail = |source| ContextError::Participant {
-            domain,
-            cause: source,
-        };
-        match backend {
-            Backend::RustDds => {
-                let (p, warnings) = RustddsParticipant::create(domain, discovery).map_err(fail)?;
-                if enclave != "/" {
-                    tracing::debug!(
-                        "enclave {enclave}: the rustdds backend cannot announce it (no USER_DATA)"
-                    );
-                }
-                Ok((Self::RustDds(p), warnings))
-            }
-            #[cfg(feature = "cyclone")]
-            Backend::Cyclone => {
-                let p = crate::cyclone::CycloneParticipant::create(domain, discovery, enclave)
-                    .map_err(fail)?;
-                Ok((Self::Cyclone(p), Vec::new()))
-            }
-            #[cfg(not(feature = "cyclone"))]
-            Backend::Cyclone => Err(BackendError::NotBuiltIn { backend }.into()),
-        }
-    }
-
-    fn gid(&self) -> Gid {
-        match self {
-            Self::RustDds(p) => p.gid(),
-            #[cfg(feature = "cyclone")]
-            Self::Cyclone(p) => p.gid(),
-        }
-    }
-
-    /// Waits at most `limit` until every reader matched with the `ros_discovery_info` writer
-    /// acknowledged what it was sent; whether they all did.
-    fn wait_for_discovery_info_acks(&self, limit: std::time::Duration) -> bool {
-        match self {
-            Self::RustDds(p) => p.wait_for_discovery_info_acks(limit),
-            #[cfg(feature = "cyclone")]
-            Self::Cyclone(p) => p.wait_for_discovery_info_acks(limit),
-        }
-    }
-
-    /// Deletes the participant now (see [`ContextInner::goodbye`]).
-    fn delete_participant(&self) {
-        match self {
-            Self::RustDds(p) => p.delete(),
-            #[cfg(feature = "cyclone")]
-            Self::Cyclone(p) => p.delete(),
-        }
-    }
-
-    fn publish_discovery_info(&self, message: ParticipantEntitiesInfo) {
-        match self {
-            Self::RustDds(p) => p.publish_discovery_info(message),
-            #[cfg(feature = "cyclone")]
-            Self::Cyclone(p) => p.publish_discovery_info(&message),
-        }
-    }
-}
-
 /// How long a goodbye waits for its peers to acknowledge the last `ros_discovery_info` message.
 const GOODBYE_ACK_LIMIT: std::time::Duration = std::time::Duration::from_secs(1);
 
 /// Fields drop in declaration order: the DDS participant goes after the local bookkeeping.
 pub(crate) struct ContextInner {
-    pub(crate) dds: Dds,
+    pub(crate) participant: Box<dyn ParticipantBackend>,
+    pub(crate) implementation: Arc<dyn Implementation>,
     pub(crate) domain: DomainId,
     pub(crate) discovery: DiscoveryOptions,
-    pub(crate) backend: Backend,
+    pub(crate) backend: Option<Backend>,
     pub(crate) enclave: String,
     pub(crate) arguments: Arc<crate::args::Arguments>,
     pub(crate) gid: Gid,
@@ -277,7 +220,7 @@ impl LocalState {
 impl std::fmt::Debug for Context {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("Context")
-            .field("backend", &self.inner.backend)
+            .field("backend", &self.inner.implementation.name())
             .field("domain", &self.inner.domain)
             .field("discovery", &self.inner.discovery)
             .field("gid", &self.inner.gid)
@@ -323,24 +266,28 @@ impl Context {
     fn create(
         domain: DomainId,
         discovery: DiscoveryOptions,
-        backend: Backend,
+        (backend, implementation): (Option<Backend>, Arc<dyn Implementation>),
         enclave: String,
         arguments: crate::args::Arguments,
         signals: SignalHandlerOptions,
     ) -> Result<Self, ContextError> {
-        let (dds, warnings) = Dds::create(backend, domain, &discovery, &enclave)?;
-        for w in warnings {
-            tracing::warn!("{w}");
-        }
-        let gid = dds.gid();
+        let participant = implementation
+            .create_participant(&ParticipantConfig {
+                domain,
+                discovery: &discovery,
+                enclave: &enclave,
+            })
+            .map_err(|cause| ContextError::Participant { domain, cause })?;
+        let gid = participant.gid();
         let local = Mutex::new(LocalState {
             entities: LocalEntities::new(gid),
             endpoints: BTreeMap::new(),
             sink: None,
         });
-        tracing::debug!(%domain, %backend, participant = %gid, "created DDS participant");
+        tracing::debug!(%domain, backend = implementation.name(), participant = %gid, "created the participant");
         let inner = Arc::new(ContextInner {
-            dds,
+            participant,
+            implementation,
             domain,
             discovery,
             backend,
@@ -363,9 +310,20 @@ impl Context {
         &self.inner.arguments
     }
 
-    /// The DDS implementation this context runs on.
-    pub fn backend(&self) -> Backend {
+    /// The built-in backend this context runs on; `None` for an implementation given with
+    /// [`ContextBuilder::implementation`].
+    pub fn backend(&self) -> Option<Backend> {
         self.inner.backend
+    }
+
+    /// What this context's backend can do.
+    pub fn capabilities(&self) -> Capabilities {
+        self.inner.implementation.capabilities()
+    }
+
+    /// The rmw implementation this context's backend stands in for (e.g. `rmw_fastrtps_cpp`).
+    pub fn rmw_implementation(&self) -> &'static str {
+        self.inner.implementation.rmw_implementation()
     }
 
     /// The security enclave announced (`/` unless set).
@@ -375,10 +333,7 @@ impl Context {
 
     /// The RTPS vendor id of this context's own participant.
     pub fn vendor_id(&self) -> VendorId {
-        match self.inner.backend {
-            Backend::RustDds => VendorId::RUSTDDS,
-            Backend::Cyclone => VendorId::CYCLONE_DDS,
-        }
+        self.inner.implementation.vendor_id()
     }
 
     /// A new id for one service client or server (its request and reply endpoints share it),
@@ -433,17 +388,21 @@ impl ContextInner {
         tracing::debug!(participant = %self.gid, "goodbye: no nodes left");
         // As the nodes' own destruction announces it (rmw_destroy_node): what rmw_fastrtps and
         // rmw_cyclonedds peers build their node lists from (`GraphCache::update_participant_entities`).
-        self.dds.publish_discovery_info(ParticipantEntitiesInfo {
-            gid: self.gid,
-            node_entities_info_seq: Vec::new(),
-        });
+        self.participant
+            .publish_discovery_info(&ParticipantEntitiesInfo {
+                gid: self.gid,
+                node_entities_info_seq: Vec::new(),
+            });
         // Reliable: the message is resent until each peer acknowledged it, which the
         // participant's deletion would cut short.
-        if !self.dds.wait_for_discovery_info_acks(GOODBYE_ACK_LIMIT) {
+        if !self
+            .participant
+            .wait_for_discovery_info_acks(GOODBYE_ACK_LIMIT)
+        {
             tracing::debug!("goodbye: not every peer acknowledged the last ros_discovery_info");
         }
         tracing::debug!(participant = %self.gid, "goodbye: deleting the participant");
-        self.dds.delete_participant();
+        self.participant.delete();
     }
 
     /// Locks what this participant holds (a poisoned lock still holds consistent data: every
@@ -455,7 +414,7 @@ impl ContextInner {
     /// Publishes the participant's new message and reports it to the feed. Called under the
     /// lock, so that messages leave in the order of the changes.
     fn announce(&self, local: &mut LocalState, message: ParticipantEntitiesInfo) {
-        self.dds.publish_discovery_info(message.clone());
+        self.participant.publish_discovery_info(&message);
         local.report(DiscoveryEvent::ParticipantEntities(message));
     }
 
@@ -532,28 +491,14 @@ pub enum DiscoveryFeedError {
 /// and endpoints (reported by the context itself, first as a snapshot when the feed opens).
 /// Dropping the feed allows opening another.
 pub struct DiscoveryFeed {
-    /// Always `Some` until dropped.
-    feed: Option<FeedImpl>,
+    feed: Box<dyn FeedBackend>,
     context: Context,
-}
-
-/// The backend side of a discovery feed.
-// One per entity, used in place: boxing the larger variant would buy nothing.
-#[allow(clippy::large_enum_variant)]
-enum FeedImpl {
-    RustDds(dds::discovery_feed::DdsDiscoveryFeed),
-    #[cfg(feature = "cyclone")]
-    Cyclone(crate::cyclone::feed::CycloneDiscoveryFeed),
 }
 
 impl Drop for DiscoveryFeed {
     fn drop(&mut self) {
         let inner = &self.context.inner;
         inner.local().sink = None;
-        match (self.feed.take(), &inner.dds) {
-            (Some(FeedImpl::RustDds(feed)), Dds::RustDds(p)) => p.close_feed(feed),
-            (feed, _) => drop(feed),
-        }
         inner.feed_open.store(false, Ordering::SeqCst);
     }
 }
@@ -574,11 +519,7 @@ impl std::fmt::Debug for DiscoveryFeed {
 impl DiscoveryFeed {
     /// The next event, if one is waiting (non-blocking).
     pub fn try_next(&mut self) -> Option<DiscoveryEvent> {
-        match self.feed.as_mut()? {
-            FeedImpl::RustDds(f) => f.try_next(),
-            #[cfg(feature = "cyclone")]
-            FeedImpl::Cyclone(f) => f.try_next(),
-        }
+        self.feed.try_next()
     }
 
     /// The next event, waiting for it at most `timeout` (woken by the DDS layer, no polling).
@@ -588,37 +529,24 @@ impl DiscoveryFeed {
         &mut self,
         timeout: impl Into<Option<std::time::Duration>>,
     ) -> Option<DiscoveryEvent> {
-        let timeout = timeout.into();
-        match self.feed.as_mut()? {
-            FeedImpl::RustDds(f) => f.next_timeout(timeout),
-            #[cfg(feature = "cyclone")]
-            FeedImpl::Cyclone(f) => f.next_timeout(timeout),
-        }
+        crate::feed_wait::next_timeout(self.feed.as_mut(), timeout.into())
     }
 
     /// A handle that makes the current or next [`next_timeout`](Self::next_timeout) return,
     /// from any thread (e.g. to stop the thread reading the feed).
     pub fn waker(&self) -> FeedWaker {
-        let wake = match self.feed.as_ref() {
-            Some(FeedImpl::RustDds(f)) => Some(f.waker()),
-            #[cfg(feature = "cyclone")]
-            Some(FeedImpl::Cyclone(f)) => Some(f.waker()),
-            None => None,
-        };
-        FeedWaker(wake)
+        FeedWaker(self.feed.waker())
     }
 }
 
 /// Wakes a [`DiscoveryFeed`]'s reader from any thread; cheap to clone.
 #[derive(Clone)]
-pub struct FeedWaker(Option<std::sync::Arc<dyn crate::local_sink::Wake>>);
+pub struct FeedWaker(Arc<dyn crate::contract::Wake>);
 
 impl FeedWaker {
     /// Makes the feed's current or next wait return.
     pub fn wake(&self) {
-        if let Some(wake) = &self.0 {
-            wake.wake();
-        }
+        self.0.wake();
     }
 }
 
@@ -635,16 +563,11 @@ impl Context {
         if self.inner.feed_open.swap(true, Ordering::SeqCst) {
             return Err(DiscoveryFeedError::AlreadyOpen);
         }
-        let opened = match &self.inner.dds {
-            Dds::RustDds(p) => p
-                .open_feed(self.inner.gid)
-                .map(|(f, sink)| (FeedImpl::RustDds(f), sink)),
-            #[cfg(feature = "cyclone")]
-            Dds::Cyclone(p) => p.open_feed().map(|(f, sink)| (FeedImpl::Cyclone(f), sink)),
-        };
-        let (feed, sink) = opened.inspect_err(|_| {
+        let (mut sink, local) = LocalSink::new();
+        let feed = self.inner.participant.open_feed(local).inspect_err(|_| {
             self.inner.feed_open.store(false, Ordering::SeqCst);
         })?;
+        sink.wake_with(feed.waker());
         // The snapshot of what this participant holds, then every later change, in order.
         let mut local = self.inner.local();
         let _ = sink.send(DiscoveryEvent::ParticipantDiscovered(
@@ -663,7 +586,7 @@ impl Context {
         local.sink = Some(sink);
         drop(local);
         Ok(DiscoveryFeed {
-            feed: Some(feed),
+            feed,
             context: self.clone(),
         })
     }

@@ -9,9 +9,13 @@ use horus_ros_msgs::cdr::{CDR_BE_ID, CDR_LE_HEADER, CDR_LE_ID};
 use horus_ros_msgs::rmw_dds_common::Gid;
 use horus_ros_rmw_cyclone as cyc;
 
-use super::{gid, qos, CycloneParticipant, LocalEndpoints};
+use super::wait_set::{SignalWake, WaitSet};
+use super::{cyclone_error, gid, qos, CycloneParticipant, LocalEndpoints};
+use crate::contract::{ReaderBackend, WaitSetBackend, Wake, WriterBackend};
 use crate::dds_error::DdsError;
 use crate::qos::{DdsQos, EndpointKind};
+use crate::raw::{RawEndpointSpec, RawSample, SampleId};
+use crate::wait_set::WaitSetError;
 
 /// The blob topic `topic_name` of type `type_name` (each endpoint gets its own topic entity;
 /// Cyclone shares what lies behind same-named ones).
@@ -22,7 +26,7 @@ fn topic(
 ) -> Result<cyc::Topic, DdsError> {
     p.participant
         .blob_topic(topic_name, type_name)
-        .map_err(DdsError::Cyclone)
+        .map_err(cyclone_error)
 }
 
 /// The GID of a new endpoint of ours, listed with the context's live endpoints.
@@ -31,7 +35,7 @@ fn register(
     entity: &cyc::Entity,
     kind: EndpointKind,
 ) -> Result<Gid, DdsError> {
-    let gid = gid(entity.guid().map_err(DdsError::Cyclone)?);
+    let gid = gid(entity.guid().map_err(cyclone_error)?);
     p.local_endpoints.insert(gid, entity, kind);
     Ok(gid)
 }
@@ -45,23 +49,20 @@ pub(crate) struct RawWriter {
 }
 
 impl RawWriter {
-    /// Creates a writer of `topic_name`/`type_name` with this QoS and USER_DATA.
+    /// Creates a writer of the spec's topic and type with this QoS and the spec's USER_DATA.
     pub(crate) fn create(
         p: &CycloneParticipant,
-        topic_name: &str,
-        type_name: &str,
+        spec: &RawEndpointSpec,
         policies: &DdsQos,
-        user_data: &[u8],
     ) -> Result<(Self, Gid), DdsError> {
-        let fail = DdsError::Cyclone;
         let writer = p
             .participant
             .writer(
-                &topic(p, topic_name, type_name)?,
+                &topic(p, &spec.dds_topic_name, &spec.dds_type_name)?,
                 &qos::endpoint_qos(policies),
-                user_data,
+                spec.user_data().as_bytes(),
             )
-            .map_err(fail)?;
+            .map_err(cyclone_error)?;
         let gid = register(p, &writer.entity(), EndpointKind::Writer)?;
         Ok((
             Self {
@@ -73,15 +74,35 @@ impl RawWriter {
             gid,
         ))
     }
+}
 
-    /// Writes a CDR_LE body; returns the sample's sequence number (counted here, as RTPS does:
-    /// one per write, from 1).
-    pub(crate) fn write(&self, body: &[u8]) -> Result<i64, DdsError> {
+impl WriterBackend for RawWriter {
+    /// Writes a CDR_LE body to every matched reader; the sequence number is counted here, as
+    /// RTPS does (one per write, from 1). `related` is refused (Cyclone DDS cannot send it) and
+    /// `only_to` ignored.
+    fn write(
+        &self,
+        body: Vec<u8>,
+        related: Option<SampleId>,
+        _only_to: Option<Gid>,
+    ) -> Result<SampleId, DdsError> {
+        if related.is_some() {
+            return Err(DdsError::RelatedSampleIdentityUnsupported);
+        }
         let mut cdr = Vec::with_capacity(4 + body.len());
         cdr.extend_from_slice(&CDR_LE_HEADER);
-        cdr.extend_from_slice(body);
-        self.writer.write(&cdr).map_err(DdsError::Cyclone)?;
-        Ok(self.last_sequence_number.fetch_add(1, Ordering::Relaxed) + 1)
+        cdr.extend_from_slice(&body);
+        self.writer.write(&cdr).map_err(cyclone_error)?;
+        Ok(SampleId {
+            writer: self.gid,
+            sequence_number: self.last_sequence_number.fetch_add(1, Ordering::Relaxed) + 1,
+        })
+    }
+
+    /// At once: Cyclone DDS delivers unacknowledged samples of a deleted writer itself (its
+    /// writer linger duration).
+    fn wait_for_acknowledgments(&self, _timeout: Duration) -> bool {
+        true
     }
 }
 
@@ -93,18 +114,6 @@ impl Drop for RawWriter {
 
 /// Signal token of a reader's own data.
 const DATA: usize = 0;
-
-/// A sample taken from a [`RawReader`].
-pub(crate) struct Sample {
-    /// The CDR body (after the encapsulation header).
-    pub(crate) body: Vec<u8>,
-    /// CDR_BE rather than CDR_LE.
-    pub(crate) big_endian: bool,
-    /// The writer's GID (all zero if the writer was gone when the sample was taken).
-    pub(crate) writer: Gid,
-    /// Cyclone's local instance handle of the writer (`dds_sample_info_t::publication_handle`).
-    pub(crate) publication_handle: u64,
-}
 
 /// Whether a reply reader of `client` stores the sample starting with `head`: rmw_cyclonedds'
 /// `rmw_take_response` keeps a response whose request header (`cdds_request_header_t`, right
@@ -134,19 +143,21 @@ pub(crate) struct RawReader {
     reader: cyc::Reader,
     local_endpoints: Arc<LocalEndpoints>,
     gid: Gid,
+    /// The wait sets this reader reports its data to.
+    attachments: Vec<cyc::DataNotice>,
 }
 
 impl RawReader {
-    /// Creates a reader of `topic_name`/`type_name` with this QoS and USER_DATA.
+    /// Creates a reader of the spec's topic and type with this QoS and the spec's USER_DATA;
+    /// with `responses_of`, a content filter keeps only that client's responses.
     pub(crate) fn create(
         p: &CycloneParticipant,
-        topic_name: &str,
-        type_name: &str,
+        spec: &RawEndpointSpec,
         policies: &DdsQos,
-        user_data: &[u8],
         responses_of: Option<u64>,
     ) -> Result<(Self, Gid), DdsError> {
-        let fail = DdsError::Cyclone;
+        let fail = cyclone_error;
+        let (topic_name, type_name) = (spec.dds_topic_name.as_str(), spec.dds_type_name.as_str());
         let topic = match responses_of {
             None => topic(p, topic_name, type_name)?,
             Some(client) => p
@@ -158,7 +169,11 @@ impl RawReader {
         };
         let reader = p
             .participant
-            .reader(&topic, &qos::endpoint_qos(policies), user_data)
+            .reader(
+                &topic,
+                &qos::endpoint_qos(policies),
+                spec.user_data().as_bytes(),
+            )
             .map_err(fail)?;
         let signal = cyc::Signal::new();
         let own = Some(reader.notify(&signal, DATA));
@@ -171,15 +186,19 @@ impl RawReader {
                 reader,
                 local_endpoints: Arc::clone(&p.local_endpoints),
                 gid,
+                attachments: Vec::new(),
             },
             gid,
         ))
     }
+}
 
+impl ReaderBackend for RawReader {
     /// Takes the next sample, if any. A sample in an encoding other than plain CDR is consumed
-    /// and reported as an error.
-    pub(crate) fn take(&self) -> Result<Option<Sample>, DdsError> {
-        let Some(sample) = self.reader.take().map_err(DdsError::Cyclone)? else {
+    /// and reported as an error. Samples carry no `related_sample_identity` and their sequence
+    /// number is [`SampleId::UNKNOWN_SEQUENCE_NUMBER`] (Cyclone DDS reports neither).
+    fn take(&mut self) -> Result<Option<RawSample>, DdsError> {
+        let Some(sample) = self.reader.take().map_err(cyclone_error)? else {
             return Ok(None);
         };
         let writer = sample.writer_guid.map(gid).unwrap_or_default();
@@ -193,31 +212,40 @@ impl RawReader {
             CDR_BE_ID => true,
             id => return Err(DdsError::UnsupportedEncapsulation { id }),
         };
-        Ok(Some(Sample {
+        Ok(Some(RawSample {
             body: body.to_vec(),
             big_endian,
-            writer,
-            publication_handle: sample.publication_handle,
+            id: SampleId {
+                writer,
+                sequence_number: SampleId::UNKNOWN_SEQUENCE_NUMBER,
+            },
+            related: None,
+            publication_handle: Some(sample.publication_handle),
         }))
     }
 
-    /// Reports this reader's data to `signal` under `token` from now on, instead of to its own
-    /// [`wait`](Self::wait) (which then returns only when woken); dropping the notice detaches
-    /// it.
-    pub(crate) fn attach_to(&mut self, signal: &Arc<cyc::Signal>, token: usize) -> cyc::DataNotice {
+    /// Reports this reader's data to the set's signal under `key` from now on, instead of to
+    /// its own [`wait`](Self::wait) (which then returns only when woken); the notice lives as
+    /// long as the reader.
+    fn attach_to(&mut self, set: &dyn WaitSetBackend, key: usize) -> Result<(), WaitSetError> {
+        let set = set
+            .as_any()
+            .downcast_ref::<WaitSet>()
+            .ok_or(WaitSetError::OtherBackend)?;
         self.own = None;
-        self.reader.notify(signal, token)
-    }
-
-    /// The signal whose [`wake`](cyc::Signal::wake) ends [`wait`](Self::wait).
-    pub(crate) fn signal(&self) -> Arc<cyc::Signal> {
-        Arc::clone(&self.signal)
+        let notice = self.reader.notify(&set.signal, key);
+        self.attachments.push(notice);
+        Ok(())
     }
 
     /// Waits until a sample may be there or the signal was woken, at most `timeout`; returns
     /// whether something was signalled. Edge-triggered: take until `None` after it.
-    pub(crate) fn wait(&mut self, timeout: Option<Duration>) -> bool {
+    fn wait(&mut self, timeout: Option<Duration>) -> bool {
         self.signal.wait(timeout, &mut self.ready)
+    }
+
+    fn waker(&self) -> Arc<dyn Wake> {
+        Arc::new(SignalWake(Arc::clone(&self.signal)))
     }
 }
 

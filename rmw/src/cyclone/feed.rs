@@ -4,7 +4,7 @@
 //! thread (no code of ours runs on Cyclone's threads).
 
 use std::collections::{HashMap, HashSet, VecDeque};
-use std::sync::{mpsc, Arc};
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use horus_ros_msgs::rmw_dds_common::{Gid, ParticipantEntitiesInfo};
@@ -12,15 +12,13 @@ use horus_ros_msgs::user_data::parse_type_hash_from_user_data;
 use horus_ros_msgs::TypeHash;
 use horus_ros_rmw_cyclone::{self as cyc, BuiltinSample, BuiltinTopic, StatusMask};
 
-use super::{gid, qos, CycloneParticipant, LocalEndpoints};
+use super::{cyclone_error, gid, qos, CycloneParticipant, LocalEndpoints};
 use crate::context::DiscoveryFeedError;
-use crate::dds::discovery_info::{TOPIC_NAME, TYPE_NAME};
-use crate::dds_error::DdsError;
+use crate::contract::{FeedBackend, LocalEvents, Wake};
 use crate::discovery::{DiscoveredEndpoint, DiscoveredParticipant, DiscoveryEvent, VendorId};
-use crate::feed_wait::FeedSource;
 use crate::late_joiner::{Action, LateJoinerReader};
-use crate::local_sink::{LocalSink, Wake};
 use crate::qos::EndpointKind;
+use crate::rustdds::discovery_info::{TOPIC_NAME, TYPE_NAME};
 
 const GUARD: usize = 0;
 const PARTICIPANTS: usize = 1;
@@ -84,7 +82,7 @@ pub(crate) struct CycloneDiscoveryFeed {
     /// (see [`crate::late_joiner`]).
     late_joiner: Option<cyc::Reader>,
     late_joiner_state: LateJoinerReader,
-    local: mpsc::Receiver<DiscoveryEvent>,
+    local: LocalEvents,
     local_endpoints: Arc<LocalEndpoints>,
     watched: HashMap<usize, Watched>,
     token_of: HashMap<Gid, usize>,
@@ -101,12 +99,13 @@ impl CycloneDiscoveryFeed {
     pub(crate) fn new(
         p: &CycloneParticipant,
         info_topic: &cyc::Topic,
-    ) -> Result<(Self, LocalSink), DiscoveryFeedError> {
+        local: LocalEvents,
+    ) -> Result<Self, DiscoveryFeedError> {
         let reader = |e| DiscoveryFeedError::Reader {
-            cause: DdsError::Cyclone(e),
+            cause: cyclone_error(e),
         };
         let poll = |e| DiscoveryFeedError::Poll {
-            cause: DdsError::Cyclone(e),
+            cause: cyclone_error(e),
         };
         let participants = p
             .participant
@@ -145,49 +144,27 @@ impl CycloneDiscoveryFeed {
             .attach_builtin(&subscriptions, SUBSCRIPTIONS)
             .map_err(poll)?;
         waiter.attach_reader(&info, INFO).map_err(poll)?;
-        let (sink, local) = LocalSink::new(Arc::clone(&guard) as Arc<dyn Wake>);
-        Ok((
-            Self {
-                waiter,
-                guard,
-                participants,
-                publications,
-                subscriptions,
-                info,
-                participant: p.participant.clone(),
-                late_topic,
-                late_joiner: None,
-                late_joiner_state: LateJoinerReader::default(),
-                local,
-                local_endpoints: Arc::clone(&p.local_endpoints),
-                watched: HashMap::new(),
-                token_of: HashMap::new(),
-                next_token: FIRST_ENDPOINT_TOKEN,
-                own_gid: p.gid(),
-                known_participants: HashSet::new(),
-                known_endpoints: HashSet::new(),
-                pending: VecDeque::new(),
-            },
-            sink,
-        ))
-    }
-
-    /// The next event, if any (non-blocking).
-    pub(crate) fn try_next(&mut self) -> Option<DiscoveryEvent> {
-        if self.pending.is_empty() {
-            self.drain(None);
-        }
-        self.pending.pop_front()
-    }
-
-    /// What wakes [`next_timeout`](Self::next_timeout) from another thread.
-    pub(crate) fn waker(&self) -> Arc<dyn Wake> {
-        Arc::clone(&self.guard) as Arc<dyn Wake>
-    }
-
-    /// The next event, waiting for one at most `timeout` (see [`crate::feed_wait`]).
-    pub(crate) fn next_timeout(&mut self, timeout: Option<Duration>) -> Option<DiscoveryEvent> {
-        crate::feed_wait::next_timeout(self, timeout)
+        Ok(Self {
+            waiter,
+            guard,
+            participants,
+            publications,
+            subscriptions,
+            info,
+            participant: p.participant.clone(),
+            late_topic,
+            late_joiner: None,
+            late_joiner_state: LateJoinerReader::default(),
+            local,
+            local_endpoints: Arc::clone(&p.local_endpoints),
+            watched: HashMap::new(),
+            token_of: HashMap::new(),
+            next_token: FIRST_ENDPOINT_TOKEN,
+            own_gid: p.gid,
+            known_participants: HashSet::new(),
+            known_endpoints: HashSet::new(),
+            pending: VecDeque::new(),
+        })
     }
 
     /// Moves everything waiting into `pending`; `triggered` says which statuses fired (all
@@ -197,7 +174,7 @@ impl CycloneDiscoveryFeed {
             tracing::debug!("could not reset the discovery feed's guard: {e}");
         }
         // Our own changes first: they were made before anything discovery reports about them.
-        while let Ok(event) = self.local.try_recv() {
+        while let Some(event) = self.local.try_next() {
             match &event {
                 DiscoveryEvent::EndpointDiscovered(e) => self.watch(e.gid),
                 DiscoveryEvent::EndpointLost { gid, .. } => self.unwatch(*gid),
@@ -481,18 +458,23 @@ impl CycloneDiscoveryFeed {
     }
 }
 
-impl FeedSource for CycloneDiscoveryFeed {
+impl FeedBackend for CycloneDiscoveryFeed {
     fn try_next(&mut self) -> Option<DiscoveryEvent> {
-        CycloneDiscoveryFeed::try_next(self)
-    }
-
-    fn late_joiner(&self) -> &LateJoinerReader {
-        &self.late_joiner_state
+        if self.pending.is_empty() {
+            self.drain(None);
+        }
+        self.pending.pop_front()
     }
 
     fn wait(&mut self, limit: Option<Duration>) -> std::io::Result<bool> {
+        // The late-joiner reader's retry is due at most then (see `crate::late_joiner`).
+        let limit = self.late_joiner_state.wait_limit(limit, Instant::now());
         let triggered = self.waiter.wait_for(limit).map_err(std::io::Error::other)?;
         self.drain(Some(&triggered));
         Ok(!triggered.is_empty())
+    }
+
+    fn waker(&self) -> Arc<dyn Wake> {
+        Arc::clone(&self.guard) as Arc<dyn Wake>
     }
 }

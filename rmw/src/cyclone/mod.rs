@@ -9,10 +9,15 @@
 //!   USER_DATA (`create_readwrite_qos`, `rmw_init_cs`);
 //! - `ros_discovery_info` is published RELIABLE, TRANSIENT_LOCAL, KEEP_LAST 1;
 //! - samples are raw CDR (the "blob" sertype), GIDs the 16-byte GUIDs.
+//!
+//! It implements the [backend contract](crate::contract) file for file as `rustdds/` does:
+//! `mod.rs` (the implementation and its participant), `endpoints.rs`, `feed.rs`, `wait_set.rs`,
+//! `qos.rs`.
 
 pub(crate) mod endpoints;
 pub(crate) mod feed;
 pub(crate) mod qos;
+pub(crate) mod wait_set;
 
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex, MutexGuard};
@@ -20,12 +25,53 @@ use std::sync::{Arc, Mutex, MutexGuard};
 use horus_ros_msgs::rmw_dds_common::{Gid, ParticipantEntitiesInfo};
 use horus_ros_rmw_cyclone as cyc;
 
-use crate::context::env::{DiscoveryOptions, DiscoveryRange, DomainId};
+use crate::backend::Backend;
+use crate::context::env::{DiscoveryOptions, DiscoveryRange};
 use crate::context::DiscoveryFeedError;
-use crate::dds::discovery_info::{TOPIC_NAME, TYPE_NAME};
-use crate::dds_error::DdsError;
-use crate::local_sink::LocalSink;
-use crate::qos::EndpointKind;
+use crate::contract::{
+    Capabilities, FeedBackend, Implementation, LocalEvents, ParticipantBackend, ParticipantConfig,
+    ReaderBackend, WaitSetBackend, WriterBackend,
+};
+use crate::dds_error::{boxed, DdsError};
+use crate::discovery::VendorId;
+use crate::qos::{DdsQos, EndpointKind};
+use crate::raw::RawEndpointSpec;
+use crate::rustdds::discovery_info::{TOPIC_NAME, TYPE_NAME};
+use crate::wait_set::WaitSetError;
+
+/// The Cyclone DDS backend (for `rmw_cyclonedds_cpp`).
+#[derive(Debug)]
+pub(crate) struct Cyclone;
+
+impl Implementation for Cyclone {
+    fn name(&self) -> &'static str {
+        Backend::Cyclone.name()
+    }
+
+    fn rmw_implementation(&self) -> &'static str {
+        Backend::Cyclone.rmw_implementation()
+    }
+
+    fn vendor_id(&self) -> VendorId {
+        VendorId::CYCLONE_DDS
+    }
+
+    fn capabilities(&self) -> Capabilities {
+        Backend::Cyclone.capabilities()
+    }
+
+    fn create_participant(
+        &self,
+        config: &ParticipantConfig<'_>,
+    ) -> Result<Box<dyn ParticipantBackend>, DdsError> {
+        Ok(Box::new(CycloneParticipant::create(config)?))
+    }
+}
+
+/// A Cyclone DDS error as [`DdsError`] keeps it.
+pub(crate) fn cyclone_error(e: cyc::Error) -> DdsError {
+    DdsError::Backend(boxed(e))
+}
 
 /// A Cyclone GUID as a GID (the same 16 bytes).
 pub(crate) fn gid(guid: cyc::Guid) -> Gid {
@@ -96,15 +142,11 @@ pub(crate) fn domain_config(discovery: &DiscoveryOptions) -> String {
 impl CycloneParticipant {
     /// Creates (or joins) the configured domain, the participant with `enclave=…;` and the
     /// `ros_discovery_info` writer.
-    pub(crate) fn create(
-        domain: DomainId,
-        discovery: &DiscoveryOptions,
-        enclave: &str,
-    ) -> Result<Self, DdsError> {
-        let fail = DdsError::Cyclone;
-        let dom = cyc::Domain::acquire(u32::from(domain.get()), &domain_config(discovery))
-            .map_err(fail)?;
-        let user_data = format!("enclave={enclave};");
+    fn create(config: &ParticipantConfig<'_>) -> Result<Self, DdsError> {
+        let fail = cyclone_error;
+        let domain = u32::from(config.domain.get());
+        let dom = cyc::Domain::acquire(domain, &domain_config(config.discovery)).map_err(fail)?;
+        let user_data = format!("enclave={};", config.enclave);
         let participant = cyc::Participant::new(dom, user_data.as_bytes()).map_err(fail)?;
         let info_topic = participant
             .blob_topic(TOPIC_NAME, TYPE_NAME)
@@ -125,28 +167,34 @@ impl CycloneParticipant {
             gid,
         })
     }
+}
 
-    /// The participant's GID.
-    pub(crate) fn gid(&self) -> Gid {
+impl ParticipantBackend for CycloneParticipant {
+    fn gid(&self) -> Gid {
         self.gid
     }
 
-    /// Waits at most `limit` for the `ros_discovery_info` readers' acknowledgments.
-    pub(crate) fn wait_for_discovery_info_acks(&self, limit: std::time::Duration) -> bool {
-        self.info_writer.wait_for_acks(limit).unwrap_or(false)
+    fn create_writer(
+        &self,
+        spec: &RawEndpointSpec,
+        qos: &DdsQos,
+    ) -> Result<(Box<dyn WriterBackend>, Gid), DdsError> {
+        let (writer, gid) = endpoints::RawWriter::create(self, spec, qos)?;
+        Ok((Box::new(writer), gid))
     }
 
-    /// Deletes the participant now, and its domain, which waits until Cyclone has sent the
-    /// participant's dispose (the entities on them go stale).
-    pub(crate) fn delete(&self) {
-        if let Err(e) = self.participant.delete_with_domain() {
-            tracing::warn!("could not delete the participant: {e}");
-        }
+    fn create_reader(
+        &self,
+        spec: &RawEndpointSpec,
+        qos: &DdsQos,
+        responses_of: Option<u64>,
+    ) -> Result<(Box<dyn ReaderBackend>, Gid), DdsError> {
+        let (reader, gid) = endpoints::RawReader::create(self, spec, qos, responses_of)?;
+        Ok((Box::new(reader), gid))
     }
 
-    /// Publishes the participant's `ros_discovery_info` message; a failure is logged, since
-    /// discovery catches up with the next change.
-    pub(crate) fn publish_discovery_info(&self, message: &ParticipantEntitiesInfo) {
+    /// A failure is logged, since discovery catches up with the next change.
+    fn publish_discovery_info(&self, message: &ParticipantEntitiesInfo) {
         let result = horus_ros_msgs::cdr::to_cdr(message)
             .map_err(|e| e.to_string())
             .and_then(|cdr| self.info_writer.write(&cdr).map_err(|e| e.to_string()));
@@ -155,10 +203,25 @@ impl CycloneParticipant {
         }
     }
 
-    /// Opens a discovery feed on the built-in topics and `ros_discovery_info`.
-    pub(crate) fn open_feed(
-        &self,
-    ) -> Result<(feed::CycloneDiscoveryFeed, LocalSink), DiscoveryFeedError> {
-        feed::CycloneDiscoveryFeed::new(self, &self.info_topic)
+    fn wait_for_discovery_info_acks(&self, limit: std::time::Duration) -> bool {
+        self.info_writer.wait_for_acks(limit).unwrap_or(false)
+    }
+
+    /// Deletes the participant now, and its domain, which waits until Cyclone has sent the
+    /// participant's dispose (the entities on them go stale).
+    fn delete(&self) {
+        if let Err(e) = self.participant.delete_with_domain() {
+            tracing::warn!("could not delete the participant: {e}");
+        }
+    }
+
+    /// The built-in topics and `ros_discovery_info`.
+    fn open_feed(&self, local: LocalEvents) -> Result<Box<dyn FeedBackend>, DiscoveryFeedError> {
+        let feed = feed::CycloneDiscoveryFeed::new(self, &self.info_topic, local)?;
+        Ok(Box::new(feed))
+    }
+
+    fn create_wait_set(&self) -> Result<Box<dyn WaitSetBackend>, WaitSetError> {
+        Ok(Box::new(wait_set::WaitSet::new()))
     }
 }

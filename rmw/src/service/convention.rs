@@ -14,7 +14,7 @@
 //! Fast DDS and Cyclone DDS cannot call each other's services (ros2/rmw_cyclonedds#184), so the
 //! convention is chosen per peer from its participant's vendor id.
 
-use crate::{Backend, Gid, VendorId};
+use crate::{Capabilities, Gid, VendorId};
 
 /// Which request/reply convention a peer follows.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -32,24 +32,18 @@ pub enum WireFlavour {
 pub enum ConventionError {
     /// The rmw_fastrtps convention was asked for on a backend that cannot carry it.
     #[error(
-        "the rmw_fastrtps service convention needs related_sample_identity, which the {backend} \
+        "the rmw_fastrtps service convention needs related_sample_identity, which this \
          backend cannot carry; use the rustdds backend (HORUS_ROS_BACKEND=rustdds)"
     )]
-    FastRtpsUnsupported {
-        /// The context's backend.
-        backend: Backend,
-    },
+    FastRtpsUnsupported,
     /// The peer runs Fast DDS, whose convention this backend cannot carry.
     #[error(
         "the peer runs Fast DDS (rmw_fastrtps), whose service convention needs \
-         related_sample_identity, which the {backend} backend cannot carry (neither can \
+         related_sample_identity, which this backend cannot carry (neither can \
          rmw_cyclonedds: ros2/rmw_cyclonedds#184); use the rustdds backend \
          (HORUS_ROS_BACKEND=rustdds)"
     )]
-    FastDdsPeer {
-        /// The context's backend.
-        backend: Backend,
-    },
+    FastDdsPeer,
 }
 
 impl WireFlavour {
@@ -62,27 +56,25 @@ impl WireFlavour {
         }
     }
 
-    /// The convention to use with a peer of `vendor` from a context on `backend`, given an
-    /// explicit choice `forced`.
+    /// The convention to use with a peer of `vendor` from a context whose backend can do
+    /// `capabilities`, given an explicit choice `forced`.
     ///
     /// A backend that carries `related_sample_identity` (RustDDS) follows the peer. One that
     /// does not (Cyclone DDS) speaks only rmw_cyclonedds' convention — as rmw_cyclonedds itself
     /// (ros2/rmw_cyclonedds#184) — which horus-ros peers on any backend understand; Fast DDS
     /// peers (rmw_fastrtps) do not.
     pub fn choose(
-        backend: Backend,
+        capabilities: Capabilities,
         vendor: Option<VendorId>,
         forced: Option<Self>,
     ) -> Result<Self, ConventionError> {
-        if backend.carries_sample_identity() {
+        if capabilities.carries_sample_identity {
             return Ok(forced.unwrap_or_else(|| Self::for_vendor(vendor)));
         }
         match forced {
-            Some(Self::FastRtps) => Err(ConventionError::FastRtpsUnsupported { backend }),
+            Some(Self::FastRtps) => Err(ConventionError::FastRtpsUnsupported),
             Some(Self::CycloneDds) => Ok(Self::CycloneDds),
-            None if vendor == Some(VendorId::FAST_DDS) => {
-                Err(ConventionError::FastDdsPeer { backend })
-            }
+            None if vendor == Some(VendorId::FAST_DDS) => Err(ConventionError::FastDdsPeer),
             None => Ok(Self::CycloneDds),
         }
     }
@@ -107,6 +99,7 @@ pub fn is_reader(gid: Gid) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::Backend;
 
     #[test]
     fn flavour_follows_the_vendor() {
@@ -129,25 +122,34 @@ mod tests {
     fn a_backend_without_sample_identity_speaks_only_the_cyclone_convention() {
         let fast = Some(VendorId::FAST_DDS);
         assert_eq!(
-            WireFlavour::choose(Backend::RustDds, fast, None),
+            WireFlavour::choose(Backend::RustDds.capabilities(), fast, None),
             Ok(WireFlavour::FastRtps)
         );
         assert_eq!(
-            WireFlavour::choose(Backend::RustDds, fast, Some(WireFlavour::CycloneDds)),
+            WireFlavour::choose(
+                Backend::RustDds.capabilities(),
+                fast,
+                Some(WireFlavour::CycloneDds)
+            ),
             Ok(WireFlavour::CycloneDds)
         );
         for vendor in [Some(VendorId::CYCLONE_DDS), Some(VendorId::RUSTDDS), None] {
             assert_eq!(
-                WireFlavour::choose(Backend::Cyclone, vendor, None),
+                WireFlavour::choose(Backend::Cyclone.capabilities(), vendor, None),
                 Ok(WireFlavour::CycloneDds)
             );
         }
-        let refused = WireFlavour::choose(Backend::Cyclone, fast, None);
+        let refused = WireFlavour::choose(Backend::Cyclone.capabilities(), fast, None);
         assert!(refused.is_err_and(|e| {
             let m = e.to_string();
             m.contains("rmw_fastrtps") && m.contains("rustdds")
         }));
-        assert!(WireFlavour::choose(Backend::Cyclone, None, Some(WireFlavour::FastRtps)).is_err());
+        assert!(WireFlavour::choose(
+            Backend::Cyclone.capabilities(),
+            None,
+            Some(WireFlavour::FastRtps)
+        )
+        .is_err());
     }
 
     #[test]

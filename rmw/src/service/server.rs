@@ -15,7 +15,7 @@ use super::{
     HORUS_CLIENT_MARKER,
 };
 use crate::names::ServiceName;
-use crate::{Backend, Gid, PublishError, RawReader, RawSample, RawWriter, SampleId, VendorId};
+use crate::{Capabilities, Gid, PublishError, RawReader, RawSample, RawWriter, SampleId, VendorId};
 
 /// Most clients remembered as refused (whose convention this backend cannot answer).
 const MAX_REFUSED: usize = 1024;
@@ -208,7 +208,10 @@ pub struct Server {
     service: ServiceName,
     reply_writer: Gid,
     flavour: Option<WireFlavour>,
-    backend: Backend,
+    /// What our backend can do.
+    capabilities: Capabilities,
+    /// Our participant's vendor.
+    vendor: VendorId,
     /// Request writers already told about (once each) as unanswerable on this backend.
     refused: Mutex<HashSet<Gid>>,
     /// When the first request of each Cyclone DDS participant arrived (by GUID prefix), on a
@@ -246,14 +249,15 @@ impl Server {
         service: ServiceName,
         reply_writer: Gid,
         flavour: Option<WireFlavour>,
-        backend: Backend,
+        (capabilities, vendor): (Capabilities, VendorId),
     ) -> Self {
         Self {
             peers,
             service,
             reply_writer,
             flavour,
-            backend,
+            capabilities,
+            vendor,
             refused: Mutex::new(HashSet::new()),
             first_contacts: Mutex::new(HashMap::new()),
             park: Mutex::new(Park::default()),
@@ -319,7 +323,7 @@ impl Server {
     /// malformed or cannot be answered.
     fn request_from(&self, sample: RawSample) -> Option<Request> {
         let vendor = self.peers.vendor_of(sample.id.writer);
-        if self.backend != Backend::Cyclone && vendor == Some(VendorId::CYCLONE_DDS) {
+        if self.vendor != VendorId::CYCLONE_DDS && vendor == Some(VendorId::CYCLONE_DDS) {
             let mut contacts = lock(&self.first_contacts);
             if contacts.len() >= MAX_FIRST_CONTACTS {
                 contacts.clear();
@@ -328,7 +332,7 @@ impl Server {
                 .entry(sample.id.writer.prefix())
                 .or_insert_with(Instant::now);
         }
-        let flavour = match WireFlavour::choose(self.backend, vendor, self.flavour) {
+        let flavour = match WireFlavour::choose(self.capabilities, vendor, self.flavour) {
             Ok(flavour) => flavour,
             Err(why) => {
                 let first = {
@@ -627,7 +631,7 @@ impl Server {
             return Readiness::Later;
         }
         let participant = recipient.participant();
-        if self.backend == Backend::Cyclone
+        if self.vendor == VendorId::CYCLONE_DDS
             || self.peers.vendor_of(participant) != Some(VendorId::CYCLONE_DDS)
         {
             return Readiness::Now;

@@ -199,7 +199,15 @@ impl<C: Codec> ClientCore<C> {
         // `cli->client.id`). A backend that carries related_sample_identity speaks the former's
         // convention, one that does not the latter's.
         let client_gid = match topics.request.service_id {
-            Some(id) if !runtime.node.context().backend().carries_sample_identity() => id.id,
+            Some(id)
+                if !runtime
+                    .node
+                    .context()
+                    .capabilities()
+                    .carries_sample_identity =>
+            {
+                id.id
+            }
             _ => *endpoints.request_writer().as_bytes(),
         };
         let introspection = Introspection::new(
@@ -379,18 +387,18 @@ impl<C: Codec> ClientCore<C> {
     fn find_readiness(&self) -> Readiness {
         let graph = &self.runtime.graph;
         let servers = self.servers();
-        let backend = self.runtime.node.context().backend();
+        let capabilities = self.runtime.node.context().capabilities();
         let mut settles_at: Option<Instant> = None;
         let flavour = servers.iter().find_map(|&(reader, writer)| {
             graph.matched_since(self.endpoints.request_writer(), reader)?;
             let reply_match = graph.matched_since(self.endpoints.response_reader(), writer)?;
             let flavour =
-                WireFlavour::choose(backend, graph.vendor_of(reader), self.flavour).ok()?;
+                WireFlavour::choose(capabilities, graph.vendor_of(reader), self.flavour).ok()?;
             // An rmw_cyclonedds server waits for a client's reply reader only when the client
             // announces `clientid=` in USER_DATA, which rustdds cannot send: then give its writer
             // time to match our reader (it learns of it about when we learn of its writer). No
             // event tells when it has: the waiters look again at this instant.
-            if flavour == WireFlavour::CycloneDds && !backend.announces_user_data() {
+            if flavour == WireFlavour::CycloneDds && !capabilities.announces_user_data {
                 let settled = reply_match + CYCLONE_MATCH_SETTLE;
                 if Instant::now() < settled {
                     settles_at = Some(settles_at.map_or(settled, |s| s.min(settled)));
@@ -423,8 +431,8 @@ impl<C: Codec> ClientCore<C> {
     #[cfg(feature = "tokio")]
     pub(crate) fn settles_at(&self) -> Option<Instant> {
         let graph = &self.runtime.graph;
-        let backend = self.runtime.node.context().backend();
-        if backend.announces_user_data() {
+        let capabilities = self.runtime.node.context().capabilities();
+        if capabilities.announces_user_data {
             return None;
         }
         self.servers()
@@ -433,7 +441,8 @@ impl<C: Codec> ClientCore<C> {
                 graph.matched_since(self.endpoints.request_writer(), reader)?;
                 let reply_match = graph.matched_since(self.endpoints.response_reader(), writer)?;
                 let flavour =
-                    WireFlavour::choose(backend, graph.vendor_of(reader), self.flavour).ok()?;
+                    WireFlavour::choose(capabilities, graph.vendor_of(reader), self.flavour)
+                        .ok()?;
                 (flavour == WireFlavour::CycloneDds).then_some(reply_match + CYCLONE_MATCH_SETTLE)
             })
             .min()
@@ -481,10 +490,10 @@ impl<C: Codec> ClientCore<C> {
     /// convention the backend cannot speak (`None` if there is none, or one that can be called).
     pub(crate) fn unusable_servers(&self) -> Option<String> {
         let graph = &self.runtime.graph;
-        let backend = self.runtime.node.context().backend();
+        let capabilities = self.runtime.node.context().capabilities();
         let mut why = None;
         for (reader, _) in self.servers() {
-            match WireFlavour::choose(backend, graph.vendor_of(reader), self.flavour) {
+            match WireFlavour::choose(capabilities, graph.vendor_of(reader), self.flavour) {
                 Ok(_) => return None,
                 Err(reason) => why = Some(reason),
             }

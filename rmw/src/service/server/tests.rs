@@ -7,6 +7,7 @@ use std::time::{Duration, Instant};
 
 use super::*;
 use crate::names::ServiceName;
+use crate::Backend;
 
 /// A graph written by hand.
 #[derive(Default)]
@@ -95,7 +96,8 @@ fn reply_reader(n: u32) -> Gid {
 fn server_on(graph: &Arc<Graph>, backend: Backend) -> Server {
     let peers = Arc::clone(graph) as Arc<dyn Peers>;
     let service = ServiceName::new("/add_two_ints").expect("name");
-    Server::new(peers, service, reply_writer(), None, backend)
+    let own = (backend.capabilities(), backend.vendor_id());
+    Server::new(peers, service, reply_writer(), None, own)
 }
 
 /// When the response to an rmw_cyclonedds request of `writer` may go out at `now`.

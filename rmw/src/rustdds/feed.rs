@@ -4,7 +4,7 @@
 use std::collections::VecDeque;
 use std::time::{Duration, Instant};
 
-use std::sync::{mpsc, Arc, Mutex, MutexGuard};
+use std::sync::{Arc, Mutex, MutexGuard};
 
 use rustdds::mio1 as mio;
 
@@ -17,10 +17,9 @@ use rustdds::{
 };
 
 use super::gid_from_guid;
+use crate::contract::{FeedBackend, LocalEvents, Wake};
 use crate::discovery::{DiscoveredEndpoint, DiscoveredParticipant, DiscoveryEvent, VendorId};
-use crate::feed_wait::FeedSource;
 use crate::late_joiner::{Action, LateJoinerReader};
-use crate::local_sink::{LocalSink, Wake};
 use crate::qos::{EndpointKind, Qos};
 use crate::Gid;
 
@@ -104,14 +103,16 @@ impl InfoReaderFactory {
 
 /// The rustdds side of a discovery feed.
 pub(crate) struct DdsDiscoveryFeed {
-    status: StatusPoll,
+    /// The participant's, kept between feeds (only the open feed locks it).
+    status: Arc<Mutex<StatusPoll>>,
+    waker: Arc<MioWake>,
     reader: InfoReader,
     factory: InfoReaderFactory,
     /// The extra reader announced after a peer's `ros_discovery_info` writer was discovered
     /// (see [`crate::late_joiner`]).
     late_joiner: Option<InfoReader>,
     late_joiner_state: LateJoinerReader,
-    local: mpsc::Receiver<DiscoveryEvent>,
+    local: LocalEvents,
     own_gid: Gid,
     pending: VecDeque<DiscoveryEvent>,
     /// What the last poll reported (only whether anything did matters: all is drained).
@@ -119,23 +120,24 @@ pub(crate) struct DdsDiscoveryFeed {
 }
 
 impl DdsDiscoveryFeed {
-    /// A feed over the participant's status events, the `ros_discovery_info` reader and the
-    /// context's own changes (sent through the returned [`LocalSink`]).
+    /// A feed over the participant's status events and the `ros_discovery_info` reader,
+    /// starting with `initial` (what was discovered before).
     pub(crate) fn new(
-        status: StatusPoll,
+        status: Arc<Mutex<StatusPoll>>,
         mut reader: InfoReader,
         factory: InfoReaderFactory,
         own_gid: Gid,
         initial: Vec<DiscoveryEvent>,
-    ) -> Result<(Self, LocalSink), (StatusPoll, std::io::Error)> {
-        if let Err(e) = status
-            .poll
-            .registry()
-            .register(&mut reader, INFO, mio::Interest::READABLE)
-        {
-            return Err((status, e));
-        }
-        let (sink, local) = LocalSink::new(Arc::clone(&status.waker) as Arc<dyn Wake>);
+        local: LocalEvents,
+    ) -> std::io::Result<Self> {
+        let waker = {
+            let status = lock(&status);
+            status
+                .poll
+                .registry()
+                .register(&mut reader, INFO, mio::Interest::READABLE)?;
+            Arc::clone(&status.waker)
+        };
         let mut late_joiner_state = LateJoinerReader::default();
         for event in &initial {
             match event {
@@ -148,8 +150,9 @@ impl DdsDiscoveryFeed {
                 _ => {}
             }
         }
-        let feed = Self {
+        Ok(Self {
             status,
+            waker,
             reader,
             factory,
             late_joiner: None,
@@ -158,45 +161,16 @@ impl DdsDiscoveryFeed {
             own_gid,
             pending: initial.into(),
             events: mio::Events::with_capacity(8),
-        };
-        Ok((feed, sink))
-    }
-
-    /// Closes the feed, giving back the registered status listener.
-    pub(crate) fn close(mut self) -> StatusPoll {
-        // Deregistering fails only for what was never registered; nothing to undo then.
-        let _ = self.status.poll.registry().deregister(&mut self.reader);
-        if let Some(mut late) = self.late_joiner.take() {
-            let _ = self.status.poll.registry().deregister(&mut late);
-        }
-        self.status
-    }
-
-    /// The next event, if any (non-blocking).
-    pub(crate) fn try_next(&mut self) -> Option<DiscoveryEvent> {
-        if self.pending.is_empty() {
-            self.drain();
-        }
-        self.pending.pop_front()
-    }
-
-    /// What wakes [`next_timeout`](Self::next_timeout) from another thread.
-    pub(crate) fn waker(&self) -> Arc<dyn Wake> {
-        Arc::clone(&self.status.waker) as Arc<dyn Wake>
-    }
-
-    /// The next event, waiting for one at most `timeout` (see [`crate::feed_wait`]).
-    pub(crate) fn next_timeout(&mut self, timeout: Option<Duration>) -> Option<DiscoveryEvent> {
-        crate::feed_wait::next_timeout(self, timeout)
+        })
     }
 
     /// Moves everything waiting into `pending` (wake-ups are edge-triggered: all is drained).
     fn drain(&mut self) {
         // Our own changes first: they were made before anything discovery reports about them.
-        while let Ok(event) = self.local.try_recv() {
+        while let Some(event) = self.local.try_next() {
             self.pending.push_back(event);
         }
-        while let Some(status) = self.status.try_recv() {
+        while let Some(status) = lock(&self.status).try_recv() {
             if let Some(event) = self.convert(status) {
                 match &event {
                     DiscoveryEvent::EndpointDiscovered(e)
@@ -266,13 +240,13 @@ impl DdsDiscoveryFeed {
             Action::Keep => {}
             Action::Drop => {
                 if let Some(mut old) = self.late_joiner.take() {
-                    let _ = self.status.poll.registry().deregister(&mut old);
+                    let _ = lock(&self.status).poll.registry().deregister(&mut old);
                 }
             }
             Action::Renew => {
                 // Samples the old reader already holds are taken before it goes.
                 if let Some(mut old) = self.late_joiner.take() {
-                    let _ = self.status.poll.registry().deregister(&mut old);
+                    let _ = lock(&self.status).poll.registry().deregister(&mut old);
                     Self::take_info(
                         &mut old,
                         self.own_gid,
@@ -282,7 +256,7 @@ impl DdsDiscoveryFeed {
                 }
                 match self.factory.create() {
                     Ok(mut reader) => {
-                        match self.status.poll.registry().register(
+                        match lock(&self.status).poll.registry().register(
                             &mut reader,
                             LATE_JOINER,
                             mio::Interest::READABLE,
@@ -372,19 +346,36 @@ impl DdsDiscoveryFeed {
     }
 }
 
-impl FeedSource for DdsDiscoveryFeed {
-    fn try_next(&mut self) -> Option<DiscoveryEvent> {
-        DdsDiscoveryFeed::try_next(self)
+impl Drop for DdsDiscoveryFeed {
+    /// Leaves the participant's status poll to the next feed, without this feed's readers.
+    fn drop(&mut self) {
+        let status = lock(&self.status);
+        // Deregistering fails only for what was never registered; nothing to undo then.
+        let _ = status.poll.registry().deregister(&mut self.reader);
+        if let Some(mut late) = self.late_joiner.take() {
+            let _ = status.poll.registry().deregister(&mut late);
+        }
     }
+}
 
-    fn late_joiner(&self) -> &LateJoinerReader {
-        &self.late_joiner_state
+impl FeedBackend for DdsDiscoveryFeed {
+    fn try_next(&mut self) -> Option<DiscoveryEvent> {
+        if self.pending.is_empty() {
+            self.drain();
+        }
+        self.pending.pop_front()
     }
 
     fn wait(&mut self, limit: Option<Duration>) -> std::io::Result<bool> {
+        // The late-joiner reader's retry is due at most then (see `crate::late_joiner`).
+        let limit = self.late_joiner_state.wait_limit(limit, Instant::now());
         self.events.clear();
-        self.status.poll.poll(&mut self.events, limit)?;
+        lock(&self.status).poll.poll(&mut self.events, limit)?;
         Ok(!self.events.is_empty())
+    }
+
+    fn waker(&self) -> Arc<dyn Wake> {
+        Arc::clone(&self.waker) as Arc<dyn Wake>
     }
 }
 

@@ -1,6 +1,5 @@
 //! Waiting on rustdds readers without polling: a mio 1 poll per reader (or one for a wait set)
-//! and a waker that ends a wait from any thread. The Cyclone side is `horus_ros_rmw_cyclone`'s
-//! `Signal`.
+//! and a waker that ends a wait from any thread. The Cyclone side is `cyclone/wait_set.rs`.
 //!
 //! rustdds' mio 1 sources are drained by take/try_recv, so edge-triggered waking works (its
 //! mio 0.6 readiness fires only once: it is never drained).
@@ -9,6 +8,11 @@ use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
 use rustdds::mio1 as mio;
+
+use crate::contract::{WaitSetBackend, Wake};
+
+/// The token of a wait set's own waker (the context's wait set refuses it as a reader key).
+const WAKE: usize = usize::MAX;
 
 /// Ends the current or next wait of the poll it was made for, from any thread.
 #[derive(Clone)]
@@ -19,10 +23,13 @@ impl Waker {
     pub(crate) fn new(poll: &mio::Poll, token: usize) -> std::io::Result<Self> {
         mio::Waker::new(poll.registry(), mio::Token(token)).map(|w| Self(Arc::new(w)))
     }
+}
 
-    /// Wakes the waiting thread (or makes its next wait return at once).
-    pub(crate) fn wake(&self) -> std::io::Result<()> {
-        self.0.wake()
+impl Wake for Waker {
+    fn wake(&self) {
+        if let Err(e) = self.0.wake() {
+            tracing::debug!("could not wake a poll: {e}");
+        }
     }
 }
 
@@ -39,35 +46,30 @@ pub(crate) fn wait_on(poll: &mut mio::Poll, timeout: Option<Duration>) -> bool {
     }
 }
 
-/// One poll for many readers' data (the rustdds side of `WaitSet`); one thread waits at a time.
-pub(crate) struct Waiter {
+/// One poll for many readers' data (the rustdds wait set); one thread waits at a time.
+pub(crate) struct WaitSet {
     poll: Mutex<(mio::Poll, mio::Events)>,
     /// Registers readers while another thread waits in `poll`.
     pub(crate) registry: mio::Registry,
-    /// The token of the waiter's own waker.
-    wake: usize,
+    waker: Waker,
 }
 
-impl Waiter {
-    /// An empty waiter, and the waker that ends its waits (reported under `wake`, which
-    /// [`wait`](Self::wait) leaves out of the ready keys).
-    pub(crate) fn new(wake: usize) -> std::io::Result<(Self, Waker)> {
+impl WaitSet {
+    /// An empty set, with the waker that ends its waits.
+    pub(crate) fn new() -> std::io::Result<Self> {
         let poll = mio::Poll::new()?;
         let registry = poll.registry().try_clone()?;
-        let waker = Waker::new(&poll, wake)?;
-        Ok((
-            Self {
-                poll: Mutex::new((poll, mio::Events::with_capacity(64))),
-                registry,
-                wake,
-            },
+        let waker = Waker::new(&poll, WAKE)?;
+        Ok(Self {
+            poll: Mutex::new((poll, mio::Events::with_capacity(64))),
+            registry,
             waker,
-        ))
+        })
     }
+}
 
-    /// Waits at most `timeout` (`None`: no limit); puts the tokens of the readers that signalled
-    /// in `ready` and returns whether anything (the waker included) did.
-    pub(crate) fn wait(&self, timeout: Option<Duration>, ready: &mut Vec<usize>) -> bool {
+impl WaitSetBackend for WaitSet {
+    fn wait(&self, timeout: Option<Duration>, ready: &mut Vec<usize>) -> bool {
         let mut guard = self.poll.lock().unwrap_or_else(|p| p.into_inner());
         let (poll, events) = &mut *guard;
         if let Err(e) = poll.poll(events, timeout) {
@@ -77,10 +79,18 @@ impl Waiter {
         let mut signalled = false;
         for event in events.iter() {
             signalled = true;
-            if event.token().0 != self.wake {
+            if event.token().0 != WAKE {
                 ready.push(event.token().0);
             }
         }
         signalled
+    }
+
+    fn waker(&self) -> Arc<dyn Wake> {
+        Arc::new(self.waker.clone())
+    }
+
+    fn as_any(&self) -> &dyn std::any::Any {
+        self
     }
 }

@@ -1,6 +1,7 @@
 //! Raw CDR writers and readers: the rustdds side of `RawWriter`/`RawReader` and so of the typed
 //! publishers and subscriptions (the Cyclone side is `cyclone/endpoints.rs`).
 
+use std::sync::Arc;
 use std::time::Duration;
 
 use horus_ros_msgs::rmw_dds_common::Gid;
@@ -9,11 +10,13 @@ use rustdds::no_key::{DataReader, DataWriter};
 use rustdds::{RTPSEntity, SampleIdentity, SequenceNumber, TopicKind, WriteOptionsBuilder};
 
 use super::raw::{RawAdapter, RawPayload};
-use super::waiter::{wait_on, Waiter, Waker};
+use super::wait_set::{wait_on, WaitSet, Waker};
 use super::{gid_from_guid, guid_from_gid, qos, RustddsParticipant};
-use crate::dds_error::DdsError;
+use crate::contract::{ReaderBackend, WaitSetBackend, Wake, WriterBackend};
+use crate::dds_error::{boxed, DdsError};
 use crate::qos::DdsQos;
-use crate::raw::{RawSample, SampleId};
+use crate::raw::{RawEndpointSpec, RawSample, SampleId};
+use crate::wait_set::WaitSetError;
 
 /// Poll token of a reader's data.
 const DATA: usize = 0;
@@ -48,7 +51,7 @@ fn topic(
             policies,
             TopicKind::NoKey,
         )
-        .map_err(DdsError::RustDdsTopic)
+        .map_err(|e| DdsError::Topic(boxed(e)))
 }
 
 /// A raw writer.
@@ -57,28 +60,29 @@ pub(crate) struct RawWriter {
 }
 
 impl RawWriter {
-    /// Creates a writer of `topic_name`/`type_name` with this QoS (rustdds cannot send endpoint
-    /// USER_DATA).
+    /// Creates a writer of the spec's topic and type with this QoS (rustdds cannot send
+    /// endpoint USER_DATA).
     pub(crate) fn create(
         p: &RustddsParticipant,
-        topic_name: &str,
-        type_name: &str,
+        spec: &RawEndpointSpec,
         policies: &DdsQos,
     ) -> Result<(Self, Gid), DdsError> {
         let policies = qos::to_rustdds(policies);
-        let topic = topic(p, topic_name, type_name, &policies)?;
+        let topic = topic(p, &spec.dds_topic_name, &spec.dds_type_name, &policies)?;
         let writer = p
             .publisher
             .create_datawriter_no_key::<RawPayload, RawAdapter>(&topic, Some(policies))
-            .map_err(DdsError::RustDdsCreate)?;
+            .map_err(|e| DdsError::Create(boxed(e)))?;
         let gid = gid_from_guid(writer.guid());
         Ok((Self { writer }, gid))
     }
+}
 
+impl WriterBackend for RawWriter {
     /// Writes a CDR_LE body, with `related` as its `related_sample_identity` (rustdds sends it
     /// under both PIDs 0x0083 and 0x800f) and to the one matched reader `only_to` if given;
     /// returns the sample's identity.
-    pub(crate) fn write(
+    fn write(
         &self,
         body: Vec<u8>,
         related: Option<SampleId>,
@@ -100,12 +104,10 @@ impl RawWriter {
                 options.build(),
             )
             .map(sample_id)
-            .map_err(|e| DdsError::RustDdsWrite(e.forget_data()))
+            .map_err(|e| DdsError::Write(boxed(e.forget_data())))
     }
 
-    /// Waits until every matched reliable reader acknowledged what was written, at most
-    /// `timeout`; returns whether they all did.
-    pub(crate) fn wait_for_acknowledgments(&self, timeout: Duration) -> bool {
+    fn wait_for_acknowledgments(&self, timeout: Duration) -> bool {
         self.writer
             .wait_for_acknowledgments(timeout)
             .unwrap_or(false)
@@ -116,23 +118,22 @@ impl RawWriter {
 pub(crate) struct RawReader {
     poll: mio::Poll,
     reader: DataReader<RawPayload, RawAdapter>,
+    waker: Waker,
 }
 
 impl RawReader {
-    /// Creates a reader of `topic_name`/`type_name` with this QoS, and the waker of its
-    /// [`wait`](Self::wait).
+    /// Creates a reader of the spec's topic and type with this QoS.
     pub(crate) fn create(
         p: &RustddsParticipant,
-        topic_name: &str,
-        type_name: &str,
+        spec: &RawEndpointSpec,
         policies: &DdsQos,
-    ) -> Result<(Self, Gid, Waker), DdsError> {
+    ) -> Result<(Self, Gid), DdsError> {
         let policies = qos::to_rustdds(policies);
-        let topic = topic(p, topic_name, type_name, &policies)?;
+        let topic = topic(p, &spec.dds_topic_name, &spec.dds_type_name, &policies)?;
         let mut reader = p
             .subscriber
             .create_datareader_no_key::<RawPayload, RawAdapter>(&topic, Some(policies))
-            .map_err(DdsError::RustDdsCreate)?;
+            .map_err(|e| DdsError::Create(boxed(e)))?;
         let gid = gid_from_guid(reader.guid());
         let fail = DdsError::Poll;
         let poll = mio::Poll::new().map_err(fail)?;
@@ -140,16 +141,25 @@ impl RawReader {
             .register(&mut reader, mio::Token(DATA), mio::Interest::READABLE)
             .map_err(fail)?;
         let waker = Waker::new(&poll, WAKE).map_err(fail)?;
-        Ok((Self { poll, reader }, gid, waker))
+        Ok((
+            Self {
+                poll,
+                reader,
+                waker,
+            },
+            gid,
+        ))
     }
+}
 
+impl ReaderBackend for RawReader {
     /// Takes the next sample, if any; one rustdds could not decode is consumed and reported as
     /// an error.
-    pub(crate) fn take(&mut self) -> Result<Option<RawSample>, DdsError> {
+    fn take(&mut self) -> Result<Option<RawSample>, DdsError> {
         let Some(sample) = self
             .reader
             .take_next_sample()
-            .map_err(DdsError::RustDdsRead)?
+            .map_err(|e| DdsError::Read(boxed(e)))?
         else {
             return Ok(None);
         };
@@ -166,22 +176,28 @@ impl RawReader {
         }))
     }
 
-    /// Moves this reader's data from its own poll to `waiter`'s, under `token` (a mio source is
+    /// Moves this reader's data from its own poll to the set's, under `key` (a mio source is
     /// registered with one poll at a time; rustdds' poll forgets it when the reader is gone).
-    pub(crate) fn attach_to(&mut self, waiter: &Waiter, token: usize) -> Result<(), DdsError> {
-        let fail = DdsError::Io;
+    fn attach_to(&mut self, set: &dyn WaitSetBackend, key: usize) -> Result<(), WaitSetError> {
+        let set = set
+            .as_any()
+            .downcast_ref::<WaitSet>()
+            .ok_or(WaitSetError::OtherBackend)?;
+        let fail = |e| WaitSetError::Dds(DdsError::Io(e));
         self.poll
             .registry()
             .deregister(&mut self.reader)
             .map_err(fail)?;
-        waiter
-            .registry
-            .register(&mut self.reader, mio::Token(token), mio::Interest::READABLE)
+        set.registry
+            .register(&mut self.reader, mio::Token(key), mio::Interest::READABLE)
             .map_err(fail)
     }
 
-    /// Waits until data may be there or the waker was woken, at most `timeout`.
-    pub(crate) fn wait(&mut self, timeout: Option<Duration>) -> bool {
+    fn wait(&mut self, timeout: Option<Duration>) -> bool {
         wait_on(&mut self.poll, timeout)
+    }
+
+    fn waker(&self) -> Arc<dyn Wake> {
+        Arc::new(self.waker.clone())
     }
 }

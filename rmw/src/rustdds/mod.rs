@@ -1,0 +1,225 @@
+//! The rustdds backend: everything that touches rustdds lives below this module, so the rest of
+//! horus-ros sees only the [backend contract](crate::contract). The Cyclone backend sits beside
+//! it, in `cyclone/`, file for file: `mod.rs` (the implementation and its participant),
+//! `endpoints.rs`, `feed.rs`, `wait_set.rs`, `qos.rs`.
+
+pub(crate) mod discovery_info;
+pub(crate) mod endpoints;
+pub(crate) mod feed;
+pub(crate) mod participant;
+pub(crate) mod qos;
+pub(crate) mod raw;
+pub(crate) mod wait_set;
+
+use std::sync::{Arc, Mutex, MutexGuard};
+use std::time::Duration;
+
+use horus_ros_msgs::rmw_dds_common::{Gid, ParticipantEntitiesInfo};
+use rustdds::{DomainParticipant, QosPolicyBuilder, RTPSEntity, GUID};
+
+use crate::backend::Backend;
+use crate::context::DiscoveryFeedError;
+use crate::contract::{
+    Capabilities, FeedBackend, Implementation, LocalEvents, ParticipantBackend, ParticipantConfig,
+    ReaderBackend, WaitSetBackend, WriterBackend,
+};
+use crate::dds_error::{boxed, DdsError};
+use crate::discovery::VendorId;
+use crate::qos::DdsQos;
+use crate::raw::RawEndpointSpec;
+use crate::wait_set::WaitSetError;
+use discovery_info::DiscoveryInfoWriter;
+use feed::{DdsDiscoveryFeed, InfoReaderFactory, SharedListener, StatusPoll};
+
+/// The rustdds backend (for `rmw_fastrtps_cpp`).
+#[derive(Debug)]
+pub(crate) struct RustDds;
+
+impl Implementation for RustDds {
+    fn name(&self) -> &'static str {
+        Backend::RustDds.name()
+    }
+
+    fn rmw_implementation(&self) -> &'static str {
+        Backend::RustDds.rmw_implementation()
+    }
+
+    fn vendor_id(&self) -> VendorId {
+        VendorId::RUSTDDS
+    }
+
+    fn capabilities(&self) -> Capabilities {
+        Backend::RustDds.capabilities()
+    }
+
+    fn create_participant(
+        &self,
+        config: &ParticipantConfig<'_>,
+    ) -> Result<Box<dyn ParticipantBackend>, DdsError> {
+        let (participant, warnings) = RustddsParticipant::create(config)?;
+        for w in warnings {
+            tracing::warn!("{w}");
+        }
+        if config.enclave != "/" {
+            tracing::debug!(
+                "enclave {}: the rustdds backend cannot announce it (no USER_DATA)",
+                config.enclave
+            );
+        }
+        Ok(Box::new(participant))
+    }
+}
+
+/// The GID of a DDS entity: its 16-byte GUID (12-byte prefix + 4-byte entity id), as rmw_dds_common
+/// `convert_gid_to_message` / rmw_cyclonedds `convert_guid_to_gid` fill Jazzy's 16-byte GID.
+pub(crate) fn gid_from_guid(guid: GUID) -> Gid {
+    Gid::from_bytes(guid.to_bytes())
+}
+
+/// The DDS GUID a GID stands for.
+pub(crate) fn guid_from_gid(gid: Gid) -> rustdds::GUID {
+    rustdds::GUID::from_bytes(*gid.as_bytes())
+}
+
+/// A context's rustdds participant and what hangs off it.
+///
+/// Fields drop in declaration order: endpoints and the publisher/subscriber go before the
+/// participant they belong to (rustdds logs errors when the participant goes first).
+pub(crate) struct RustddsParticipant {
+    discovery_writer: DiscoveryInfoWriter,
+    pub(crate) publisher: rustdds::Publisher,
+    pub(crate) subscriber: rustdds::Subscriber,
+    /// The participant; `None` once [deleted](Self::delete). Its endpoints, publisher and
+    /// subscriber only hold weak references to it: this and `status_listener` keep it alive.
+    participant: Mutex<Option<DomainParticipant>>,
+    /// Its status-event listener (a strong reference), shared with the discovery feeds.
+    status_listener: SharedListener,
+    guid: GUID,
+    /// The status listener, registered once (rustdds allows no more), kept between feeds.
+    status_poll: Arc<Mutex<StatusPoll>>,
+}
+
+impl RustddsParticipant {
+    /// Creates the participant, its publisher/subscriber and the `ros_discovery_info` writer;
+    /// also returns the warnings for discovery settings rustdds cannot honour.
+    fn create(config: &ParticipantConfig<'_>) -> Result<(Self, Vec<String>), DdsError> {
+        let fail = |e| DdsError::Create(boxed(e));
+        let (participant, warnings) =
+            participant::create_participant(config.domain, config.discovery).map_err(fail)?;
+        let qos = QosPolicyBuilder::new().build();
+        let publisher = participant.create_publisher(&qos).map_err(fail)?;
+        let subscriber = participant.create_subscriber(&qos).map_err(fail)?;
+        let topic = discovery_info::topic(&participant).map_err(fail)?;
+        let discovery_writer = DiscoveryInfoWriter::new(&publisher, &topic).map_err(fail)?;
+        let status_listener: SharedListener =
+            Arc::new(Mutex::new(Some(participant.status_listener())));
+        let status_poll = StatusPoll::new(Arc::clone(&status_listener)).map_err(DdsError::Poll)?;
+        Ok((
+            Self {
+                discovery_writer,
+                publisher,
+                subscriber,
+                guid: participant.guid(),
+                status_listener,
+                participant: Mutex::new(Some(participant)),
+                status_poll: Arc::new(Mutex::new(status_poll)),
+            },
+            warnings,
+        ))
+    }
+
+    /// The participant, unless it was deleted.
+    pub(crate) fn participant(&self) -> Result<DomainParticipant, DdsError> {
+        lock(&self.participant)
+            .clone()
+            .ok_or(DdsError::ParticipantDeleted)
+    }
+}
+
+impl ParticipantBackend for RustddsParticipant {
+    fn gid(&self) -> Gid {
+        gid_from_guid(self.guid)
+    }
+
+    fn create_writer(
+        &self,
+        spec: &RawEndpointSpec,
+        qos: &DdsQos,
+    ) -> Result<(Box<dyn WriterBackend>, Gid), DdsError> {
+        let (writer, gid) = endpoints::RawWriter::create(self, spec, qos)?;
+        Ok((Box::new(writer), gid))
+    }
+
+    /// Readers get every response: rustdds' servers address the reader a request names.
+    fn create_reader(
+        &self,
+        spec: &RawEndpointSpec,
+        qos: &DdsQos,
+        _responses_of: Option<u64>,
+    ) -> Result<(Box<dyn ReaderBackend>, Gid), DdsError> {
+        let (reader, gid) = endpoints::RawReader::create(self, spec, qos)?;
+        Ok((Box::new(reader), gid))
+    }
+
+    fn publish_discovery_info(&self, message: &ParticipantEntitiesInfo) {
+        self.discovery_writer.publish(message.clone());
+    }
+
+    fn wait_for_discovery_info_acks(&self, limit: Duration) -> bool {
+        self.discovery_writer.wait_for_acknowledgments(limit)
+    }
+
+    /// Deletes the participant now: as its last strong references (ours and the status
+    /// listener's) go, rustdds' discovery sends the dispose of its endpoints and of the
+    /// participant itself (`Discovery::on_participant_shutting_down`), and its threads end.
+    fn delete(&self) {
+        let listener = lock(&self.status_listener).take();
+        let participant = lock(&self.participant).take();
+        drop(listener);
+        drop(participant);
+    }
+
+    /// Status events (queued by rustdds since the participant was created), a
+    /// `ros_discovery_info` reader and a snapshot of the endpoints already known.
+    fn open_feed(&self, local: LocalEvents) -> Result<Box<dyn FeedBackend>, DiscoveryFeedError> {
+        let reader_error = |e| DiscoveryFeedError::Reader {
+            cause: DdsError::Create(boxed(e)),
+        };
+        let participant = self
+            .participant()
+            .map_err(|source| DiscoveryFeedError::Reader { cause: source })?;
+        let topic = discovery_info::topic(&participant).map_err(reader_error)?;
+        let reader = self
+            .subscriber
+            .create_datareader_no_key(&topic, Some(discovery_info::reader_qos()))
+            .map_err(reader_error)?;
+        let own_gid = self.gid();
+        let snapshot = feed::endpoint_snapshot(&participant, own_gid);
+        let factory = InfoReaderFactory {
+            subscriber: self.subscriber.clone(),
+            topic,
+        };
+        let feed = DdsDiscoveryFeed::new(
+            Arc::clone(&self.status_poll),
+            reader,
+            factory,
+            own_gid,
+            snapshot,
+            local,
+        )
+        .map_err(|e| DiscoveryFeedError::Poll {
+            cause: DdsError::Io(e),
+        })?;
+        Ok(Box::new(feed))
+    }
+
+    fn create_wait_set(&self) -> Result<Box<dyn WaitSetBackend>, WaitSetError> {
+        let set = wait_set::WaitSet::new().map_err(|e| WaitSetError::Dds(DdsError::Io(e)))?;
+        Ok(Box::new(set))
+    }
+}
+
+/// Locks a mutex whose data stays consistent even if a holder panicked.
+fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
+    m.lock().unwrap_or_else(|p| p.into_inner())
+}
