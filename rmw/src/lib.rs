@@ -21,14 +21,13 @@ pub mod context;
 pub mod contract;
 #[cfg(feature = "cyclone")]
 mod cyclone;
+mod dds;
 mod dds_error;
 pub mod discovery;
-mod entities;
 mod feed_wait;
 #[doc(hidden)]
 pub mod fuzzing;
 pub mod gid;
-mod late_joiner;
 mod local_sink;
 pub mod names;
 pub mod node;

@@ -3,8 +3,8 @@
 use std::sync::Arc;
 
 use crate::context::Context;
+use crate::dds::entities::{EndpointSide, NodeKey};
 use crate::discovery::DiscoveredEndpoint;
-use crate::entities::{EndpointSide, NodeKey};
 use crate::names::{Namespace, NamespaceError, NodeName, NodeNameError};
 use crate::Gid;
 

@@ -12,9 +12,9 @@ use std::time::Duration;
 use horus_ros_msgs::TypeHash;
 
 use crate::contract::{ReaderBackend, Wake, WriterBackend};
+use crate::dds::entities::EndpointSide;
 use crate::dds_error::DdsError;
 use crate::discovery::DiscoveredEndpoint;
-use crate::entities::EndpointSide;
 use crate::node::{Node, Registration};
 use crate::pubsub::{EndpointError, PublishError, SampleError, TakeError};
 use crate::qos::{EndpointKind, Qos};

@@ -15,9 +15,9 @@ use crate::backend::{Backend, BackendError};
 use crate::contract::{
     Capabilities, FeedBackend, Implementation, ParticipantBackend, ParticipantConfig,
 };
+use crate::dds::entities::{EndpointSide, LocalEntities, NodeKey};
 use crate::dds_error::DdsError;
 use crate::discovery::{DiscoveredEndpoint, DiscoveredParticipant, DiscoveryEvent, VendorId};
-use crate::entities::{EndpointSide, LocalEntities, NodeKey};
 use crate::local_sink::LocalSink;
 use crate::raw::{ServiceEndpointId, ServiceEndpointRole};
 use crate::signal_handler::{self, SignalHandlerError, SignalHandlerOptions};

@@ -15,10 +15,10 @@ use horus_ros_rmw_cyclone::{self as cyc, BuiltinSample, BuiltinTopic, StatusMask
 use super::{cyclone_error, gid, qos, CycloneParticipant, LocalEndpoints};
 use crate::context::DiscoveryFeedError;
 use crate::contract::{FeedBackend, LocalEvents, Wake};
+use crate::dds::discovery_info::{TOPIC_NAME, TYPE_NAME};
+use crate::dds::late_joiner::{Action, LateJoinerReader};
 use crate::discovery::{DiscoveredEndpoint, DiscoveredParticipant, DiscoveryEvent, VendorId};
-use crate::late_joiner::{Action, LateJoinerReader};
 use crate::qos::EndpointKind;
-use crate::rustdds::discovery_info::{TOPIC_NAME, TYPE_NAME};
 
 const GUARD: usize = 0;
 const PARTICIPANTS: usize = 1;
@@ -79,7 +79,7 @@ pub(crate) struct CycloneDiscoveryFeed {
     participant: cyc::Participant,
     late_topic: cyc::Topic,
     /// The extra reader announced after a peer's `ros_discovery_info` writer was discovered
-    /// (see [`crate::late_joiner`]).
+    /// (see [`crate::dds::late_joiner`]).
     late_joiner: Option<cyc::Reader>,
     late_joiner_state: LateJoinerReader,
     local: LocalEvents,
@@ -124,7 +124,7 @@ impl CycloneDiscoveryFeed {
             .reader(
                 info_topic,
                 &qos::discovery_info(0),
-                super::discovery_info_user_data().as_bytes(),
+                super::discovery_info::discovery_info_user_data().as_bytes(),
             )
             .map_err(reader)?;
         let late_topic = p
@@ -428,7 +428,7 @@ impl CycloneDiscoveryFeed {
                 let created = self.participant.reader(
                     &self.late_topic,
                     &qos::discovery_info(0),
-                    super::discovery_info_user_data().as_bytes(),
+                    super::discovery_info::discovery_info_user_data().as_bytes(),
                 );
                 match created {
                     Ok(reader) => match self.waiter.attach_reader(&reader, LATE_JOINER) {
@@ -467,7 +467,7 @@ impl FeedBackend for CycloneDiscoveryFeed {
     }
 
     fn wait(&mut self, limit: Option<Duration>) -> std::io::Result<bool> {
-        // The late-joiner reader's retry is due at most then (see `crate::late_joiner`).
+        // The late-joiner reader's retry is due at most then (see `crate::dds::late_joiner`).
         let limit = self.late_joiner_state.wait_limit(limit, Instant::now());
         let triggered = self.waiter.wait_for(limit).map_err(std::io::Error::other)?;
         self.drain(Some(&triggered));

@@ -11,33 +11,35 @@
 //! - samples are raw CDR (the "blob" sertype), GIDs the 16-byte GUIDs.
 //!
 //! It implements the [backend contract](crate::contract) file for file as `rustdds/` does:
-//! `mod.rs` (the implementation and its participant), `endpoints.rs`, `feed.rs`, `wait_set.rs`,
-//! `qos.rs`.
+//! `mod.rs` (the contract's implementation), `participant.rs`, `discovery_info.rs`,
+//! `endpoints.rs`, `feed.rs`, `wait_set.rs`, `qos.rs`.
 
+pub(crate) mod discovery_info;
 pub(crate) mod endpoints;
 pub(crate) mod feed;
+pub(crate) mod participant;
 pub(crate) mod qos;
 pub(crate) mod wait_set;
 
 use std::collections::HashMap;
-use std::sync::{Arc, Mutex, MutexGuard};
+use std::sync::{Mutex, MutexGuard};
 
 use horus_ros_msgs::rmw_dds_common::{Gid, ParticipantEntitiesInfo};
 use horus_ros_rmw_cyclone as cyc;
 
 use crate::backend::Backend;
-use crate::context::env::{DiscoveryOptions, DiscoveryRange};
 use crate::context::DiscoveryFeedError;
 use crate::contract::{
     Capabilities, FeedBackend, Implementation, LocalEvents, ParticipantBackend, ParticipantConfig,
     ReaderBackend, WaitSetBackend, WriterBackend,
 };
+use crate::dds::discovery_info::TOPIC_NAME;
 use crate::dds_error::{boxed, DdsError};
 use crate::discovery::VendorId;
 use crate::qos::{DdsQos, EndpointKind};
 use crate::raw::RawEndpointSpec;
-use crate::rustdds::discovery_info::{TOPIC_NAME, TYPE_NAME};
 use crate::wait_set::WaitSetError;
+pub(crate) use participant::CycloneParticipant;
 
 /// The Cyclone DDS backend (for `rmw_cyclonedds_cpp`).
 #[derive(Debug)]
@@ -99,73 +101,6 @@ impl LocalEndpoints {
     pub(crate) fn get(&self, gid: Gid) -> Option<(cyc::Entity, EndpointKind)> {
         let (weak, kind) = self.lock().get(&gid).cloned()?;
         Some((weak.upgrade()?, kind))
-    }
-}
-
-/// The USER_DATA of the `ros_discovery_info` reader and writer: rmw_cyclonedds creates them as
-/// ordinary endpoints (`create_publisher` / `create_subscription`), so they carry the type hash.
-pub(crate) fn discovery_info_user_data() -> String {
-    use horus_ros_msgs::Message;
-    ParticipantEntitiesInfo::type_hash().to_user_data()
-}
-
-/// A context's Cyclone participant and its `ros_discovery_info` writer.
-pub(crate) struct CycloneParticipant {
-    info_writer: cyc::Writer,
-    info_topic: cyc::Topic,
-    pub(crate) participant: cyc::Participant,
-    pub(crate) local_endpoints: Arc<LocalEndpoints>,
-    gid: Gid,
-}
-
-/// Cyclone DDS sends no key hash with its samples unless told to (`Internal/GenerateKeyhash`,
-/// default false); Fast DDS (rmw_fastrtps) ignores a dispose without one, so without it the
-/// disposes of our participant and endpoints never take them off Fast DDS peers' graphs: they
-/// stayed there until their lease ended, even after a clean exit. The key hash is an ordinary
-/// inline QoS every implementation accepts. First, so that `CYCLONEDDS_URI` can still override it.
-const KEY_HASH_CONFIG: &str =
-    "<CycloneDDS><Domain><Internal><GenerateKeyhash>true</GenerateKeyhash></Internal></Domain></CycloneDDS>,";
-
-/// Key hashes on ([`KEY_HASH_CONFIG`]), then the configuration rmw_cyclonedds builds for these
-/// discovery options, then `CYCLONEDDS_URI`.
-pub(crate) fn domain_config(discovery: &DiscoveryOptions) -> String {
-    let range = match discovery.range {
-        DiscoveryRange::Off => cyc::config::DiscoveryRange::Off,
-        DiscoveryRange::Localhost => cyc::config::DiscoveryRange::Localhost,
-        DiscoveryRange::Subnet => cyc::config::DiscoveryRange::Subnet,
-        DiscoveryRange::SystemDefault => cyc::config::DiscoveryRange::SystemDefault,
-    };
-    let rmw_config = cyc::config::domain_config_from_env(range, &discovery.static_peers);
-    format!("{KEY_HASH_CONFIG}{rmw_config}")
-}
-
-impl CycloneParticipant {
-    /// Creates (or joins) the configured domain, the participant with `enclave=…;` and the
-    /// `ros_discovery_info` writer.
-    fn create(config: &ParticipantConfig<'_>) -> Result<Self, DdsError> {
-        let fail = cyclone_error;
-        let domain = u32::from(config.domain.get());
-        let dom = cyc::Domain::acquire(domain, &domain_config(config.discovery)).map_err(fail)?;
-        let user_data = format!("enclave={};", config.enclave);
-        let participant = cyc::Participant::new(dom, user_data.as_bytes()).map_err(fail)?;
-        let info_topic = participant
-            .blob_topic(TOPIC_NAME, TYPE_NAME)
-            .map_err(fail)?;
-        let info_writer = participant
-            .writer(
-                &info_topic,
-                &qos::discovery_info(1),
-                discovery_info_user_data().as_bytes(),
-            )
-            .map_err(fail)?;
-        let gid = gid(participant.guid().map_err(fail)?);
-        Ok(Self {
-            info_writer,
-            info_topic,
-            participant,
-            local_endpoints: Arc::default(),
-            gid,
-        })
     }
 }
 

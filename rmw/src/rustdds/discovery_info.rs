@@ -1,10 +1,5 @@
-//! The `ros_discovery_info` topic: where each participant tells which nodes own which endpoints.
-//!
-//! Topic and QoS as rmw_cyclonedds_cpp `rmw_node.cpp` (`rmw_context_impl_s::init`, jazzy) and
-//! rmw_fastrtps_shared_cpp `participant.cpp` create them: no `rt/` prefix
-//! (avoid_ros_namespace_conventions), type `rmw_dds_common::msg::dds_::ParticipantEntitiesInfo_`,
-//! RELIABLE, TRANSIENT_LOCAL, KEEP_LAST 1 for the writer (readers, in the graph layer, are KEEP_ALL
-//! and ignore their own participant).
+//! The `ros_discovery_info` topic on rustdds: its writer and readers with the QoS of
+//! [`crate::dds::discovery_info`].
 
 use rustdds::{
     no_key::DataWriter, policy, CDRSerializerAdapter, DomainParticipant, Publisher, QosPolicies,
@@ -13,10 +8,7 @@ use rustdds::{
 
 use horus_ros_msgs::rmw_dds_common::ParticipantEntitiesInfo;
 
-/// The DDS topic name.
-pub(crate) const TOPIC_NAME: &str = "ros_discovery_info";
-/// The DDS type name.
-pub(crate) const TYPE_NAME: &str = "rmw_dds_common::msg::dds_::ParticipantEntitiesInfo_";
+pub(crate) use crate::dds::discovery_info::{TOPIC_NAME, TYPE_NAME};
 
 /// The writer's QoS: RELIABLE, TRANSIENT_LOCAL, KEEP_LAST 1.
 pub(crate) fn writer_qos() -> QosPolicies {

@@ -18,8 +18,8 @@ use rustdds::{
 
 use super::gid_from_guid;
 use crate::contract::{FeedBackend, LocalEvents, Wake};
+use crate::dds::late_joiner::{Action, LateJoinerReader};
 use crate::discovery::{DiscoveredEndpoint, DiscoveredParticipant, DiscoveryEvent, VendorId};
-use crate::late_joiner::{Action, LateJoinerReader};
 use crate::qos::{EndpointKind, Qos};
 use crate::Gid;
 
@@ -109,7 +109,7 @@ pub(crate) struct DdsDiscoveryFeed {
     reader: InfoReader,
     factory: InfoReaderFactory,
     /// The extra reader announced after a peer's `ros_discovery_info` writer was discovered
-    /// (see [`crate::late_joiner`]).
+    /// (see [`crate::dds::late_joiner`]).
     late_joiner: Option<InfoReader>,
     late_joiner_state: LateJoinerReader,
     local: LocalEvents,
@@ -367,7 +367,7 @@ impl FeedBackend for DdsDiscoveryFeed {
     }
 
     fn wait(&mut self, limit: Option<Duration>) -> std::io::Result<bool> {
-        // The late-joiner reader's retry is due at most then (see `crate::late_joiner`).
+        // The late-joiner reader's retry is due at most then (see `crate::dds::late_joiner`).
         let limit = self.late_joiner_state.wait_limit(limit, Instant::now());
         self.events.clear();
         lock(&self.status).poll.poll(&mut self.events, limit)?;

@@ -1,7 +1,8 @@
 //! The rustdds backend: everything that touches rustdds lives below this module, so the rest of
 //! horus-ros sees only the [backend contract](crate::contract). The Cyclone backend sits beside
-//! it, in `cyclone/`, file for file: `mod.rs` (the implementation and its participant),
-//! `endpoints.rs`, `feed.rs`, `wait_set.rs`, `qos.rs`.
+//! it, in `cyclone/`, file for file: `mod.rs` (the contract's implementation), `participant.rs`,
+//! `discovery_info.rs`, `endpoints.rs`, `feed.rs`, `wait_set.rs`, `qos.rs`; `raw.rs` (how
+//! rustdds carries raw CDR bodies) is what Cyclone's blob sertype does in `horus-ros-rmw-cyclone`.
 
 pub(crate) mod discovery_info;
 pub(crate) mod endpoints;
@@ -15,7 +16,7 @@ use std::sync::{Arc, Mutex, MutexGuard};
 use std::time::Duration;
 
 use horus_ros_msgs::rmw_dds_common::{Gid, ParticipantEntitiesInfo};
-use rustdds::{DomainParticipant, QosPolicyBuilder, RTPSEntity, GUID};
+use rustdds::GUID;
 
 use crate::backend::Backend;
 use crate::context::DiscoveryFeedError;
@@ -28,8 +29,8 @@ use crate::discovery::VendorId;
 use crate::qos::DdsQos;
 use crate::raw::RawEndpointSpec;
 use crate::wait_set::WaitSetError;
-use discovery_info::DiscoveryInfoWriter;
-use feed::{DdsDiscoveryFeed, InfoReaderFactory, SharedListener, StatusPoll};
+use feed::{DdsDiscoveryFeed, InfoReaderFactory};
+pub(crate) use participant::RustddsParticipant;
 
 /// The rustdds backend (for `rmw_fastrtps_cpp`).
 #[derive(Debug)]
@@ -79,61 +80,6 @@ pub(crate) fn gid_from_guid(guid: GUID) -> Gid {
 /// The DDS GUID a GID stands for.
 pub(crate) fn guid_from_gid(gid: Gid) -> rustdds::GUID {
     rustdds::GUID::from_bytes(*gid.as_bytes())
-}
-
-/// A context's rustdds participant and what hangs off it.
-///
-/// Fields drop in declaration order: endpoints and the publisher/subscriber go before the
-/// participant they belong to (rustdds logs errors when the participant goes first).
-pub(crate) struct RustddsParticipant {
-    discovery_writer: DiscoveryInfoWriter,
-    pub(crate) publisher: rustdds::Publisher,
-    pub(crate) subscriber: rustdds::Subscriber,
-    /// The participant; `None` once [deleted](Self::delete). Its endpoints, publisher and
-    /// subscriber only hold weak references to it: this and `status_listener` keep it alive.
-    participant: Mutex<Option<DomainParticipant>>,
-    /// Its status-event listener (a strong reference), shared with the discovery feeds.
-    status_listener: SharedListener,
-    guid: GUID,
-    /// The status listener, registered once (rustdds allows no more), kept between feeds.
-    status_poll: Arc<Mutex<StatusPoll>>,
-}
-
-impl RustddsParticipant {
-    /// Creates the participant, its publisher/subscriber and the `ros_discovery_info` writer;
-    /// also returns the warnings for discovery settings rustdds cannot honour.
-    fn create(config: &ParticipantConfig<'_>) -> Result<(Self, Vec<String>), DdsError> {
-        let fail = |e| DdsError::Create(boxed(e));
-        let (participant, warnings) =
-            participant::create_participant(config.domain, config.discovery).map_err(fail)?;
-        let qos = QosPolicyBuilder::new().build();
-        let publisher = participant.create_publisher(&qos).map_err(fail)?;
-        let subscriber = participant.create_subscriber(&qos).map_err(fail)?;
-        let topic = discovery_info::topic(&participant).map_err(fail)?;
-        let discovery_writer = DiscoveryInfoWriter::new(&publisher, &topic).map_err(fail)?;
-        let status_listener: SharedListener =
-            Arc::new(Mutex::new(Some(participant.status_listener())));
-        let status_poll = StatusPoll::new(Arc::clone(&status_listener)).map_err(DdsError::Poll)?;
-        Ok((
-            Self {
-                discovery_writer,
-                publisher,
-                subscriber,
-                guid: participant.guid(),
-                status_listener,
-                participant: Mutex::new(Some(participant)),
-                status_poll: Arc::new(Mutex::new(status_poll)),
-            },
-            warnings,
-        ))
-    }
-
-    /// The participant, unless it was deleted.
-    pub(crate) fn participant(&self) -> Result<DomainParticipant, DdsError> {
-        lock(&self.participant)
-            .clone()
-            .ok_or(DdsError::ParticipantDeleted)
-    }
 }
 
 impl ParticipantBackend for RustddsParticipant {
@@ -220,6 +166,6 @@ impl ParticipantBackend for RustddsParticipant {
 }
 
 /// Locks a mutex whose data stays consistent even if a holder panicked.
-fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
+pub(crate) fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
     m.lock().unwrap_or_else(|p| p.into_inner())
 }

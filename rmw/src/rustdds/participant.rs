@@ -1,11 +1,18 @@
-//! Creating the rustdds participant from ROS discovery options.
+//! A context's rustdds participant: created from ROS discovery options, with its publisher,
+//! subscriber, `ros_discovery_info` writer and status listener.
 
 use std::net::{IpAddr, Ipv4Addr};
+use std::sync::{Arc, Mutex};
 
 use nix::sys::signal::{pthread_sigmask, SigSet, SigmaskHow, Signal};
-use rustdds::{DomainParticipant, DomainParticipantBuilder};
+use rustdds::{DomainParticipant, DomainParticipantBuilder, QosPolicyBuilder, RTPSEntity, GUID};
 
+use super::discovery_info::{self, DiscoveryInfoWriter};
+use super::feed::{SharedListener, StatusPoll};
+use super::lock;
 use crate::context::env::{DiscoveryOptions, DiscoveryRange, DomainId};
+use crate::contract::ParticipantConfig;
+use crate::dds_error::{boxed, DdsError};
 
 /// Builds the participant for `domain` with discovery limited as `discovery` asks, as far as rustdds
 /// can; returns the warnings for what it cannot honour (the caller logs them).
@@ -96,5 +103,60 @@ impl Drop for AsyncSignalsBlocked {
                 tracing::warn!("could not restore this thread's signal mask: {e}");
             }
         }
+    }
+}
+
+/// A context's rustdds participant and what hangs off it.
+///
+/// Fields drop in declaration order: endpoints and the publisher/subscriber go before the
+/// participant they belong to (rustdds logs errors when the participant goes first).
+pub(crate) struct RustddsParticipant {
+    pub(super) discovery_writer: DiscoveryInfoWriter,
+    pub(crate) publisher: rustdds::Publisher,
+    pub(crate) subscriber: rustdds::Subscriber,
+    /// The participant; `None` once [deleted](Self::delete). Its endpoints, publisher and
+    /// subscriber only hold weak references to it: this and `status_listener` keep it alive.
+    pub(super) participant: Mutex<Option<DomainParticipant>>,
+    /// Its status-event listener (a strong reference), shared with the discovery feeds.
+    pub(super) status_listener: SharedListener,
+    pub(super) guid: GUID,
+    /// The status listener, registered once (rustdds allows no more), kept between feeds.
+    pub(super) status_poll: Arc<Mutex<StatusPoll>>,
+}
+
+impl RustddsParticipant {
+    /// Creates the participant, its publisher/subscriber and the `ros_discovery_info` writer;
+    /// also returns the warnings for discovery settings rustdds cannot honour.
+    pub(super) fn create(config: &ParticipantConfig<'_>) -> Result<(Self, Vec<String>), DdsError> {
+        let fail = |e| DdsError::Create(boxed(e));
+        let (participant, warnings) =
+            create_participant(config.domain, config.discovery).map_err(fail)?;
+        let qos = QosPolicyBuilder::new().build();
+        let publisher = participant.create_publisher(&qos).map_err(fail)?;
+        let subscriber = participant.create_subscriber(&qos).map_err(fail)?;
+        let topic = discovery_info::topic(&participant).map_err(fail)?;
+        let discovery_writer = DiscoveryInfoWriter::new(&publisher, &topic).map_err(fail)?;
+        let status_listener: SharedListener =
+            Arc::new(Mutex::new(Some(participant.status_listener())));
+        let status_poll = StatusPoll::new(Arc::clone(&status_listener)).map_err(DdsError::Poll)?;
+        Ok((
+            Self {
+                discovery_writer,
+                publisher,
+                subscriber,
+                guid: participant.guid(),
+                status_listener,
+                participant: Mutex::new(Some(participant)),
+                status_poll: Arc::new(Mutex::new(status_poll)),
+            },
+            warnings,
+        ))
+    }
+
+    /// The participant, unless it was deleted.
+    pub(crate) fn participant(&self) -> Result<DomainParticipant, DdsError> {
+        lock(&self.participant)
+            .clone()
+            .ok_or(DdsError::ParticipantDeleted)
     }
 }

@@ -1,0 +1,17 @@
+//! The shared DDS layer: what both DDS backends (`rustdds/`, `cyclone/`) do the same way,
+//! written once — the way rmw_dds_common is shared by rmw_fastrtps and rmw_cyclonedds.
+//!
+//! - [`discovery_info`]: the `ros_discovery_info` topic's name, type and QoS facts.
+//! - [`entities`]: a participant's nodes and the endpoints listed under each, as
+//!   rmw_dds_common's `GraphCache` keeps them for the local participant; every change gives the
+//!   whole `ParticipantEntitiesInfo` to publish.
+//! - [`late_joiner`]: when a feed renews its extra `ros_discovery_info` reader, for peers whose
+//!   TRANSIENT_LOCAL sample never reached us.
+//!
+//! Topic mangling (`rt/`, `rq/`, `rr/`) lives in [`crate::names`], the two request/reply
+//! conventions in [`crate::service`]: both are written against the
+//! [backend contract](crate::contract)'s raw readers and writers, so any backend speaks them.
+
+pub(crate) mod discovery_info;
+pub(crate) mod entities;
+pub(crate) mod late_joiner;
