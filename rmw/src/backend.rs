@@ -90,6 +90,16 @@ impl Backend {
         }
     }
 
+    /// The environment variables its own configuration reads, beyond ROS's (`CYCLONEDDS_URI`
+    /// for Cyclone DDS): what else, with the domain and the discovery options, decides which
+    /// graph a context sees.
+    pub const fn configuration_env(self) -> &'static [&'static str] {
+        match self {
+            Self::RustDds => &[],
+            Self::Cyclone => &["CYCLONEDDS_URI"],
+        }
+    }
+
     /// What it can do (the same as its [`implementation`](Self::implementation) reports).
     pub const fn capabilities(self) -> Capabilities {
         Capabilities {

@@ -17,6 +17,7 @@ pub mod protocol;
 pub mod server;
 pub mod spawn;
 
+use std::collections::BTreeMap;
 use std::os::linux::net::SocketAddrExt;
 use std::os::unix::net::SocketAddr;
 use std::time::Duration;
@@ -35,9 +36,6 @@ pub const DEFAULT_IDLE_TIMEOUT: Duration = Duration::from_secs(2 * 60 * 60);
 /// How long `daemon start` waits for the daemon to be ready, and `daemon stop` for it to be
 /// gone (ros2cli `verb/daemon/start.py`, `stop.py`: `timeout=10.0`).
 pub const START_STOP_TIMEOUT: Duration = Duration::from_secs(10);
-
-/// The environment variable of the Cyclone DDS configuration.
-const CYCLONEDDS_URI_ENV: &str = "CYCLONEDDS_URI";
 
 /// Why the daemon key of a command could not be made: its environment is invalid.
 #[derive(Debug, thiserror::Error)]
@@ -63,9 +61,9 @@ pub struct DaemonKey {
     pub discovery_range: String,
     /// The static peers as rcl keeps them.
     pub static_peers: Vec<String>,
-    /// `CYCLONEDDS_URI` on the Cyclone backend (`None` there when unset, and always `None` on
-    /// rustdds, which does not read it).
-    pub cyclonedds_uri: Option<String>,
+    /// The backend's own configuration variables that are set, by name
+    /// ([`Backend::configuration_env`]: `CYCLONEDDS_URI` on Cyclone DDS, none on rustdds).
+    pub backend_environment: BTreeMap<String, String>,
 }
 
 impl DaemonKey {
@@ -95,10 +93,11 @@ impl DaemonKey {
             backend: backend.name().to_owned(),
             discovery_range: environment.discovery.range.to_string(),
             static_peers: environment.discovery.static_peers,
-            cyclonedds_uri: match backend {
-                Backend::Cyclone => get(CYCLONEDDS_URI_ENV),
-                Backend::RustDds => None,
-            },
+            backend_environment: backend
+                .configuration_env()
+                .iter()
+                .filter_map(|&name| Some((name.to_owned(), get(name)?)))
+                .collect(),
         })
     }
 
@@ -207,7 +206,10 @@ mod tests {
         assert_eq!(key(&rustdds, &uri), key(&rustdds, &[]));
         let cyclone = global(Some(3), BackendArg::Cyclone);
         assert_eq!(
-            key(&cyclone, &uri).cyclonedds_uri.as_deref(),
+            key(&cyclone, &uri)
+                .backend_environment
+                .get("CYCLONEDDS_URI")
+                .map(String::as_str),
             Some("<CycloneDDS/>")
         );
         assert_ne!(

@@ -218,7 +218,7 @@ mod tests {
             backend: "rustdds".to_owned(),
             discovery_range: "SUBNET".to_owned(),
             static_peers: vec![],
-            cyclonedds_uri: None,
+            backend_environment: Default::default(),
         }
     }
 

@@ -127,7 +127,7 @@ mod tests {
             backend: "rustdds".to_owned(),
             discovery_range: "SUBNET".to_owned(),
             static_peers: Vec::new(),
-            cyclonedds_uri: None,
+            backend_environment: Default::default(),
         }
     }
 

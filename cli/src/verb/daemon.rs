@@ -75,7 +75,7 @@ fn status_json(status: &Status) -> serde_json::Value {
         "backend": status.key.backend,
         "discovery_range": status.key.discovery_range,
         "static_peers": status.key.static_peers,
-        "cyclonedds_uri": status.key.cyclonedds_uri,
+        "backend_environment": status.key.backend_environment,
         "idle_timeout_s": status.idle_timeout_s,
         "uptime_s": status.uptime_s,
     })

@@ -46,7 +46,23 @@ pub enum ConventionError {
     FastDdsPeer,
 }
 
+/// How long a client's reply reader must have been matched with an rmw_cyclonedds server's
+/// reply writer before its first request, when the client cannot announce `clientid=`: such a
+/// server then cannot tell whether its writer reached our reader (rmw_cyclonedds
+/// `check_for_response_reader` looks for the client id), and learns of our reader about when we
+/// learn of its writer. No event tells when it has.
+pub const CYCLONE_MATCH_SETTLE: std::time::Duration = std::time::Duration::from_millis(100);
+
 impl WireFlavour {
+    /// How long a client of this convention, on a backend that can do `capabilities`, lets a
+    /// server's reply writer match its reply reader before its first request
+    /// ([`CYCLONE_MATCH_SETTLE`] for the rmw_cyclonedds convention without USER_DATA); `None`:
+    /// no wait, the matches tell.
+    pub fn reply_match_settle(self, capabilities: Capabilities) -> Option<std::time::Duration> {
+        (self == Self::CycloneDds && !capabilities.announces_user_data)
+            .then_some(CYCLONE_MATCH_SETTLE)
+    }
+
     /// The convention a participant of `vendor` follows.
     pub fn for_vendor(vendor: Option<VendorId>) -> Self {
         if vendor == Some(VendorId::CYCLONE_DDS) {

@@ -24,10 +24,6 @@ use crate::naming::{default_service_name, ServiceTopics};
 use crate::runtime::Runtime;
 use crate::{ServiceError, SetupError};
 
-/// How long our reply reader must have been matched with an rmw_cyclonedds server's reply writer
-/// before the first request (see [`ClientCore::ready_server`]).
-const CYCLONE_MATCH_SETTLE: Duration = Duration::from_millis(100);
-
 /// Identifies one outstanding request.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub(crate) struct RequestKey {
@@ -394,12 +390,10 @@ impl<C: Codec> ClientCore<C> {
             let reply_match = graph.matched_since(self.endpoints.response_reader(), writer)?;
             let flavour =
                 WireFlavour::choose(capabilities, graph.vendor_of(reader), self.flavour).ok()?;
-            // An rmw_cyclonedds server waits for a client's reply reader only when the client
-            // announces `clientid=` in USER_DATA, which rustdds cannot send: then give its writer
-            // time to match our reader (it learns of it about when we learn of its writer). No
-            // event tells when it has: the waiters look again at this instant.
-            if flavour == WireFlavour::CycloneDds && !capabilities.announces_user_data {
-                let settled = reply_match + CYCLONE_MATCH_SETTLE;
+            // The convention may want the server's reply writer given time to match our reader
+            // (`WireFlavour::reply_match_settle`): the waiters look again at that instant.
+            if let Some(settle) = flavour.reply_match_settle(capabilities) {
+                let settled = reply_match + settle;
                 if Instant::now() < settled {
                     settles_at = Some(settles_at.map_or(settled, |s| s.min(settled)));
                     return None;
@@ -426,15 +420,13 @@ impl<C: Codec> ClientCore<C> {
 
     /// When a server whose endpoints are matched with ours but that [`ready_server`]
     /// (Self::ready_server) does not give yet becomes ready with no further graph change: an
-    /// rmw_cyclonedds server's reply writer is given [`CYCLONE_MATCH_SETTLE`] to match our
-    /// reader. `None` if no server waits for that.
+    /// server's reply writer is given its convention's
+    /// [`reply_match_settle`](WireFlavour::reply_match_settle) to match our reader. `None` if no
+    /// server waits for that.
     #[cfg(feature = "tokio")]
     pub(crate) fn settles_at(&self) -> Option<Instant> {
         let graph = &self.runtime.graph;
         let capabilities = self.runtime.node.context().capabilities();
-        if capabilities.announces_user_data {
-            return None;
-        }
         self.servers()
             .into_iter()
             .filter_map(|(reader, writer)| {
@@ -443,7 +435,7 @@ impl<C: Codec> ClientCore<C> {
                 let flavour =
                     WireFlavour::choose(capabilities, graph.vendor_of(reader), self.flavour)
                         .ok()?;
-                (flavour == WireFlavour::CycloneDds).then_some(reply_match + CYCLONE_MATCH_SETTLE)
+                Some(reply_match + flavour.reply_match_settle(capabilities)?)
             })
             .min()
     }
