@@ -125,9 +125,6 @@ fn main() -> Result<()> {
         }
         Err(ServiceError::NoServer) => println!("no server found"),
         Err(ServiceError::Transport(msg)) => println!("transport error: {msg}"),
-        Err(ServiceError::ServerGone) => println!("the server left before answering"),
-        // ServiceError is non-exhaustive: later kinds of failure land here.
-        Err(e) => println!("the call failed: {e}"),
     }
     let inverted = GetMapRegionRequest {
         x_min: 10.0,

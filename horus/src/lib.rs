@@ -40,6 +40,18 @@ mod api;
 #[doc = include_str!("../../README.md")]
 pub struct ReadmeDoctests;
 
+/// The code blocks of the services guide (seed 000), visible lines exactly as the guide writes
+/// them, compiled as doctests (those that need a live server compiled only).
+#[cfg(doctest)]
+#[doc = include_str!("../docs/seed_000_services.md")]
+pub mod seed_000_services {}
+
+/// The code blocks of the Node API reference (seed 002), visible lines exactly as the reference
+/// writes them, compiled as doctests (the programs that run until Ctrl+C compiled only).
+#[cfg(doctest)]
+#[doc = include_str!("../docs/seed_002_node_api.md")]
+pub mod seed_002_node_api {}
+
 pub use api::clock::{timestamp_now, Clock, ManualClock, StopHandle, SystemClock};
 pub use api::current;
 pub use api::error::{BuildError, ConfigError, Error, MessageError, Result, SchedulerError};
@@ -94,7 +106,7 @@ pub mod prelude {
     };
     pub use horus_ros_services::{
         AsyncServiceClient, PendingResponse, RetryConfig, ServiceClient, ServiceError,
-        ServiceServer, ServiceServerBuilder,
+        ServiceServer, ServiceServerBuilder, TransportError,
     };
     pub use std::time::Duration;
 }

@@ -217,7 +217,8 @@ async fn our_awaited_calls_reach_an_rclpy_server() {
         );
         let asked = Instant::now();
         match client.call(SetBoolRequest { data: true }, 5 * SECOND).await {
-            Err(ServiceError::Transport(m)) => {
+            Err(ServiceError::Transport(cause @ TransportError::NoUsableServer { .. })) => {
+                let m = cause.to_string();
                 assert!(m.contains("rmw_fastrtps") && m.contains("rustdds"), "{m}")
             }
             other => panic!("expected a Transport refusal, got {other:?}"),

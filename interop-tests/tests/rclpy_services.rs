@@ -131,10 +131,13 @@ fn double(v: f64) -> ParameterValue {
 /// A client on the Cyclone backend is refused at once, once the rclpy server is on the graph.
 fn refused<T: std::fmt::Debug>(what: &str, asked: Instant, reply: Result<T, ServiceError>) {
     match &reply {
-        Err(ServiceError::Transport(m)) => assert!(
-            m.contains("rmw_fastrtps") && m.contains("rustdds"),
-            "{what}: the refusal must name rmw_fastrtps and the rustdds backend: {m}"
-        ),
+        Err(ServiceError::Transport(cause @ TransportError::NoUsableServer { .. })) => {
+            let m = cause.to_string();
+            assert!(
+                m.contains("rmw_fastrtps") && m.contains("rustdds"),
+                "{what}: the refusal must name rmw_fastrtps and the rustdds backend: {m}"
+            )
+        }
         other => panic!("{what}: expected a Transport refusal, got {other:?}"),
     }
     assert!(

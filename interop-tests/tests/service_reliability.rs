@@ -3,7 +3,7 @@
 //!   crashed rmw_cyclonedds client (requests that no reply can reach) or writing garbage on the
 //!   request topic: a good client's p99 does not move by more than 2×;
 //! - a horus-ros server in a process of its own (`horus_add_two_ints_server`) SIGKILLed half a
-//!   second into a 2 s handler: its client learns it (`ServiceError::ServerGone`) when the dead
+//!   second into a 2 s handler: its client learns it (`ServiceError::Transport(TransportError::ServerGone)`) when the dead
 //!   participant's lease expires, and the dead participant leaves the graph then. The killed
 //!   server runs on the Cyclone backend, whose participants announce Cyclone DDS's default lease
 //!   (10 s), as rmw_cyclonedds' do; rustdds 0.15 announces a fixed 50 s lease that horus-ros
@@ -205,7 +205,11 @@ fn a_killed_server_is_reported_to_its_client_and_leaves_the_graph_within_its_lea
     let (result, ended) = caller.join().expect("caller");
     let noticed = ended.duration_since(killed);
     eprintln!("the killed server's client got {result:?} {noticed:?} after the kill");
-    assert_eq!(result, Err(ServiceError::ServerGone), "after {noticed:?}");
+    assert_eq!(
+        result,
+        Err(ServiceError::Transport(TransportError::ServerGone)),
+        "after {noticed:?}"
+    );
     assert!(
         noticed <= CYCLONE_LEASE + LEASE_SLACK,
         "the client learnt it after {noticed:?}"

@@ -3,12 +3,12 @@
 use serde::de::DeserializeOwned;
 use serde::Serialize;
 
-use crate::ServiceError;
+use crate::{ServiceError, TransportError};
 
 /// Encodes a message as a CDR_LE body.
 pub(crate) fn encode<T: Serialize>(value: &T) -> Result<Vec<u8>, ServiceError> {
     horus_ros_msgs::cdr::to_cdr_body(value)
-        .map_err(|e| ServiceError::Transport(format!("encoding failed: {e}")))
+        .map_err(|e| ServiceError::Transport(TransportError::Serialization(e.to_string())))
 }
 
 /// Decodes a CDR body in the given byte order.
@@ -21,5 +21,5 @@ pub(crate) fn decode<T: DeserializeOwned>(
     } else {
         horus_ros_msgs::cdr::from_cdr_body::<T, byteorder::LittleEndian>(body)
     };
-    result.map_err(|e| ServiceError::Transport(format!("malformed payload: {e}")))
+    result.map_err(|e| ServiceError::Transport(TransportError::Deserialization(e.to_string())))
 }

@@ -70,8 +70,8 @@ pub use client::{
     AsyncServiceClient, DynamicCallError, DynamicPart, DynamicServiceClient,
     DynamicServiceClientBuilder, PendingResponse, RawResponse, ServiceClient, ServiceClientBuilder,
 };
-pub use error::{Error, Result, ServiceError, SetupError};
-pub use horus_ros_rmw::service::WireFlavour;
+pub use error::{Error, Result, ServiceError, SetupError, TransportError};
+pub use horus_ros_rmw::service::{ConventionError, WireFlavour};
 pub use introspection::{IntrospectionState, SERVICE_EVENT_TOPIC_POSTFIX};
 pub use naming::default_service_name;
 pub use node_services::{
@@ -81,7 +81,7 @@ pub use node_services::{
 };
 pub use raw_traits::{
     DdsServiceClient, DdsServiceClientBuilder, DdsServiceServer, DdsServiceServerBuilder,
-    RosService, ServiceClientTrait, ServiceRequest, ServiceServerTrait, TransportError,
+    RosService, ServiceClientTrait, ServiceRequest, ServiceServerTrait,
 };
 pub use retry::RetryConfig;
 pub use runtime::default_node;
@@ -97,7 +97,8 @@ pub mod prelude {
     pub use crate::{message, service};
     pub use crate::{
         AsyncServiceClient, Error, IntrospectionState, PendingResponse, Result, RetryConfig,
-        ServiceClient, ServiceError, ServiceServer, ServiceServerBuilder, WireFlavour,
+        ServiceClient, ServiceError, ServiceServer, ServiceServerBuilder, TransportError,
+        WireFlavour,
     };
     #[cfg(feature = "tokio")]
     pub use crate::{AsyncServiceServer, AsyncServiceServerBuilder, ServiceCall};

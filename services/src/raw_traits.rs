@@ -16,7 +16,7 @@ use horus_ros_msgs::{Message, Service};
 use serde::de::DeserializeOwned;
 use serde::Serialize;
 
-use crate::ServiceError;
+use crate::TransportError;
 
 pub use client::{DdsServiceClient, DdsServiceClientBuilder};
 pub use server::{DdsServiceServer, DdsServiceServerBuilder};
@@ -33,61 +33,6 @@ pub trait RosService {
 impl<T: Service> RosService for T {
     type Request = T::Request;
     type Reply = T::Response;
-}
-
-/// Why a raw service operation failed.
-#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
-#[non_exhaustive]
-pub enum TransportError {
-    /// The operation did not complete in time (also what the deprecated blocking calls return).
-    #[error("the service operation timed out")]
-    Timeout,
-    /// The backend cannot do this (e.g. no graph introspection).
-    #[error("the operation is not supported by this backend")]
-    Unsupported,
-    /// No server became ready to take a queued request within the client's send timeout.
-    #[error("no server is available for this service")]
-    NoServer,
-    /// A message could not be serialized, or a payload is not valid CDR for its type.
-    #[error("serialization failed: {0}")]
-    Serialization(String),
-    /// A received payload could not be deserialized.
-    #[error("deserialization failed: {0}")]
-    Deserialization(String),
-    /// The caller's buffer is too small; nothing was consumed, retry with `needed` bytes.
-    #[error("buffer too small: {needed} bytes needed, {capacity} available")]
-    BufferTooSmall {
-        /// Bytes the payload needs.
-        needed: usize,
-        /// Bytes the buffer has.
-        capacity: usize,
-    },
-    /// `send_reply` was given a sequence number of no outstanding request (never received,
-    /// already answered, or evicted).
-    #[error("no outstanding request has sequence number {0}")]
-    UnknownRequest(i64),
-    /// A horus-ros server's handler failed and it sent an error reply instead of a response.
-    #[error("the service handler failed: {0}")]
-    ServiceFailed(String),
-    /// The DDS layer failed to send or receive.
-    #[error("transport failure: {0}")]
-    Transport(String),
-    /// Every server the request went to left the graph before answering (see
-    /// [`ServiceError::ServerGone`]).
-    #[error("the server left the graph before answering")]
-    ServerGone,
-}
-
-impl From<TransportError> for ServiceError {
-    fn from(e: TransportError) -> Self {
-        match e {
-            TransportError::Timeout => Self::Timeout,
-            TransportError::NoServer => Self::NoServer,
-            TransportError::ServiceFailed(message) => Self::ServiceFailed(message),
-            TransportError::ServerGone => Self::ServerGone,
-            other => Self::Transport(other.to_string()),
-        }
-    }
 }
 
 /// A request taken by [`ServiceServerTrait::try_recv_request`], borrowing the caller's buffer.

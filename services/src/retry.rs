@@ -4,8 +4,8 @@ use std::time::Duration;
 
 /// Retries for `call_resilient_with`: up to `max_retries` more attempts after the first, waiting
 /// `initial_backoff`, then twice as long each time. Only transient errors are retried
-/// ([`ServiceError::is_transient`](crate::ServiceError::is_transient): Timeout, Transport and
-/// ServerGone).
+/// ([`ServiceError::is_transient`](crate::ServiceError::is_transient): Timeout and Transport,
+/// which includes [`TransportError::ServerGone`](crate::TransportError::ServerGone)).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct RetryConfig {
     /// Attempts after the first.

@@ -410,7 +410,10 @@ async fn an_awaited_call_ends_with_server_gone_when_its_server_leaves() {
     arrived.notified().await;
     // Dropping the server ends its handler task and withdraws its endpoints.
     drop(server);
-    assert_eq!(call.await.expect("task"), Err(ServiceError::ServerGone));
+    assert_eq!(
+        call.await.expect("task"),
+        Err(ServiceError::Transport(TransportError::ServerGone))
+    );
     assert_eq!(client.pending_requests(), 0);
 }
 

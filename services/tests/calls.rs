@@ -319,7 +319,9 @@ fn a_server_dropped_mid_call_gives_the_client_an_error_within_its_timeout() {
     assert!(
         matches!(
             err,
-            ServiceError::NoServer | ServiceError::Timeout | ServiceError::ServerGone
+            ServiceError::NoServer
+                | ServiceError::Timeout
+                | ServiceError::Transport(TransportError::ServerGone)
         ),
         "{err:?}"
     );

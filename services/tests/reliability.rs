@@ -363,7 +363,10 @@ fn a_server_that_leaves_ends_the_calls_waiting_for_it_at_once() {
     drop(server_node);
     let (result, _, pending) = caller.join().expect("caller");
     let noticed = left.elapsed();
-    assert_eq!(result, Err(ServiceError::ServerGone));
+    assert_eq!(
+        result,
+        Err(ServiceError::Transport(TransportError::ServerGone))
+    );
     assert_eq!(pending, 0);
     // Graceful: its endpoints are withdrawn at once (discovery traffic on loopback), far from
     // the call's 30 s timeout.
@@ -405,7 +408,7 @@ fn an_async_call_ends_with_server_gone_too() {
     let t = Instant::now();
     assert_eq!(
         waiter.join().expect("waiter"),
-        Err(ServiceError::ServerGone)
+        Err(ServiceError::Transport(TransportError::ServerGone))
     );
     assert!(t.elapsed() < 10 * SECOND);
     drop(c);

@@ -148,7 +148,7 @@ fn own_types_between_two_horus_programs() {
     assert_eq!(failed.len(), 1, "{output}");
     assert_eq!(
         failed[0]["error"],
-        "service transport error: encoding failed: field 'reason': string of 49 bytes exceeds \
+        "service transport error: serialization failed: field 'reason': string of 49 bytes exceeds \
          its bound of 48 bytes",
         "{output}"
     );

@@ -13,7 +13,7 @@ use tokio::time::Sleep;
 use super::graph_wake::GraphWake;
 use crate::client::codec::Typed;
 use crate::client::core::{ClientCore, ReadyServer, RequestKey};
-use crate::{AsyncServiceClient, ServiceError};
+use crate::{AsyncServiceClient, ServiceError, TransportError};
 
 impl<S: Service> AsyncServiceClient<S> {
     /// Calls the service and gives a future of the reply, to `.await` on a tokio runtime (with
@@ -23,7 +23,8 @@ impl<S: Service> AsyncServiceClient<S> {
     /// The same outcomes as the blocking [`ServiceClient::call`](crate::ServiceClient::call):
     /// `NoServer` if no server of this service and type appeared within `timeout`, `Timeout` if
     /// one was there but did not answer in time, `ServiceFailed` if its handler failed or
-    /// panicked, `ServerGone` as soon as every server the request went to left. The future is
+    /// panicked, `Transport(TransportError::ServerGone)` as soon as every server the request
+    /// went to left. The future is
     /// woken by events only: the reply being routed to it, graph changes while it waits for a
     /// server, its own deadline.
     ///
@@ -214,9 +215,7 @@ impl<S: Service> Future for ServiceCall<S> {
                 Poll::Pending => return Poll::Pending,
                 Poll::Ready(Ok(server)) => match request.take() {
                     Some(request) => this.core.send(&request, server, this.wait.deadline, None),
-                    None => Err(ServiceError::Transport(
-                        "request already consumed".to_owned(),
-                    )),
+                    None => Err(ServiceError::Transport(TransportError::CallCompleted)),
                 },
                 Poll::Ready(Err(e)) => Err(e),
             };
@@ -248,9 +247,7 @@ impl<S: Service> Future for ServiceCall<S> {
                 }
                 Poll::Pending
             }
-            _ => Poll::Ready(Err(ServiceError::Transport(
-                "the call's future was polled after it completed".to_owned(),
-            ))),
+            _ => Poll::Ready(Err(ServiceError::Transport(TransportError::CallCompleted))),
         }
     }
 }

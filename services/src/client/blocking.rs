@@ -158,7 +158,8 @@ impl<S: Service> ServiceClient<S> {
     ///
     /// `NoServer` if no server of this service and type appeared within `timeout`; `Timeout` if
     /// one was there but did not answer in time; `ServiceFailed` if its handler returned `Err`;
-    /// `ServerGone` as soon as every server the request went to has left the graph.
+    /// `Transport(TransportError::ServerGone)` as soon as every server the request went to has
+    /// left the graph; other `Transport` errors if the communication failed.
     pub fn call(
         &mut self,
         request: S::Request,
@@ -167,9 +168,9 @@ impl<S: Service> ServiceClient<S> {
         self.core.call_blocking(&self.responses, &request, timeout)
     }
 
-    /// Calls with retries on transient errors ([`ServiceError::is_transient`]: Timeout,
-    /// Transport, ServerGone): 3 retries, backoff 10, 20, 40 ms; each attempt has the whole
-    /// `timeout`.
+    /// Calls with retries on transient errors ([`ServiceError::is_transient`]: Timeout and
+    /// Transport, which includes `TransportError::ServerGone`): 3 retries, backoff 10, 20,
+    /// 40 ms; each attempt has the whole `timeout`.
     pub fn call_resilient(
         &mut self,
         request: S::Request,

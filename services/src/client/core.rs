@@ -22,7 +22,7 @@ use crate::cdr::decode;
 use crate::introspection::{Introspection, IntrospectionState};
 use crate::naming::{default_service_name, ServiceTopics};
 use crate::runtime::Runtime;
-use crate::{ServiceError, SetupError};
+use crate::{ServiceError, SetupError, TransportError};
 
 /// Identifies one outstanding request.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -57,12 +57,12 @@ pub(crate) struct Slot<R> {
     deadline: Instant,
     /// The request readers of the servers the request went to (matched with our request writer
     /// when it was sent) that are still matched: when none is left, the call ends with
-    /// [`ServiceError::ServerGone`].
+    /// [`TransportError::ServerGone`].
     servers: Vec<Gid>,
 }
 
 /// The calls in flight, shared with the graph's thread: a graph change that leaves a call with
-/// none of the servers it went to ends it with [`ServiceError::ServerGone`] and wakes its caller
+/// none of the servers it went to ends it with [`TransportError::ServerGone`] and wakes its caller
 /// (the slot's waker, the condition variable, and the reply reader's wait).
 pub(crate) struct Calls<R> {
     pending: Mutex<HashMap<RequestKey, Slot<R>>>,
@@ -85,7 +85,7 @@ impl<R: Send + 'static> GraphWatcher for Calls<R> {
             slot.servers
                 .retain(|reader| graph.is_matched(self.request_writer, *reader));
             if slot.servers.is_empty() {
-                slot.result = Some(Err(ServiceError::ServerGone));
+                slot.result = Some(Err(ServiceError::Transport(TransportError::ServerGone)));
                 if let Some(waker) = slot.waker.take() {
                     waker.wake();
                 }
@@ -480,7 +480,7 @@ impl<C: Codec> ClientCore<C> {
 
     /// Why no server can be called from this backend, when every server on the graph follows a
     /// convention the backend cannot speak (`None` if there is none, or one that can be called).
-    pub(crate) fn unusable_servers(&self) -> Option<String> {
+    pub(crate) fn unusable_servers(&self) -> Option<TransportError> {
         let graph = &self.runtime.graph;
         let capabilities = self.runtime.node.context().capabilities();
         let mut why = None;
@@ -490,7 +490,10 @@ impl<C: Codec> ClientCore<C> {
                 Err(reason) => why = Some(reason),
             }
         }
-        why.map(|reason| format!("no server of {} can be called: {reason}", self.name))
+        why.map(|cause| TransportError::NoUsableServer {
+            service: self.name.to_string(),
+            cause,
+        })
     }
 
     /// The error for a call that found no usable server.
@@ -519,7 +522,7 @@ impl<C: Codec> ClientCore<C> {
         let sequence = self
             .endpoints
             .send_request(&body, server.flavour)
-            .map_err(|e| ServiceError::Transport(e.to_string()))?;
+            .map_err(|e| ServiceError::Transport(TransportError::Send(e.to_string())))?;
         let key = RequestKey {
             flavour: server.flavour,
             sequence,

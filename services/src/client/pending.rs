@@ -16,7 +16,7 @@ use horus_ros_rmw::Gid;
 use super::codec::Typed;
 use super::core::{ClientCore, RequestKey};
 use super::ServiceClientBuilder;
-use crate::{IntrospectionState, ServiceError, SetupError};
+use crate::{IntrospectionState, ServiceError, SetupError, TransportError};
 
 /// Calls a service without blocking: each call returns a [`PendingResponse`] to check, wait on,
 /// or `.await`. A background thread receives the replies.
@@ -200,9 +200,7 @@ impl<S: Service> PendingResponse<S> {
             if let Some(server) = self.core.ready_server() {
                 let outcome = match request.take() {
                     Some(req) => self.core.send(&req, server, self.deadline, None),
-                    None => Err(ServiceError::Transport(
-                        "request already consumed".to_owned(),
-                    )),
+                    None => Err(ServiceError::Transport(TransportError::CallCompleted)),
                 };
                 self.state = match outcome {
                     Ok(key) => State::Sent(key),

@@ -18,8 +18,8 @@ use super::{
 };
 use crate::client::codec::{Raw, RawResponse};
 use crate::client::core::{ClientCore, ClientOptions, Readiness, RequestKey};
+use crate::SetupError;
 use crate::WireFlavour;
-use crate::{ServiceError, SetupError};
 
 /// The default [`send_timeout`](DdsServiceClientBuilder::send_timeout).
 const DEFAULT_SEND_TIMEOUT: Duration = Duration::from_secs(10);
@@ -339,17 +339,6 @@ impl Wake for Unpark {
     }
 }
 
-/// The raw traits' form of a call error.
-fn transport_error(e: ServiceError) -> TransportError {
-    match e {
-        ServiceError::Timeout => TransportError::Timeout,
-        ServiceError::NoServer => TransportError::NoServer,
-        ServiceError::ServiceFailed(message) => TransportError::ServiceFailed(message),
-        ServiceError::Transport(message) => TransportError::Transport(message),
-        ServiceError::ServerGone => TransportError::ServerGone,
-    }
-}
-
 impl Shared {
     fn state(&self) -> MutexGuard<'_, State> {
         self.state.lock().unwrap_or_else(|p| p.into_inner())
@@ -376,7 +365,7 @@ impl Shared {
         let key = self
             .core
             .send(&unsent.body, server, Instant::now(), None)
-            .map_err(transport_error)?;
+            .map_err(TransportError::from)?;
         state.current = Some(key);
         Ok(true)
     }
@@ -384,7 +373,7 @@ impl Shared {
     /// Moves the current request's reply, once the core routed it, into the reply slot.
     fn collect(&self, state: &mut State) {
         if let Some(result) = state.current.and_then(|key| self.core.take_result(key)) {
-            self.complete(state, result.map_err(transport_error));
+            self.complete(state, result.map_err(TransportError::from));
         }
     }
 

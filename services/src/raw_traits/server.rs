@@ -247,7 +247,7 @@ impl<S: Service> ServiceServerTrait for DdsServiceServer<S> {
             // The request thread sends it once the client's reader is matched.
             self.shared.pump_waker.wake();
         }
-        result.map_err(|e| TransportError::Transport(e.to_string()))
+        result.map_err(|e| TransportError::Send(e.to_string()))
     }
 
     /// Whether a received request is waiting (non-destructive).

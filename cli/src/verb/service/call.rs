@@ -27,7 +27,9 @@ use horus_ros_rmw::names::ServiceName;
 use crate::dynamic::{ServiceType, Value};
 use crate::session::Session;
 use crate::{CliError, Global};
-use horus_ros_services::{DynamicCallError, DynamicServiceClient, RawResponse, ServiceError};
+use horus_ros_services::{
+    DynamicCallError, DynamicServiceClient, RawResponse, ServiceError, TransportError,
+};
 
 /// Arguments of `service call`.
 #[derive(Debug, clap::Args)]
@@ -323,9 +325,10 @@ pub(crate) fn call_error(e: ServiceError, service: &ServiceName, timeout: Durati
             timeout.as_secs_f64()
         ),
         ServiceError::ServiceFailed(m) => format!("The service {service} failed: {m}"),
-        ServiceError::Transport(m) => format!("Calling {service} failed: {m}"),
-        ServiceError::ServerGone => format!("The server of {service} left before answering"),
-        other => format!("Calling {service} failed: {other}"),
+        ServiceError::Transport(TransportError::ServerGone) => {
+            format!("The server of {service} left before answering")
+        }
+        ServiceError::Transport(cause) => format!("Calling {service} failed: {cause}"),
     })
 }
 

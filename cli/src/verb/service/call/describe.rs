@@ -233,11 +233,10 @@ fn call_describe(
         horus_ros_services::ServiceError::Timeout => {
             format!("no response within {} s", timeout.as_secs_f64())
         }
-        horus_ros_services::ServiceError::ServerGone => {
-            "its server left before answering".to_owned()
-        }
-        horus_ros_services::ServiceError::ServiceFailed(m)
-        | horus_ros_services::ServiceError::Transport(m) => m,
-        other => other.to_string(),
+        horus_ros_services::ServiceError::Transport(
+            horus_ros_services::TransportError::ServerGone,
+        ) => "its server left before answering".to_owned(),
+        horus_ros_services::ServiceError::ServiceFailed(m) => m,
+        horus_ros_services::ServiceError::Transport(cause) => cause.to_string(),
     })
 }
