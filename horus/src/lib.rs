@@ -70,8 +70,8 @@ pub mod ros {
     pub use horus_ros_rmw::qos::Qos;
     pub use horus_ros_rmw::{Context, Node as RosNode};
     pub use horus_ros_services::{
-        AsyncServiceClient, NodeServices, PendingResponse, ServiceClient, ServiceServer,
-        ServiceServerBuilder, SetupError,
+        AsyncServiceClient, EndpointBuilder, EndpointOptions, NodeServices, PendingResponse,
+        ServiceClient, ServiceServer, ServiceServerBuilder, SetupError,
     };
 }
 
@@ -93,8 +93,8 @@ pub mod prelude {
         UInt32, UInt64, UInt8,
     };
     pub use horus_ros_services::{
-        AsyncServiceClient, PendingResponse, RetryConfig, ServiceClient, ServiceError,
-        ServiceServer, ServiceServerBuilder,
+        AsyncServiceClient, EndpointBuilder, PendingResponse, RetryConfig, ServiceClient,
+        ServiceError, ServiceServer, ServiceServerBuilder,
     };
     pub use std::time::Duration;
 }

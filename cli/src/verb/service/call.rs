@@ -27,7 +27,9 @@ use horus_ros_rmw::names::ServiceName;
 use crate::dynamic::{ServiceType, Value};
 use crate::session::Session;
 use crate::{CliError, Global};
-use horus_ros_services::{DynamicCallError, DynamicServiceClient, RawResponse, ServiceError};
+use horus_ros_services::{
+    DynamicCallError, DynamicServiceClient, EndpointBuilder, RawResponse, ServiceError,
+};
 
 /// Arguments of `service call`.
 #[derive(Debug, clap::Args)]
@@ -249,11 +251,10 @@ pub(crate) struct Opened {
 impl Opened {
     /// A new client of the service on the session's node.
     pub(crate) fn client(&self) -> Result<DynamicServiceClient, CliError> {
-        Ok(
-            DynamicServiceClient::for_type(self.service.as_str(), self.info.clone())
-                .node(&self.session.node)
-                .build()?,
-        )
+        Ok(DynamicServiceClient::builder(self.info.clone())
+            .name(self.service.as_str())
+            .node(&self.session.node)
+            .build()?)
     }
 
     /// The request as Python's `repr` shows it.
