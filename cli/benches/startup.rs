@@ -291,7 +291,7 @@ impl WarmGraph {
             let node = context
                 .create_node(&format!("bench_server_{i}"), "/bench")
                 .expect("node");
-            let server = ServiceServerBuilder::<AddTwoInts>::new()
+            let server = ServiceServer::<AddTwoInts>::builder()
                 .node(&node)
                 .name(*service)
                 .on_request(|r| Ok(AddTwoIntsResponse { sum: r.a + r.b }))

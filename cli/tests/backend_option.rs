@@ -14,7 +14,7 @@ use std::time::{Duration, Instant};
 use common::{cyclone_config, expect, RUN_LIMIT};
 use horus_ros_msgs::example_interfaces::srv::AddTwoInts;
 use horus_ros_rmw::{Backend, Context, DiscoveryEvent, VendorId};
-use horus_ros_services::{ServiceClient, ServiceServerBuilder};
+use horus_ros_services::{EndpointBuilder, ServiceClient, ServiceServer};
 use horus_ros_test_support::{wait_with_output, Output};
 
 const D: u32 = 136;
@@ -70,7 +70,7 @@ fn backend_cyclone_lists_services() {
         .build()
         .expect("Cyclone DDS context");
     let node = context.create_node("backend_test", "/").expect("node");
-    let _server = ServiceServerBuilder::<AddTwoInts>::new()
+    let _server = ServiceServer::<AddTwoInts>::builder()
         .node(&node)
         .name("/backend_add")
         .on_request(|r| {

@@ -24,7 +24,7 @@ use horus_ros_msgs::example_interfaces::srv::AddTwoInts;
 use horus_ros_msgs::Message;
 use horus_ros_rmw::qos::Qos;
 use horus_ros_rmw::Context;
-use horus_ros_services::ServiceServerBuilder;
+use horus_ros_services::{EndpointBuilder, ServiceServer};
 use horus_ros_test_support::wait_with_output;
 use interop_tests::rclpy::RclpyPeer;
 use nix::sys::signal::Signal;
@@ -294,7 +294,7 @@ fn node_that_leaves_is_gone() {
     let ctx = context(D);
     let staying = ctx.create_node("staying", "/").expect("node");
     let leaving = ctx.create_node("leaving", "/").expect("node");
-    let _server = ServiceServerBuilder::<AddTwoInts>::new()
+    let _server = ServiceServer::<AddTwoInts>::builder()
         .node(&leaving)
         .name("/leaving_add")
         .on_request(|r| {

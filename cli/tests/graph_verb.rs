@@ -203,7 +203,7 @@ fn graph_prints_the_whole_live_graph_as_text_and_json() {
         .create_publisher::<Time>("_hidden", &Qos::default())
         .expect("hidden publisher");
     let adder = ctx.create_node("adder", "/graph_test").expect("node");
-    let server = ServiceServerBuilder::<AddTwoInts>::new()
+    let server = ServiceServer::<AddTwoInts>::builder()
         .node(&adder)
         .name("add")
         .on_request(|r| Ok(AddTwoIntsResponse { sum: r.a + r.b }))
@@ -610,7 +610,7 @@ fn graph_watch_prints_the_graph_then_each_change_and_exits_0_on_sigint_or_sigter
     let blip = transient
         .create_publisher::<Time>("blip", &Qos::default())
         .expect("publisher");
-    let server = ServiceServerBuilder::<AddTwoInts>::new()
+    let server = ServiceServer::<AddTwoInts>::builder()
         .node(&transient)
         .name("sum")
         .on_request(|r| Ok(AddTwoIntsResponse { sum: r.a + r.b }))

@@ -18,7 +18,7 @@ use horus_ros_msgs::std_srvs::srv::{SetBool, SetBoolResponse};
 use horus_ros_msgs::{DescriptionBuilder, Message, TypeDescription};
 use horus_ros_rmw::qos::Qos;
 use horus_ros_rmw::Context;
-use horus_ros_services::{ServiceClient, ServiceServerBuilder};
+use horus_ros_services::{EndpointBuilder, ServiceClient, ServiceServer};
 use serde_json::{json, Value};
 
 /// The Time type hash the Cyclone participant peer announces for its topics.
@@ -96,7 +96,7 @@ fn service_verbs() {
     );
     let ctx = context(D);
     let node = ctx.create_node("horus_node", "/").expect("node");
-    let server = ServiceServerBuilder::<SetBool>::new()
+    let server = ServiceServer::<SetBool>::builder()
         .node(&node)
         .name("set_flag")
         .on_request(|_| {
@@ -379,7 +379,7 @@ fn node_verbs() {
     let _action_client = node
         .create_subscription::<FibonacciFeedbackMessage>("/other/_action/feedback", &qos)
         .expect("feedback subscription");
-    let _server = ServiceServerBuilder::<SetBool>::new()
+    let _server = ServiceServer::<SetBool>::builder()
         .node(&node)
         .name("set_flag")
         .on_request(|_| {

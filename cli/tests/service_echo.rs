@@ -182,7 +182,7 @@ fn pair(domain: u32, service: &str, state: IntrospectionState) -> Pair {
     let node = context.create_node("introspected", "/").expect("node");
     let graph = Graph::of(&context).expect("graph");
     let qos = Qos::services_default();
-    let server = ServiceServerBuilder::<AddTwoInts>::new()
+    let server = ServiceServer::<AddTwoInts>::builder()
         .node(&node)
         .name(service)
         .introspection(state, qos)

@@ -16,7 +16,7 @@ use std::time::{Duration, Instant};
 
 use horus::msgs::example_interfaces::srv::{AddTwoInts, AddTwoIntsRequest, AddTwoIntsResponse};
 use horus::prelude::*;
-use horus::ros::{ServiceClient, ServiceServerBuilder};
+use horus::ros::{ServiceClient, ServiceServer};
 
 struct Empty(String);
 
@@ -206,7 +206,7 @@ fn topic_round_trips(prefix: &str, n: usize) -> Vec<Duration> {
 }
 
 fn service_round_trips(n: usize) -> Vec<Duration> {
-    let _server = ServiceServerBuilder::<AddTwoInts>::new()
+    let _server = ServiceServer::<AddTwoInts>::builder()
         .name("/bench/add_two_ints")
         .on_request(|r| Ok(AddTwoIntsResponse { sum: r.a + r.b }))
         .build()

@@ -82,8 +82,8 @@ pub mod ros {
     pub use horus_ros_rmw::qos::Qos;
     pub use horus_ros_rmw::{Context, Node as RosNode};
     pub use horus_ros_services::{
-        AsyncServiceClient, NodeServices, PendingResponse, ServiceClient, ServiceServer,
-        ServiceServerBuilder, SetupError,
+        AsyncServiceClient, EndpointBuilder, EndpointOptions, NodeServices, PendingResponse,
+        ServiceClient, ServiceServer, ServiceServerBuilder, SetupError,
     };
 }
 
@@ -105,8 +105,8 @@ pub mod prelude {
         UInt32, UInt64, UInt8,
     };
     pub use horus_ros_services::{
-        AsyncServiceClient, PendingResponse, RetryConfig, ServiceClient, ServiceError,
-        ServiceServer, ServiceServerBuilder, TransportError,
+        AsyncServiceClient, EndpointBuilder, PendingResponse, RetryConfig, ServiceClient,
+        ServiceError, ServiceServer, ServiceServerBuilder, TransportError,
     };
     pub use std::time::Duration;
 }

@@ -1,7 +1,7 @@
 //! The `tokio` feature against independent peers: our awaited client
 //! (`AsyncServiceClient::call`) calls a Cyclone DDS server (rmw_cyclonedds convention) and a real
 //! ROS 2 Jazzy rclpy server (rmw_fastrtps_cpp: rmw_fastrtps convention); their clients call our
-//! async server (`ServiceServerBuilder::on_request_async`). As in `cyclone_services.rs` and
+//! async server (`AsyncServiceServer::builder`). As in `cyclone_services.rs` and
 //! `rclpy_services.rs`, on the Cyclone backend the rmw_fastrtps convention cannot be spoken:
 //! there the awaited call is refused at once with `Transport`, and the rclpy client gets no
 //! answer.
@@ -40,10 +40,10 @@ fn lines(stdout: &str) -> Vec<Value> {
 
 /// An async AddTwoInts server that yields to the runtime before each answer.
 fn async_adder(node: &Node, service: &str) -> AsyncServiceServer<AddTwoInts> {
-    ServiceServerBuilder::<AddTwoInts>::new()
+    AsyncServiceServer::<AddTwoInts>::builder()
         .node(node)
         .name(service)
-        .on_request_async(|r| async move {
+        .on_request(|r| async move {
             tokio::task::yield_now().await;
             Ok(AddTwoIntsResponse { sum: r.a + r.b })
         })
@@ -56,7 +56,7 @@ fn async_client(node: &Node, service: &str) -> Arc<AsyncServiceClient<AddTwoInts
         AsyncServiceClient::<AddTwoInts>::builder()
             .node(node)
             .name(service)
-            .build_async()
+            .build()
             .expect("client"),
     )
 }
@@ -202,7 +202,7 @@ async fn our_awaited_calls_reach_an_rclpy_server() {
         AsyncServiceClient::<SetBool>::builder()
             .node(&node)
             .name(SERVICE)
-            .build_async()
+            .build()
             .expect("client"),
     );
     let (_, reply_reader) = client.gids();
@@ -299,10 +299,10 @@ async fn an_rclpy_client_calls_our_async_server() {
     const SERVICE: &str = "/horus_async/set";
     let (context, node) = node(DOMAIN, "horus_async_server");
     let refusing = !context.capabilities().carries_sample_identity;
-    let server = ServiceServerBuilder::<SetBool>::new()
+    let server = AsyncServiceServer::<SetBool>::builder()
         .node(&node)
         .name(SERVICE)
-        .on_request_async(|r| async move {
+        .on_request(|r| async move {
             tokio::task::yield_now().await;
             Ok(SetBoolResponse {
                 success: !r.data,

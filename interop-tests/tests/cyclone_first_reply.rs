@@ -97,7 +97,7 @@ fn collect(peers: Vec<PeerProcess>) -> (usize, Vec<String>) {
 
 fn adder(context: &Context) -> ServiceServer<AddTwoInts> {
     let node = context.create_node("first_reply_adder", "/").expect("node");
-    ServiceServerBuilder::<AddTwoInts>::new()
+    ServiceServer::<AddTwoInts>::builder()
         .node(&node)
         .name(SERVICE)
         .on_request(|r| {
@@ -188,7 +188,7 @@ fn every_first_call_of_rclpy_clients_started_together_is_answered() {
     let node = context
         .create_node("first_reply_setter", "/")
         .expect("node");
-    let server = ServiceServerBuilder::<SetBool>::new()
+    let server = ServiceServer::<SetBool>::builder()
         .node(&node)
         .name("/set_bool")
         .on_request(|r| {

@@ -84,7 +84,7 @@ fn a_cyclone_client_calls_our_server() {
         .build()
         .expect("context");
     let node = context.create_node("horus_adder", "/").expect("node");
-    let server = ServiceServerBuilder::<AddTwoInts>::new()
+    let server = ServiceServer::<AddTwoInts>::builder()
         .node(&node)
         .name("/add_two_ints")
         .on_request(|r| Ok(AddTwoIntsResponse { sum: r.a + r.b }))

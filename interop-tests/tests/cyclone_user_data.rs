@@ -82,7 +82,7 @@ impl Seen {
         let subscription = node
             .create_subscription::<RosDuration>("elapsed", &Qos::default())
             .expect("subscription");
-        let server = ServiceServerBuilder::<AddTwoInts>::new()
+        let server = ServiceServer::<AddTwoInts>::builder()
             .node(&node)
             .name("add")
             .on_request(|r| Ok(AddTwoIntsResponse { sum: r.a + r.b }))

@@ -151,7 +151,7 @@ fn our_graph_is_what_rclpy_sees() {
     let node = context
         .create_node("horus_node", "/horus_ns")
         .expect("node");
-    let _server = ServiceServerBuilder::<SetBool>::new()
+    let _server = ServiceServer::<SetBool>::builder()
         .node(&node)
         .name("/horus_ns/set")
         .on_request(|r| {

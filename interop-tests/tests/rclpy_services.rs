@@ -310,7 +310,8 @@ fn our_clients_call_rclpy_servers() {
             BasicTypesResponse::type_hash()
         )
     );
-    let mut dynamic = DynamicServiceClient::for_type("/rclpy_ns/basic", service_type)
+    let mut dynamic = DynamicServiceClient::builder(service_type)
+        .name("/rclpy_ns/basic")
         .node(&node)
         .build()
         .expect("dynamic client");
@@ -393,7 +394,7 @@ fn rclpy_clients_call_our_servers() {
     let node = context
         .create_node("horus_node", "/horus_ns")
         .expect("node");
-    let set = ServiceServerBuilder::<SetBool>::new()
+    let set = ServiceServer::<SetBool>::builder()
         .node(&node)
         .name("/horus_ns/set")
         .on_request(|r| {
@@ -404,7 +405,7 @@ fn rclpy_clients_call_our_servers() {
         })
         .build()
         .expect("server");
-    let basic = ServiceServerBuilder::<BasicTypes>::new()
+    let basic = ServiceServer::<BasicTypes>::builder()
         .node(&node)
         .name("/horus_ns/basic")
         .on_request(|r| Ok(echo(r)))

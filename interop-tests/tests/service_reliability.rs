@@ -41,7 +41,7 @@ fn node(domain: u32, name: &str) -> Node {
 }
 
 fn adder(node: &Node, name: &str) -> ServiceServer<AddTwoInts> {
-    ServiceServerBuilder::<AddTwoInts>::new()
+    ServiceServer::<AddTwoInts>::builder()
         .node(node)
         .name(name)
         .on_request(|req| {

@@ -14,7 +14,7 @@
 //! 2. 16 clients calling at once, each its own client, sequential calls each: 16 std threads
 //!    calling blocking versus 16 tokio tasks awaiting: calls per second in all, and the ratio;
 //! 3. for information, the same 16 awaited clients against an async server (handlers on the
-//!    runtime: `ServiceServerBuilder::on_request_async`).
+//!    runtime: `AsyncServiceServer::builder`).
 //!
 //! Environment: `HORUS_BENCH_ASYNC_CALLS` (measured sequential calls per variant, default
 //! 20000), `HORUS_BENCH_ASYNC_ROUNDS` (default 10), `HORUS_BENCH_ASYNC_CONCURRENT_CALLS` (calls
@@ -153,7 +153,7 @@ impl Setup {
         // One service for the sequential calls, another for the 16 clients: on the Cyclone
         // backend a server sends each reply to every reply reader of the service.
         let blocking_server = |name: &str| {
-            ServiceServerBuilder::<AddTwoInts>::new()
+            ServiceServer::<AddTwoInts>::builder()
                 .node(&server_node)
                 .name(name)
                 .on_request(|req| {
@@ -168,10 +168,10 @@ impl Setup {
             blocking_server("/bench_async")?,
             blocking_server("/bench_async_many")?,
         ];
-        let async_server = ServiceServerBuilder::<AddTwoInts>::new()
+        let async_server = AsyncServiceServer::<AddTwoInts>::builder()
             .node(&server_node)
             .name("/bench_async_handlers")
-            .on_request_async(|req| async move {
+            .on_request(|req| async move {
                 Ok(AddTwoIntsResponse {
                     sum: req.a.wrapping_add(req.b),
                 })
@@ -190,7 +190,7 @@ impl Setup {
             AsyncServiceClient::<AddTwoInts>::builder()
                 .node(&client_node)
                 .name(name)
-                .build_async()
+                .build()
                 .map(Arc::new)
                 .map_err(|e| format!("client: {e}"))
         };

@@ -115,7 +115,7 @@ fn context(backend: Backend, domain: u32) -> Context {
 }
 
 fn adder(node: &Node, name: &str) -> ServiceServer<AddTwoInts> {
-    ServiceServerBuilder::<AddTwoInts>::new()
+    ServiceServer::<AddTwoInts>::builder()
         .node(node)
         .name(name)
         .on_request(|req| {

@@ -287,7 +287,7 @@ fn context(backend: Backend, domain: u32) -> Result<Context, String> {
 }
 
 fn add_two_ints_server(node: &Node) -> Result<ServiceServer<AddTwoInts>, String> {
-    ServiceServerBuilder::<AddTwoInts>::new()
+    ServiceServer::<AddTwoInts>::builder()
         .node(node)
         .name(SERVICE)
         .on_request(|req| {
@@ -917,7 +917,7 @@ fn first_call(backend: Backend, repeat: usize) -> Result<Duration, String> {
     });
     let server_thread = thread::spawn(move || {
         let started = Instant::now();
-        let server = ServiceServerBuilder::<AddTwoInts>::new()
+        let server = ServiceServer::<AddTwoInts>::builder()
             .node(&server_node)
             .name(name)
             .on_request(|req| Ok(AddTwoIntsResponse { sum: req.a + req.b }))

@@ -47,7 +47,7 @@ fn main() -> horus_ros_services::Result<()> {
 
     let (served, requests_served) = mpsc::channel::<()>();
     let log_node = node.clone();
-    let _server = ServiceServerBuilder::<AddTwoInts>::new()
+    let _server = ServiceServer::<AddTwoInts>::builder()
         .node(&node)
         .name(options.service.as_str())
         .introspection(options.introspection, Qos::system_default())

@@ -32,7 +32,7 @@ fn main() -> Result<()> {
     let context = Context::from_env()?;
     let node = context.create_node("async_client_loop", "/")?;
 
-    let _server = ServiceServerBuilder::<AddTwoInts>::new()
+    let _server = ServiceServer::<AddTwoInts>::builder()
         .node(&node)
         .name("slow_add")
         .on_request(|req| {
@@ -44,7 +44,7 @@ fn main() -> Result<()> {
     let mut client = AsyncServiceClient::<AddTwoInts>::builder()
         .node(&node)
         .name("slow_add")
-        .build_async()?;
+        .build()?;
 
     // The calls the loop makes, one at a time: (a, b, timeout).
     let mut calls = vec![

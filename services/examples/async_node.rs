@@ -58,16 +58,16 @@ async fn main() -> Result<()> {
         AsyncServiceClient::<AddTwoInts>::builder()
             .node(&node)
             .name("/add_two_ints")
-            .build_async()?,
+            .build()?,
     );
 
     // Our service: its handler awaits a call of the other one.
     let server = {
         let adder = Arc::clone(&adder);
-        ServiceServerBuilder::<AddTwoInts>::new()
+        AsyncServiceServer::<AddTwoInts>::builder()
             .node(&node)
             .name("~/add_three")
-            .on_request_async(move |req| {
+            .on_request(move |req| {
                 let adder = Arc::clone(&adder);
                 async move {
                     let sum = adder

@@ -32,7 +32,7 @@ fn main() -> Result<()> {
             std::process::exit(2);
         }
     }
-    let server = ServiceServerBuilder::<AddTwoInts>::new()
+    let server = ServiceServer::<AddTwoInts>::builder()
         .name("/plain_add")
         .on_request(|req| {
             Ok(AddTwoIntsResponse {

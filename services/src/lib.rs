@@ -4,7 +4,7 @@
 //! ```no_run
 //! use horus_ros_services::prelude::*;
 //!
-//! let _server = ServiceServerBuilder::<AddTwoInts>::new()
+//! let _server = ServiceServer::<AddTwoInts>::builder()
 //!     .name("/add_two_ints")
 //!     .on_request(|req| Ok(AddTwoIntsResponse { sum: req.a + req.b }))
 //!     .build()?;
@@ -14,7 +14,7 @@
 //! # Ok::<(), horus_ros_services::Error>(())
 //! ```
 //!
-//! - [`ServiceServerBuilder`] / [`ServiceServer`]: serve from a background thread woken by
+//! - [`ServiceServer`]: serve from a background thread woken by
 //!   requests; handler errors reach horus-ros clients as [`ServiceError::ServiceFailed`], panics
 //!   are caught.
 //! - [`ServiceClient`]: `call`, `call_resilient`, `call_optional`; [`AsyncServiceClient`] returns
@@ -24,8 +24,28 @@
 //!   [`dynamic`] values.
 //! - The wire convention (rmw_fastrtps or rmw_cyclonedds) is chosen per peer from its DDS vendor.
 //! - Feature `tokio`: `AsyncServiceClient::call` and `wait_for_service_async` as futures,
-//!   async handlers (`ServiceServerBuilder::on_request_async`, `AsyncServiceServer`) run on the
+//!   async handlers (`AsyncServiceServer`, or `ServiceServerBuilder::on_request_async`) run on the
 //!   caller's tokio runtime, and the graph's changes as a stream (`horus_ros_graph::Graph::events`).
+//!
+//! # Builders
+//!
+//! Every endpoint is made by `Type::builder(..)` and `.build()`, which gives a `Type`:
+//!
+//! | Endpoint | Builder |
+//! |---|---|
+//! | [`ServiceServer`] | [`ServiceServer::builder()`](ServiceServer::builder) → [`ServiceServerBuilder`] (also `ServiceServerBuilder::new()`, as the services guide writes it) |
+//! | `AsyncServiceServer` (feature `tokio`) | `AsyncServiceServer::builder()` → `AsyncServiceServerBuilder` |
+//! | [`ServiceClient`] | [`ServiceClient::builder()`](ServiceClient::builder) → [`ServiceClientBuilder`] |
+//! | [`AsyncServiceClient`] | [`AsyncServiceClient::builder()`](AsyncServiceClient::builder) → [`ServiceClientBuilder`]`<S, AsyncServiceClient<S>>` |
+//! | [`DynamicServiceClient`] | [`DynamicServiceClient::builder(service_type)`](DynamicServiceClient::builder) → [`DynamicServiceClientBuilder`] |
+//! | [`DdsServiceServer`] | [`DdsServiceServer::builder()`](DdsServiceServer::builder) → [`DdsServiceServerBuilder`] |
+//! | [`DdsServiceClient`] | [`DdsServiceClient::builder()`](DdsServiceClient::builder) → [`DdsServiceClientBuilder`] |
+//!
+//! What every endpoint has — node, name, QoS, wire convention — is one [`EndpointOptions`], set
+//! on every builder by the same [`EndpointBuilder`] setters (`node`, `name`, `qos`,
+//! `wire_flavour`, `options`; in the [`prelude`]). A builder's own methods are what only its
+//! endpoint has: a server's handler, introspection, an async server's runtime, a raw client's
+//! send timeout. Only a dynamic client takes an argument: its service type, which has no default.
 //!
 //! # Readiness
 //!
@@ -54,6 +74,7 @@ pub mod fuzzing;
 mod introspection;
 mod naming;
 mod node_services;
+mod options;
 mod raw_traits;
 mod retry;
 mod runtime;
@@ -68,7 +89,8 @@ pub use asynchronous::{
 };
 pub use client::{
     AsyncServiceClient, DynamicCallError, DynamicPart, DynamicServiceClient,
-    DynamicServiceClientBuilder, PendingResponse, RawResponse, ServiceClient, ServiceClientBuilder,
+    DynamicServiceClientBuilder, DynamicServiceType, PendingResponse, RawResponse, ServiceClient,
+    ServiceClientBuilder,
 };
 pub use error::{Error, Result, ServiceError, SetupError, TransportError};
 pub use horus_ros_rmw::service::{ConventionError, WireFlavour};
@@ -79,6 +101,7 @@ pub use node_services::{
     ParameterValueExt, Parameters, TypeRegistry, FAILURE_NOT_IN_USE, FAILURE_PARSE_HASH,
     REASON_ATOMICALLY_NOT_DECLARED,
 };
+pub use options::{EndpointBuilder, EndpointOptions};
 pub use raw_traits::{
     DdsServiceClient, DdsServiceClientBuilder, DdsServiceServer, DdsServiceServerBuilder,
     RosService, ServiceClientTrait, ServiceRequest, ServiceServerTrait,
@@ -96,9 +119,9 @@ pub use horus_ros_rmw::{Context, Node};
 pub mod prelude {
     pub use crate::{message, service};
     pub use crate::{
-        AsyncServiceClient, Error, IntrospectionState, PendingResponse, Result, RetryConfig,
-        ServiceClient, ServiceError, ServiceServer, ServiceServerBuilder, TransportError,
-        WireFlavour,
+        AsyncServiceClient, EndpointBuilder, EndpointOptions, Error, IntrospectionState,
+        PendingResponse, Result, RetryConfig, ServiceClient, ServiceError, ServiceServer,
+        ServiceServerBuilder, TransportError, WireFlavour,
     };
     #[cfg(feature = "tokio")]
     pub use crate::{AsyncServiceServer, AsyncServiceServerBuilder, ServiceCall};

@@ -10,8 +10,13 @@ use crate::SetupError;
 /// The name a service gets when none is given: its type's name in snake case, absolute
 /// (`horus_ros/srv/GetMapRegion` → `/get_map_region`).
 pub fn default_service_name<S: Service>() -> String {
+    default_name_of_type(S::TYPE_NAME)
+}
+
+/// [`default_service_name`] of a service type known by its name (`pkg/srv/Name`) at run time.
+pub(crate) fn default_name_of_type(type_name: &str) -> String {
     use heck::ToSnakeCase as _;
-    let short = S::TYPE_NAME.rsplit('/').next().unwrap_or(S::TYPE_NAME);
+    let short = type_name.rsplit('/').next().unwrap_or(type_name);
     format!("/{}", short.to_snake_case())
 }
 

@@ -46,7 +46,7 @@ use horus_ros_rmw::names::ServiceName;
 use horus_ros_rmw::qos::Qos;
 use horus_ros_rmw::{Node, Publisher};
 
-use crate::{ServiceServer, ServiceServerBuilder, SetupError};
+use crate::{EndpointBuilder, ServiceServer, ServiceServerBuilder, SetupError};
 
 /// The reason rclcpp's `~/set_parameters_atomically` gives when a parameter is not declared.
 pub const REASON_ATOMICALLY_NOT_DECLARED: &str =
@@ -402,8 +402,5 @@ fn server<S: Service>(
     types: &TypeRegistry,
 ) -> ServiceServerBuilder<S> {
     types.register_service::<S>();
-    ServiceServerBuilder::<S>::new()
-        .node(node)
-        .name(name)
-        .qos(qos)
+    ServiceServer::<S>::builder().node(node).name(name).qos(qos)
 }

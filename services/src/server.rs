@@ -9,13 +9,12 @@ use std::time::{Duration, Instant};
 use horus_ros_msgs::Service;
 use horus_ros_rmw::qos::Qos;
 use horus_ros_rmw::service::{Request, TakenRequest};
-use horus_ros_rmw::{Node, RawReader};
+use horus_ros_rmw::RawReader;
 
 use crate::cdr::decode;
 use crate::introspection::IntrospectionState;
 use crate::server_core::{server_handle_methods, ServerCore, ServerSettings};
-use crate::SetupError;
-use crate::WireFlavour;
+use crate::{EndpointBuilder, EndpointOptions, SetupError};
 
 /// Most samples dropped (undecodable, or no request to answer) in one drain before the thread
 /// checks whether to stop.
@@ -25,13 +24,12 @@ type Handler<S> = Box<
     dyn FnMut(<S as Service>::Request) -> Result<<S as Service>::Response, String> + Send + 'static,
 >;
 
-/// Builds a [`ServiceServer`]. Setting errors are kept until [`build`](Self::build).
+/// Builds a [`ServiceServer`] ([`ServiceServer::builder`]; `ServiceServerBuilder::new()` is the
+/// same builder, kept for the services guide). Node, name, QoS and wire convention are set with
+/// the [`EndpointBuilder`] setters; setting errors are kept until [`build`](Self::build).
 #[must_use = "a builder does nothing until .build() is called"]
 pub struct ServiceServerBuilder<S: Service> {
-    pub(crate) node: Option<Node>,
-    pub(crate) name: Option<String>,
-    pub(crate) qos: Qos,
-    pub(crate) flavour: Option<WireFlavour>,
+    pub(crate) options: EndpointOptions,
     handler: Option<Handler<S>>,
     pub(crate) introspection: Option<(IntrospectionState, Qos)>,
 }
@@ -42,48 +40,28 @@ impl<S: Service> Default for ServiceServerBuilder<S> {
     }
 }
 
+impl<S: Service> EndpointBuilder for ServiceServerBuilder<S> {
+    fn options_mut(&mut self) -> &mut EndpointOptions {
+        &mut self.options
+    }
+}
+
 impl<S: Service> ServiceServerBuilder<S> {
-    /// A builder for the service `S`: default node, name [`default_service_name`](crate::default_service_name), QoS
-    /// `services_default`; the server thread wakes on events, never on a timer.
+    /// A builder for the service `S` (the same as [`ServiceServer::builder`]): default node, name
+    /// [`default_service_name`](crate::default_service_name), QoS `services_default`; the server
+    /// thread wakes on events, never on a timer.
     pub fn new() -> Self {
         Self {
-            node: None,
-            name: None,
-            qos: Qos::services_default(),
-            flavour: None,
+            options: EndpointOptions::default(),
             handler: None,
             introspection: None,
         }
-    }
-
-    /// Serves from `node` instead of the process's default node.
-    pub fn node(mut self, node: &Node) -> Self {
-        self.node = Some(node.clone());
-        self
-    }
-
-    /// The service name (relative names, `~` and substitutions expand as in rcl).
-    pub fn name(mut self, name: impl Into<String>) -> Self {
-        self.name = Some(name.into());
-        self
-    }
-
-    /// The QoS of the request reader and reply writer (default: `services_default`).
-    pub fn qos(mut self, qos: Qos) -> Self {
-        self.qos = qos;
-        self
     }
 
     /// Accepted for the API of poll-based servers, and ignored: the server thread never wakes
     /// on a timer. Requests, [`stop`](ServiceServer::stop), the graph changes a parked reply
     /// waits for and a parked reply's expiry wake it, each at once.
     pub fn poll_interval(self, _interval: Duration) -> Self {
-        self
-    }
-
-    /// Answers every client with this wire convention instead of choosing per client.
-    pub fn wire_flavour(mut self, flavour: WireFlavour) -> Self {
-        self.flavour = Some(flavour);
         self
     }
 
@@ -111,10 +89,7 @@ impl<S: Service> ServiceServerBuilder<S> {
     /// What the server is made from.
     pub(crate) fn settings(&self) -> ServerSettings<'_> {
         ServerSettings {
-            node: self.node.as_ref(),
-            name: self.name.as_deref(),
-            qos: &self.qos,
-            flavour: self.flavour,
+            options: &self.options,
             introspection: self.introspection.as_ref(),
         }
     }
@@ -158,6 +133,11 @@ impl<S: Service> std::fmt::Debug for ServiceServer<S> {
 }
 
 impl<S: Service> ServiceServer<S> {
+    /// A builder to choose node, name, QoS, wire convention, introspection and the handler.
+    pub fn builder() -> ServiceServerBuilder<S> {
+        ServiceServerBuilder::new()
+    }
+
     server_handle_methods!();
 
     /// Stops serving; the endpoints leave the graph when the server is dropped.

@@ -22,14 +22,11 @@ use crate::introspection::{encode_event, EventType, Introspection, Introspection
 use crate::naming::{default_service_name, ServiceTopics};
 use crate::runtime::Runtime;
 use crate::server_wire::ServerWire;
-use crate::{SetupError, WireFlavour};
+use crate::{EndpointOptions, SetupError};
 
 /// What a server is made from (the builder's settings).
 pub(crate) struct ServerSettings<'a> {
-    pub(crate) node: Option<&'a Node>,
-    pub(crate) name: Option<&'a str>,
-    pub(crate) qos: &'a Qos,
-    pub(crate) flavour: Option<WireFlavour>,
+    pub(crate) options: &'a EndpointOptions,
     pub(crate) introspection: Option<&'a (IntrospectionState, Qos)>,
 }
 
@@ -55,14 +52,16 @@ impl ServerCore {
     pub(crate) fn create<S: Service>(
         settings: ServerSettings<'_>,
     ) -> Result<(Arc<Self>, RawReader), SetupError> {
-        let runtime = Runtime::for_service::<S>(settings.node)?;
+        let runtime = Runtime::for_service::<S>(settings.options.node.as_ref())?;
         let name = settings
+            .options
             .name
-            .map_or_else(default_service_name::<S>, str::to_owned);
+            .clone()
+            .unwrap_or_else(default_service_name::<S>);
         let topics = ServiceTopics::resolve::<S>(
             &runtime.node,
             &name,
-            settings.qos,
+            &settings.options.qos,
             horus_ros_rmw::ServiceEndpointRole::Server,
         )?;
         let requests = runtime.node.create_raw_reader(&topics.request)?;
@@ -85,7 +84,7 @@ impl ServerCore {
             &runtime,
             topics.name.clone(),
             reply_writer,
-            settings.flavour,
+            settings.options.wire_flavour,
             waker.clone(),
         );
         let core = Self {

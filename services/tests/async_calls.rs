@@ -25,14 +25,14 @@ fn async_client(node: &Node, name: &str) -> Arc<AsyncServiceClient<AddTwoInts>> 
         AsyncServiceClient::<AddTwoInts>::builder()
             .node(node)
             .name(name)
-            .build_async()
+            .build()
             .expect("client"),
     )
 }
 
 /// An async adder that yields to the runtime before answering.
 fn async_adder(node: &Node, name: &str) -> AsyncServiceServer<AddTwoInts> {
-    ServiceServerBuilder::<AddTwoInts>::new()
+    ServiceServer::<AddTwoInts>::builder()
         .node(node)
         .name(name)
         .on_request_async(|req| async move {
@@ -74,7 +74,7 @@ async fn a_thousand_concurrent_awaited_calls_from_one_join_set_are_all_correct()
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn pending_responses_are_awaited_on_tokio_and_a_sync_server_answers_awaited_calls() {
     let n = node(201, "pending");
-    let _server = ServiceServerBuilder::<AddTwoInts>::new()
+    let _server = ServiceServer::<AddTwoInts>::builder()
         .node(&n)
         .name("/pending")
         .on_request(|req| Ok(AddTwoIntsResponse { sum: req.a + req.b }))
@@ -86,7 +86,7 @@ async fn pending_responses_are_awaited_on_tokio_and_a_sync_server_answers_awaite
     let mut client = AsyncServiceClient::<AddTwoInts>::builder()
         .node(&node(201, "pending_client"))
         .name("/pending")
-        .build_async()
+        .build()
         .expect("client");
     assert!(client.wait_for_service_async(10 * SECOND).await);
     let mut set = JoinSet::new();
@@ -114,10 +114,10 @@ async fn an_async_handler_has_64_calls_in_flight_at_once() {
     let n = node(202, "sixty_four");
     // No handler can finish until 64 of them are running together.
     let barrier = Arc::new(Barrier::new(64));
-    let server = ServiceServerBuilder::<AddTwoInts>::new()
+    let server = AsyncServiceServer::<AddTwoInts>::builder()
         .node(&n)
         .name("/sixty_four")
-        .on_request_async(move |req| {
+        .on_request(move |req| {
             let barrier = Arc::clone(&barrier);
             async move {
                 barrier.wait().await;
@@ -160,10 +160,10 @@ async fn handlers_in_flight_are_bounded_and_the_excess_waits_in_the_reader() {
     let most = Arc::new(AtomicUsize::new(0));
     let server = {
         let (running, most) = (Arc::clone(&running), Arc::clone(&most));
-        ServiceServerBuilder::<AddTwoInts>::new()
+        AsyncServiceServer::<AddTwoInts>::builder()
             .node(&n)
             .name("/bounded")
-            .on_request_async(move |req| {
+            .on_request(move |req| {
                 let (barrier, running, most) = (
                     Arc::clone(&barrier),
                     Arc::clone(&running),
@@ -206,10 +206,10 @@ async fn handlers_in_flight_are_bounded_and_the_excess_waits_in_the_reader() {
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_failing_or_panicking_async_handler_fails_that_call_only() {
     let n = node(204, "panicky");
-    let server = ServiceServerBuilder::<AddTwoInts>::new()
+    let server = AsyncServiceServer::<AddTwoInts>::builder()
         .node(&n)
         .name("/panicky")
-        .on_request_async(|req| {
+        .on_request(|req| {
             // A panic while making the future counts as the handler's too.
             assert_ne!(req.a, 2, "refused before any await");
             async move {
@@ -258,10 +258,10 @@ async fn a_dropped_call_is_withdrawn_and_leaves_nothing_behind() {
     let release = Arc::new(Semaphore::new(0));
     let server = {
         let (arrived, release) = (Arc::clone(&arrived), Arc::clone(&release));
-        ServiceServerBuilder::<AddTwoInts>::new()
+        AsyncServiceServer::<AddTwoInts>::builder()
             .node(&n)
             .name("/cancel")
-            .on_request_async(move |req| {
+            .on_request(move |req| {
                 let (arrived, release) = (Arc::clone(&arrived), Arc::clone(&release));
                 async move {
                     if req.a < 0 {
@@ -294,7 +294,7 @@ async fn a_dropped_call_is_withdrawn_and_leaves_nothing_behind() {
     let mut pending_client = AsyncServiceClient::<AddTwoInts>::builder()
         .node(&n)
         .name("/cancel")
-        .build_async()
+        .build()
         .expect("client");
     assert!(pending_client.wait_for_service_async(10 * SECOND).await);
     let pending = pending_client.call_async(AddTwoIntsRequest { a: -2, b: 0 }, 60 * SECOND);
@@ -383,10 +383,10 @@ async fn an_awaited_call_ends_with_server_gone_when_its_server_leaves() {
     let arrived = Arc::new(Notify::new());
     let server = {
         let arrived = Arc::clone(&arrived);
-        ServiceServerBuilder::<AddTwoInts>::new()
+        AsyncServiceServer::<AddTwoInts>::builder()
             .node(&n)
             .name("/gone")
-            .on_request_async(move |_req| {
+            .on_request(move |_req| {
                 let arrived = Arc::clone(&arrived);
                 async move {
                     arrived.notify_one();
@@ -418,12 +418,19 @@ async fn an_awaited_call_ends_with_server_gone_when_its_server_leaves() {
 }
 
 #[test]
+fn an_async_server_needs_a_handler() {
+    let n = node(210, "async_nohandler");
+    let built = AsyncServiceServer::<AddTwoInts>::builder().node(&n).build();
+    assert!(matches!(built, Err(SetupError::NoHandler)), "{built:?}");
+}
+
+#[test]
 fn an_async_server_needs_a_runtime_or_a_handle_to_one() {
     let n = node(209, "handle");
-    let outside = ServiceServerBuilder::<AddTwoInts>::new()
+    let outside = AsyncServiceServer::<AddTwoInts>::builder()
         .node(&n)
         .name("/handle")
-        .on_request_async(|req| async move { Ok(AddTwoIntsResponse { sum: req.a + req.b }) })
+        .on_request(|req| async move { Ok(AddTwoIntsResponse { sum: req.a + req.b }) })
         .build();
     assert!(
         matches!(outside, Err(SetupError::NoAsyncRuntime(_))),
@@ -436,10 +443,10 @@ fn an_async_server_needs_a_runtime_or_a_handle_to_one() {
         .enable_all()
         .build()
         .expect("runtime");
-    let server = ServiceServerBuilder::<AddTwoInts>::new()
+    let server = AsyncServiceServer::<AddTwoInts>::builder()
         .node(&n)
         .name("/handle")
-        .on_request_async(|req| async move { Ok(AddTwoIntsResponse { sum: req.a * req.b }) })
+        .on_request(|req| async move { Ok(AddTwoIntsResponse { sum: req.a * req.b }) })
         .runtime(runtime.handle().clone())
         .build()
         .expect("async server on a handle");
@@ -472,11 +479,11 @@ async fn an_async_server_publishes_introspection_events_like_a_blocking_one() {
     use horus_ros_services::{IntrospectionState, SERVICE_EVENT_TOPIC_POSTFIX};
 
     let n = node(214, "introspected");
-    let server = ServiceServerBuilder::<AddTwoInts>::new()
+    let server = AsyncServiceServer::<AddTwoInts>::builder()
         .node(&n)
         .name("/introspected")
         .introspection(IntrospectionState::Contents, Qos::services_default())
-        .on_request_async(|req| async move { Ok(AddTwoIntsResponse { sum: req.a + req.b }) })
+        .on_request(|req| async move { Ok(AddTwoIntsResponse { sum: req.a + req.b }) })
         .build()
         .expect("async server");
     assert_eq!(server.introspection_state(), IntrospectionState::Contents);

@@ -105,7 +105,7 @@ fn the_async_node_serves_calls_and_follows_the_graph_in_one_runtime() {
         .build()
         .expect("context");
     let node = context.create_node("test_adder", "/").expect("node");
-    let adder = ServiceServerBuilder::<AddTwoInts>::new()
+    let adder = ServiceServer::<AddTwoInts>::builder()
         .node(&node)
         .name("/add_two_ints")
         .on_request(|r| Ok(AddTwoIntsResponse { sum: r.a + r.b }))

@@ -20,7 +20,7 @@ fn node(domain: u32, name: &str) -> Node {
 }
 
 fn adder(node: &Node, name: &str) -> ServiceServer<AddTwoInts> {
-    ServiceServerBuilder::<AddTwoInts>::new()
+    ServiceServer::<AddTwoInts>::builder()
         .node(node)
         .name(name)
         .on_request(|req| Ok(AddTwoIntsResponse { sum: req.a + req.b }))
@@ -70,7 +70,7 @@ fn many_sequential_calls_are_fast() {
 #[test]
 fn handler_errors_and_panics_reach_the_client_quickly_and_the_server_keeps_serving() {
     let n = node(82, "failing");
-    let server = ServiceServerBuilder::<AddTwoInts>::new()
+    let server = ServiceServer::<AddTwoInts>::builder()
         .node(&n)
         .name("/picky")
         .on_request(|req| match req.a {
@@ -157,7 +157,7 @@ fn a_late_reply_is_dropped_and_the_next_call_gets_its_own() {
     // The first request is answered only once the test releases it, after its call timed out.
     let (arrived_tx, arrived) = mpsc::channel();
     let (release_tx, released) = mpsc::channel::<()>();
-    let _server = ServiceServerBuilder::<AddTwoInts>::new()
+    let _server = ServiceServer::<AddTwoInts>::builder()
         .node(&n)
         .name("/slow")
         .on_request(move |req| {
@@ -209,7 +209,7 @@ fn call_resilient_retries_a_timeout() {
     let seen = Arc::clone(&calls);
     // The first request is answered only once the test releases it: when the retry is out.
     let (release_tx, released) = mpsc::channel::<()>();
-    let _server = ServiceServerBuilder::<AddTwoInts>::new()
+    let _server = ServiceServer::<AddTwoInts>::builder()
         .node(&n)
         .name("/flaky")
         .on_request(move |req| {
@@ -272,7 +272,7 @@ fn a_server_dropped_mid_call_gives_the_client_an_error_within_its_timeout() {
     let n = node(86, "vanishing");
     let (handling_tx, handling_rx) = mpsc::channel();
     let (release_tx, released) = mpsc::channel::<()>();
-    let server = ServiceServerBuilder::<AddTwoInts>::new()
+    let server = ServiceServer::<AddTwoInts>::builder()
         .node(&n)
         .name("/vanishing")
         .on_request(move |req| {
@@ -379,7 +379,7 @@ fn a_caller_with_a_slow_reply_neither_holds_up_nor_strands_the_other_clients_of_
     let (arrived_tx, arrived) = std::sync::mpsc::channel::<i64>();
     let (release, released) = std::sync::mpsc::channel::<()>();
     let released = std::sync::Mutex::new(released);
-    let _slow = ServiceServerBuilder::<AddTwoInts>::new()
+    let _slow = ServiceServer::<AddTwoInts>::builder()
         .node(&n)
         .name("/slow")
         .on_request(move |req| {
@@ -444,7 +444,7 @@ fn async_calls_can_be_checked_waited_and_awaited() {
     let mut c = AsyncServiceClient::<AddTwoInts>::builder()
         .node(&n)
         .name("/async_add")
-        .build_async()
+        .build()
         .expect("client");
     // Sent before any server is matched: waiting sends it once one is.
     let first = c.call_async(AddTwoIntsRequest { a: 1, b: 2 }, 10 * SECOND);
@@ -471,7 +471,7 @@ fn async_calls_can_be_checked_waited_and_awaited() {
     let mut missing = AsyncServiceClient::<AddTwoInts>::builder()
         .node(&n)
         .name("/missing")
-        .build_async()
+        .build()
         .expect("client");
     let pending = missing.call_async(AddTwoIntsRequest::default(), Duration::from_millis(200));
     assert_eq!(block_on(pending), Err(ServiceError::NoServer));
@@ -481,17 +481,60 @@ fn async_calls_can_be_checked_waited_and_awaited() {
 fn a_server_needs_a_handler() {
     let n = node(89, "nohandler");
     assert!(matches!(
-        ServiceServerBuilder::<AddTwoInts>::new().node(&n).build(),
+        ServiceServer::<AddTwoInts>::builder().node(&n).build(),
         Err(SetupError::NoHandler)
     ));
     assert!(matches!(
-        ServiceServerBuilder::<AddTwoInts>::new()
+        ServiceServer::<AddTwoInts>::builder()
             .node(&n)
             .name("bad name")
             .on_request(|_| Ok(Default::default()))
             .build(),
         Err(SetupError::InvalidName { .. })
     ));
+}
+
+/// One [`EndpointOptions`] given to every kind of builder: each endpoint gets its node and name,
+/// and `AsyncServiceClient::builder().build()` is an async client with the blocking client's
+/// readiness words.
+#[test]
+fn one_set_of_endpoint_options_serves_every_builder() {
+    let n = node(125, "shared_options");
+    let options = EndpointOptions::default().node(&n).name("/shared_options");
+    let server = ServiceServer::<AddTwoInts>::builder()
+        .options(options.clone())
+        .on_request(|req| Ok(AddTwoIntsResponse { sum: req.a + req.b }))
+        .build()
+        .expect("server");
+    let mut client = ServiceClient::<AddTwoInts>::builder()
+        .options(options.clone())
+        .build()
+        .expect("client");
+    let mut pending_client: AsyncServiceClient<AddTwoInts> =
+        AsyncServiceClient::<AddTwoInts>::builder()
+            .options(options.clone())
+            .build()
+            .expect("async client");
+    let raw = DdsServiceServer::<AddTwoInts>::builder()
+        .options(options)
+        .name("/shared_options_raw")
+        .build()
+        .expect("raw server");
+    assert_eq!(server.name().as_str(), "/shared_options");
+    assert_eq!(client.name().as_str(), "/shared_options");
+    assert_eq!(pending_client.name().as_str(), "/shared_options");
+    assert_eq!(raw.name().as_str(), "/shared_options_raw");
+
+    assert!(client.wait_for_service(10 * SECOND));
+    assert!(pending_client.wait_for_service(10 * SECOND));
+    assert!(pending_client.server_available());
+    assert!(pending_client.is_server_ready());
+    assert_eq!(
+        client.call(AddTwoIntsRequest { a: 1, b: 2 }, 5 * SECOND),
+        Ok(AddTwoIntsResponse { sum: 3 })
+    );
+    let pending = pending_client.call_async(AddTwoIntsRequest { a: 3, b: 4 }, 5 * SECOND);
+    assert_eq!(pending.wait(), Ok(AddTwoIntsResponse { sum: 7 }));
 }
 
 /// Wakes a parked thread.
@@ -525,7 +568,7 @@ fn every_client_says_known_and_ready_alike() {
     let pending = AsyncServiceClient::<AddTwoInts>::builder()
         .node(&n)
         .name("/readiness")
-        .build_async()
+        .build()
         .expect("async client");
     assert!(!blocking.server_available() && !blocking.is_server_ready());
     assert!(!pending.server_available() && !pending.is_server_ready());

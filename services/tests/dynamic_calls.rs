@@ -5,7 +5,8 @@ use std::time::Duration;
 
 use horus_ros_services::prelude::*;
 use horus_ros_services::{
-    DynamicCallError, DynamicPart, DynamicServiceClient, ServiceError, ServiceType,
+    DynamicCallError, DynamicPart, DynamicServiceClient, DynamicServiceType, ServiceError,
+    ServiceType,
 };
 
 const WAIT: Duration = Duration::from_secs(10);
@@ -14,14 +15,15 @@ const WAIT: Duration = Duration::from_secs(10);
 fn a_run_time_type_is_called_with_yaml_json_and_values() {
     let context = Context::builder().domain_id(97).build().expect("context");
     let node = context.create_node("dynamic_calls", "/").expect("node");
-    let _server = ServiceServerBuilder::<AddTwoInts>::new()
+    let _server = ServiceServer::<AddTwoInts>::builder()
         .node(&node)
         .name("/dyn_add")
         .on_request(|r| Ok(AddTwoIntsResponse { sum: r.a + r.b }))
         .build()
         .expect("server");
     let ty = ServiceType::compiled("example_interfaces/srv/AddTwoInts").expect("compiled type");
-    let mut client = DynamicServiceClient::for_type("/dyn_add", ty.clone())
+    let mut client = DynamicServiceClient::builder(ty.clone())
+        .name("/dyn_add")
         .node(&node)
         .build()
         .expect("client");
@@ -64,18 +66,18 @@ fn a_client_without_a_schema_says_so_and_a_failed_call_is_its_service_error() {
     let node = context.create_node("dynamic_raw", "/").expect("node");
     let ty = ServiceType::compiled("std_srvs/srv/Trigger").expect("compiled type");
     let (request_hash, response_hash) = ty.part_hashes();
-    let mut raw = DynamicServiceClient::builder(
-        "/nobody_serves",
-        ty.name(),
-        DynamicPart {
+    let mut raw = DynamicServiceClient::builder(DynamicServiceType::Parts {
+        service_type: ty.name().to_owned(),
+        request: DynamicPart {
             dds_type_name: "std_srvs::srv::dds_::Trigger_Request_".to_owned(),
             type_hash: request_hash,
         },
-        DynamicPart {
+        response: DynamicPart {
             dds_type_name: "std_srvs::srv::dds_::Trigger_Response_".to_owned(),
             type_hash: response_hash,
         },
-    )
+    })
+    .name("/nobody_serves")
     .node(&node)
     .build()
     .expect("client");
@@ -85,7 +87,8 @@ fn a_client_without_a_schema_says_so_and_a_failed_call_is_its_service_error() {
         Err(DynamicCallError::NoSchema)
     ));
 
-    let mut typed = DynamicServiceClient::for_type("/nobody_serves", ty)
+    let mut typed = DynamicServiceClient::builder(ty)
+        .name("/nobody_serves")
         .node(&node)
         .build()
         .expect("client");

@@ -440,7 +440,7 @@ fn raw_endpoints_talk_with_the_ordinary_client_and_server() {
     }
 
     // An ordinary server answers the raw client, and its handler errors reach it.
-    let _ordinary = ServiceServerBuilder::<AddTwoInts>::new()
+    let _ordinary = ServiceServer::<AddTwoInts>::builder()
         .node(&a)
         .name("/mixed_two")
         .on_request(|r| match r.a {
@@ -594,7 +594,7 @@ fn the_rmw_cyclonedds_convention_works_both_ways() {
     );
 
     // Ordinary server (Cyclone) → raw client (Cyclone).
-    let _ordinary = ServiceServerBuilder::<AddTwoInts>::new()
+    let _ordinary = ServiceServer::<AddTwoInts>::builder()
         .node(&b)
         .name("/cyc_two")
         .wire_flavour(WireFlavour::CycloneDds)

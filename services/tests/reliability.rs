@@ -35,7 +35,7 @@ fn node(domain: u32, name: &str) -> Node {
 }
 
 fn adder(node: &Node, name: &str, served: Arc<AtomicUsize>) -> ServiceServer<AddTwoInts> {
-    ServiceServerBuilder::<AddTwoInts>::new()
+    ServiceServer::<AddTwoInts>::builder()
         .node(node)
         .name(name)
         .on_request(move |req| {
@@ -384,7 +384,7 @@ fn an_async_call_ends_with_server_gone_too() {
     let mut c = AsyncServiceClient::<AddTwoInts>::builder()
         .node(&node(124, "abandoned_async"))
         .name("/leaving_async")
-        .build_async()
+        .build()
         .expect("client");
     let pending = c.call_async(AddTwoIntsRequest { a: 1, b: 2 }, 30 * SECOND);
     // Waiting drives the call: it is sent once a server is ready.

@@ -24,7 +24,7 @@ pub struct DemoArgs {
 pub fn run(global: &Global, args: &DemoArgs) -> Result<(), CliError> {
     let session = Session::join(global)?;
     let server_node = session.context.create_node("add_two_ints_server", "/")?;
-    let _server = ServiceServerBuilder::<AddTwoInts>::new()
+    let _server = ServiceServer::<AddTwoInts>::builder()
         .node(&server_node)
         .name("add_two_ints")
         .on_request(|req| Ok(AddTwoIntsResponse { sum: req.a + req.b }))

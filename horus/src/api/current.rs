@@ -30,9 +30,7 @@ use std::time::Duration;
 use horus_ros_msgs::rcl_interfaces::msg::{ParameterType, ParameterValue};
 use horus_ros_msgs::Service;
 use horus_ros_rmw::Node as RosNode;
-use horus_ros_services::{
-    AsyncServiceClient, AsyncServiceServer, ServiceClient, ServiceServerBuilder, SetupError,
-};
+use horus_ros_services::{AsyncServiceClient, AsyncServiceServer, EndpointBuilder, SetupError};
 use tokio::sync::oneshot;
 
 use crate::api::runtime::current;
@@ -124,10 +122,10 @@ pub fn parameter_or<T: FromParameter>(name: &str, default: T) -> T {
 /// `call_async` in one tick, `PendingResponse::check` in the next ones.
 pub fn client<S: Service>(name: &str) -> Result<AsyncServiceClient<S>, CurrentNodeError> {
     let node = ros_node()?;
-    ServiceClient::<S>::builder()
+    AsyncServiceClient::<S>::builder()
         .node(&node)
         .name(name)
-        .build_async()
+        .build()
         .map_err(CurrentNodeError::from)
 }
 
@@ -157,10 +155,10 @@ pub fn serve_with_timeout<S: Service>(
     // bound on handlers in flight); one whose wait ended untaken is dropped at the next push.
     let waiting: Waiting<S> = Arc::new(Mutex::new(VecDeque::new()));
     let queue = Arc::clone(&waiting);
-    let server = ServiceServerBuilder::<S>::new()
+    let server = AsyncServiceServer::<S>::builder()
         .node(&node)
         .name(name)
-        .on_request_async(move |request| {
+        .on_request(move |request| {
             // The server's thread only hands the request over; its answer is awaited on the
             // serve runtime, so other requests go on being served meanwhile.
             let (reply, answer) = oneshot::channel();

@@ -18,7 +18,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let delay = Duration::from_millis(delay.parse()?);
     let context = Context::builder().domain_id(domain.parse()?).build()?;
     let node = context.create_node("doomed_server", "/")?;
-    let _server = ServiceServerBuilder::<AddTwoInts>::new()
+    let _server = ServiceServer::<AddTwoInts>::builder()
         .node(&node)
         .name(service.as_str())
         .on_request(move |req| {

@@ -39,7 +39,7 @@ impl<S: Service> AsyncServiceClient<S> {
     /// async fn main() -> Result<()> {
     ///     let client = AsyncServiceClient::<AddTwoInts>::builder()
     ///         .name("/add_two_ints")
-    ///         .build_async()?;
+    ///         .build()?;
     ///     let reply = client
     ///         .call(AddTwoIntsRequest { a: 2, b: 3 }, Duration::from_secs(1))
     ///         .await?;
@@ -68,7 +68,7 @@ impl<S: Service> AsyncServiceClient<S> {
     /// async fn main() -> Result<()> {
     ///     let client = AsyncServiceClient::<AddTwoInts>::builder()
     ///         .name("/add_two_ints")
-    ///         .build_async()?;
+    ///         .build()?;
     ///     if client.wait_for_service_async(Duration::from_secs(5)).await {
     ///         println!("the server is there");
     ///     }

@@ -2,7 +2,7 @@
 //! ([`AsyncServiceClient::call`](crate::AsyncServiceClient::call),
 //! [`AsyncServiceClient::wait_for_service_async`](crate::AsyncServiceClient::wait_for_service_async)),
 //! servers whose handlers are futures run on the caller's runtime
-//! ([`ServiceServerBuilder::on_request_async`](crate::ServiceServerBuilder::on_request_async)),
+//! ([`AsyncServiceServer::builder`](crate::AsyncServiceServer::builder)),
 //! and the graph's changes as a stream (`horus_ros_graph::Graph::events`).
 //!
 //! Every wake-up is an event: a reply routed to a call wakes its task's waker, a graph change

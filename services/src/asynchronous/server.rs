@@ -1,5 +1,6 @@
-//! Servers with async handlers: [`ServiceServerBuilder::on_request_async`] →
-//! [`AsyncServiceServerBuilder`] → [`AsyncServiceServer`].
+//! Servers with async handlers: [`AsyncServiceServer::builder`] (or
+//! [`ServiceServerBuilder::on_request_async`]) → [`AsyncServiceServerBuilder`] →
+//! [`AsyncServiceServer`].
 
 use std::future::Future;
 use std::marker::PhantomData;
@@ -13,14 +14,16 @@ use std::time::Instant;
 use futures_util::future::Either;
 use futures_util::FutureExt;
 use horus_ros_msgs::Service;
+use horus_ros_rmw::qos::Qos;
 use horus_ros_rmw::service::{Request, TakenRequest};
 use horus_ros_rmw::RawReader;
 use tokio::runtime::Handle;
 
 use crate::cdr::decode;
+use crate::introspection::IntrospectionState;
 use crate::server::{panic_message, MAX_ERRORS_PER_DRAIN};
 use crate::server_core::{server_handle_methods, ServerCore};
-use crate::{ServiceServerBuilder, SetupError};
+use crate::{EndpointBuilder, EndpointOptions, ServiceServerBuilder, SetupError};
 
 /// How many requests one [`AsyncServiceServer`] handles at once unless told otherwise
 /// ([`AsyncServiceServerBuilder::max_in_flight`]).
@@ -46,7 +49,7 @@ impl<S: Service> ServiceServerBuilder<S> {
     ///
     /// #[tokio::main]
     /// async fn main() -> Result<()> {
-    ///     let server = ServiceServerBuilder::<AddTwoInts>::new()
+    ///     let server = ServiceServer::<AddTwoInts>::builder()
     ///         .name("/add_two_ints")
     ///         .on_request_async(|req| async move {
     ///             tokio::task::yield_now().await; // anything async: I/O, other calls, timers
@@ -64,23 +67,32 @@ impl<S: Service> ServiceServerBuilder<S> {
         F: Fn(S::Request) -> Fut + Send + Sync + 'static,
         Fut: Future<Output = Result<S::Response, String>> + Send + 'static,
     {
-        let handler: AsyncHandler<S> = Arc::new(move |request| Box::pin(handler(request)));
         AsyncServiceServerBuilder {
             base: self,
-            handler,
+            handler: None,
             runtime: None,
             max_in_flight: DEFAULT_MAX_IN_FLIGHT,
         }
+        .on_request(handler)
     }
 }
 
-/// Builds an [`AsyncServiceServer`] (from [`ServiceServerBuilder::on_request_async`]).
+/// Builds an [`AsyncServiceServer`] ([`AsyncServiceServer::builder`], or
+/// [`ServiceServerBuilder::on_request_async`] from a server builder). Node, name, QoS and wire
+/// convention are set with the [`EndpointBuilder`] setters.
 #[must_use = "a builder does nothing until .build() is called"]
 pub struct AsyncServiceServerBuilder<S: Service> {
+    /// The settings a blocking server would have (endpoint options, introspection).
     base: ServiceServerBuilder<S>,
-    handler: AsyncHandler<S>,
+    handler: Option<AsyncHandler<S>>,
     runtime: Option<Handle>,
     max_in_flight: usize,
+}
+
+impl<S: Service> EndpointBuilder for AsyncServiceServerBuilder<S> {
+    fn options_mut(&mut self) -> &mut EndpointOptions {
+        self.base.options_mut()
+    }
 }
 
 impl<S: Service> std::fmt::Debug for AsyncServiceServerBuilder<S> {
@@ -93,6 +105,26 @@ impl<S: Service> std::fmt::Debug for AsyncServiceServerBuilder<S> {
 }
 
 impl<S: Service> AsyncServiceServerBuilder<S> {
+    /// The async request handler: each request's future runs as a task of the tokio runtime;
+    /// `Ok(response)` is sent back, `Err(message)` and panics reach a horus-ros client as
+    /// [`ServiceError::ServiceFailed`](crate::ServiceError::ServiceFailed) (see
+    /// [`ServiceServerBuilder::on_request_async`]).
+    pub fn on_request<F, Fut>(mut self, handler: F) -> Self
+    where
+        F: Fn(S::Request) -> Fut + Send + Sync + 'static,
+        Fut: Future<Output = Result<S::Response, String>> + Send + 'static,
+    {
+        self.handler = Some(Arc::new(move |request| Box::pin(handler(request))));
+        self
+    }
+
+    /// Publishes service introspection events from the start; see
+    /// [`ServiceServerBuilder::introspection`].
+    pub fn introspection(mut self, state: IntrospectionState, qos: Qos) -> Self {
+        self.base = self.base.introspection(state, qos);
+        self
+    }
+
     /// Runs the handlers on this runtime instead of the one current at `build`.
     pub fn runtime(mut self, handle: Handle) -> Self {
         self.runtime = Some(handle);
@@ -112,6 +144,7 @@ impl<S: Service> AsyncServiceServerBuilder<S> {
     /// [`SetupError::NoAsyncRuntime`] outside a tokio runtime when no
     /// [`runtime`](Self::runtime) was given.
     pub fn build(self) -> Result<AsyncServiceServer<S>, SetupError> {
+        let handler = self.handler.ok_or(SetupError::NoHandler)?;
         let handle = match self.runtime {
             Some(handle) => handle,
             None => Handle::try_current().map_err(|e| SetupError::NoAsyncRuntime(e.to_string()))?,
@@ -128,7 +161,7 @@ impl<S: Service> AsyncServiceServerBuilder<S> {
                 core: Arc::clone(&core),
                 shared: Arc::clone(&shared),
             },
-            handler: self.handler,
+            handler,
             handle,
             max_in_flight: self.max_in_flight,
         };
@@ -164,9 +197,9 @@ struct Shared {
 ///     // A runtime of its own, passed explicitly (no need to be inside it).
 ///     let runtime =
 ///         tokio::runtime::Runtime::new().map_err(horus_ros_services::SetupError::from)?;
-///     let server = ServiceServerBuilder::<AddTwoInts>::new()
+///     let server = AsyncServiceServer::<AddTwoInts>::builder()
 ///         .name("/add_two_ints")
-///         .on_request_async(|req| async move { Ok(AddTwoIntsResponse { sum: req.a + req.b }) })
+///         .on_request(|req| async move { Ok(AddTwoIntsResponse { sum: req.a + req.b }) })
 ///         .runtime(runtime.handle().clone())
 ///         .max_in_flight(32)
 ///         .build()?;
@@ -193,6 +226,18 @@ impl<S: Service> std::fmt::Debug for AsyncServiceServer<S> {
 }
 
 impl<S: Service> AsyncServiceServer<S> {
+    /// A builder to choose node, name, QoS, wire convention, introspection, runtime, the most
+    /// requests handled at once and the async handler
+    /// ([`on_request`](AsyncServiceServerBuilder::on_request)).
+    pub fn builder() -> AsyncServiceServerBuilder<S> {
+        AsyncServiceServerBuilder {
+            base: ServiceServerBuilder::new(),
+            handler: None,
+            runtime: None,
+            max_in_flight: DEFAULT_MAX_IN_FLIGHT,
+        }
+    }
+
     server_handle_methods!();
 
     /// Handlers running now.

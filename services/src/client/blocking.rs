@@ -6,56 +6,40 @@ use std::time::{Duration, Instant};
 use horus_ros_msgs::Service;
 use horus_ros_rmw::names::ServiceName;
 use horus_ros_rmw::qos::Qos;
-use horus_ros_rmw::{Gid, Node};
+use horus_ros_rmw::Gid;
 
 use super::codec::Typed;
 use super::core::{ClientCore, ClientOptions};
 use super::pending::AsyncServiceClient;
 use super::responses::Membership;
-use crate::WireFlavour;
-use crate::{IntrospectionState, RetryConfig, ServiceError, SetupError};
+use crate::{
+    EndpointBuilder, EndpointOptions, IntrospectionState, RetryConfig, ServiceError, SetupError,
+};
 
 /// Builds a client `C` of service `S`: `build()` gives the client the builder came from
 /// ([`ServiceClient::builder`] a [`ServiceClient`], [`AsyncServiceClient::builder`] an
-/// [`AsyncServiceClient`]); the setters are the same for both.
+/// [`AsyncServiceClient`]). Node, name, QoS and wire convention are set with the
+/// [`EndpointBuilder`] setters; the other setters are the same for both clients.
 #[must_use = "a builder does nothing until .build() is called"]
 pub struct ServiceClientBuilder<S: Service, C = ServiceClient<S>> {
     options: ClientOptions,
     _client: std::marker::PhantomData<fn() -> (S, C)>,
 }
 
-impl<S: Service, C> Default for ServiceClientBuilder<S, C> {
-    fn default() -> Self {
-        Self {
-            options: ClientOptions::default(),
-            _client: std::marker::PhantomData,
-        }
+impl<S: Service, C> EndpointBuilder for ServiceClientBuilder<S, C> {
+    fn options_mut(&mut self) -> &mut EndpointOptions {
+        &mut self.options.endpoint
     }
 }
 
 impl<S: Service, C> ServiceClientBuilder<S, C> {
-    /// Calls from `node` instead of the process's default node.
-    pub fn node(mut self, node: &Node) -> Self {
-        self.options.node = Some(node.clone());
-        self
-    }
-
-    /// The service name (default: [`default_service_name`](crate::default_service_name)).
-    pub fn name(mut self, name: impl Into<String>) -> Self {
-        self.options.name = Some(name.into());
-        self
-    }
-
-    /// The QoS of the request writer and reply reader (default: `services_default`).
-    pub fn qos(mut self, qos: Qos) -> Self {
-        self.options.qos = qos;
-        self
-    }
-
-    /// Uses this wire convention instead of the one of the server found.
-    pub fn wire_flavour(mut self, flavour: WireFlavour) -> Self {
-        self.options.flavour = Some(flavour);
-        self
+    /// A builder of defaults (through [`ServiceClient::builder`] and
+    /// [`AsyncServiceClient::builder`]).
+    pub(crate) fn new() -> Self {
+        Self {
+            options: ClientOptions::default(),
+            _client: std::marker::PhantomData,
+        }
     }
 
     /// Accepted for the API of poll-based clients, and ignored: a waiting call never wakes on
@@ -70,11 +54,6 @@ impl<S: Service, C> ServiceClientBuilder<S, C> {
         self.options.introspection = Some((state, qos));
         self
     }
-
-    /// A non-blocking client, whichever client the builder came from.
-    pub fn build_async(self) -> Result<AsyncServiceClient<S>, SetupError> {
-        AsyncServiceClient::from_core(ClientCore::new(self.options)?)
-    }
 }
 
 impl<S: Service> ServiceClientBuilder<S, ServiceClient<S>> {
@@ -88,7 +67,7 @@ impl<S: Service> ServiceClientBuilder<S, ServiceClient<S>> {
 impl<S: Service> ServiceClientBuilder<S, AsyncServiceClient<S>> {
     /// The non-blocking client.
     pub fn build(self) -> Result<AsyncServiceClient<S>, SetupError> {
-        self.build_async()
+        AsyncServiceClient::from_core(ClientCore::new(self.options)?)
     }
 }
 
@@ -121,9 +100,10 @@ impl<S: Service> ServiceClient<S> {
         Self::builder().poll_interval(interval).build()
     }
 
-    /// A builder to choose node, name, QoS and wire convention.
+    /// A builder to choose node, name, QoS, wire convention and introspection; `build()` gives
+    /// this client.
     pub fn builder() -> ServiceClientBuilder<S> {
-        ServiceClientBuilder::default()
+        ServiceClientBuilder::new()
     }
 
     /// The fully-qualified service name.

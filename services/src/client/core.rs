@@ -12,7 +12,7 @@ use horus_ros_msgs::Service;
 use horus_ros_rmw::names::ServiceName;
 use horus_ros_rmw::qos::Qos;
 use horus_ros_rmw::service::{Client, Peers, TakenResponse, WireFlavour};
-use horus_ros_rmw::{Gid, Node, RawReaderWaker};
+use horus_ros_rmw::{Gid, RawReaderWaker};
 
 use horus_ros_msgs::service_msgs::msg::ServiceEventInfo;
 
@@ -22,7 +22,7 @@ use crate::cdr::decode;
 use crate::introspection::{Introspection, IntrospectionState};
 use crate::naming::{default_service_name, ServiceTopics};
 use crate::runtime::Runtime;
-use crate::{ServiceError, SetupError, TransportError};
+use crate::{EndpointOptions, ServiceError, SetupError, TransportError};
 
 /// Identifies one outstanding request.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -102,26 +102,12 @@ impl<R: Send + 'static> GraphWatcher for Calls<R> {
     }
 }
 
-/// Options shared by the client kinds.
-#[derive(Clone, Debug)]
+/// What a client of any kind is made from: the endpoint options its builder sets, and the
+/// introspection to start with (set by the builders that offer it).
+#[derive(Clone, Debug, Default)]
 pub(crate) struct ClientOptions {
-    pub(crate) node: Option<Node>,
-    pub(crate) name: Option<String>,
-    pub(crate) qos: Qos,
-    pub(crate) flavour: Option<WireFlavour>,
+    pub(crate) endpoint: EndpointOptions,
     pub(crate) introspection: Option<(IntrospectionState, Qos)>,
-}
-
-impl Default for ClientOptions {
-    fn default() -> Self {
-        Self {
-            node: None,
-            name: None,
-            qos: Qos::services_default(),
-            flavour: None,
-            introspection: None,
-        }
-    }
 }
 
 pub(crate) struct ClientCore<C: Codec> {
@@ -167,15 +153,16 @@ impl<C: Codec> ClientCore<C> {
         codec: C,
         options: &ClientOptions,
     ) -> Result<Self, SetupError> {
-        let runtime = Runtime::for_service::<S>(options.node.as_ref())?;
+        let runtime = Runtime::for_service::<S>(options.endpoint.node.as_ref())?;
         let name = options
+            .endpoint
             .name
             .clone()
             .unwrap_or_else(default_service_name::<S>);
         let topics = ServiceTopics::resolve::<S>(
             &runtime.node,
             &name,
-            &options.qos,
+            &options.endpoint.qos,
             horus_ros_rmw::ServiceEndpointRole::Client,
         )?;
         Self::with_codec(runtime, topics, codec, options)
@@ -230,7 +217,7 @@ impl<C: Codec> ClientCore<C> {
             endpoints,
             runtime,
             name: topics.name,
-            flavour: options.flavour,
+            flavour: options.endpoint.wire_flavour,
             calls,
             unsent_wakers: Mutex::new(Vec::new()),
             seen_generation: AtomicU64::new(u64::MAX),

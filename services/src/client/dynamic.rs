@@ -9,16 +9,14 @@ use std::time::{Duration, Instant};
 use horus_ros_dynamic::{DecodeError, RequestError, ServiceType, Value};
 use horus_ros_msgs::{dds_type_name, TypeHash};
 use horus_ros_rmw::names::ServiceName;
-use horus_ros_rmw::qos::Qos;
-use horus_ros_rmw::{Gid, Node};
+use horus_ros_rmw::Gid;
 
 use super::codec::{Raw, RawResponse};
 use super::core::{ClientCore, ClientOptions};
 use super::responses::Membership;
-use crate::naming::ServiceTopics;
+use crate::naming::{default_name_of_type, ServiceTopics};
 use crate::runtime::Runtime;
-use crate::WireFlavour;
-use crate::{ServiceError, SetupError};
+use crate::{EndpointBuilder, EndpointOptions, ServiceError, SetupError};
 
 /// One side of a service type: its DDS type name and RIHS01 hash.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -34,11 +32,11 @@ pub struct DynamicPart {
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
 pub enum DynamicCallError {
-    /// The client was built from DDS type names only ([`DynamicServiceClient::builder`]), so it
+    /// The client was built from DDS type names only ([`DynamicServiceType::Parts`]), so it
     /// has no schema to fill a request or decode a response with.
     #[error(
-        "this client knows its service type by DDS type names only; build it with \
-         DynamicServiceClient::for_type to call with values"
+        "this client knows its service type by DDS type names only; build it from a ServiceType \
+         to call with values"
     )]
     NoSchema,
     /// The request values do not fit the request type.
@@ -72,7 +70,34 @@ fn invalid_request<E: Into<RequestError>>(
     }
 }
 
-/// Builds a [`DynamicServiceClient`].
+/// What a [`DynamicServiceClient`] knows of its service type: the argument of
+/// [`DynamicServiceClient::builder`].
+#[derive(Clone, Debug)]
+pub enum DynamicServiceType {
+    /// The whole type (e.g. [`ServiceType::compiled`], or [`ServiceType::from_descriptions`] on
+    /// what a node's `~/get_type_description` returned): calls can take and give dynamic values,
+    /// YAML and JSON as well as CDR bodies.
+    Schema(ServiceType),
+    /// The DDS type names and hashes alone: calls take and give CDR bodies only
+    /// ([`DynamicServiceClient::call`]).
+    Parts {
+        /// The service type's name (`pkg/srv/Name`).
+        service_type: String,
+        /// The request part.
+        request: DynamicPart,
+        /// The response part.
+        response: DynamicPart,
+    },
+}
+
+impl From<ServiceType> for DynamicServiceType {
+    fn from(service_type: ServiceType) -> Self {
+        Self::Schema(service_type)
+    }
+}
+
+/// Builds a [`DynamicServiceClient`] ([`DynamicServiceClient::builder`]). Node, name, QoS and
+/// wire convention are set with the [`EndpointBuilder`] setters.
 #[must_use = "a builder does nothing until .build() is called"]
 #[derive(Clone, Debug)]
 pub struct DynamicServiceClientBuilder {
@@ -83,33 +108,26 @@ pub struct DynamicServiceClientBuilder {
     schema: Option<Arc<ServiceType>>,
 }
 
+impl EndpointBuilder for DynamicServiceClientBuilder {
+    fn options_mut(&mut self) -> &mut EndpointOptions {
+        &mut self.options.endpoint
+    }
+}
+
 impl DynamicServiceClientBuilder {
-    /// Calls from `node` instead of the process's default node.
-    pub fn node(mut self, node: &Node) -> Self {
-        self.options.node = Some(node.clone());
-        self
-    }
-
-    /// The QoS of the request writer and reply reader (default: `services_default`).
-    pub fn qos(mut self, qos: Qos) -> Self {
-        self.options.qos = qos;
-        self
-    }
-
-    /// Uses this wire convention instead of the one of the server found.
-    pub fn wire_flavour(mut self, flavour: WireFlavour) -> Self {
-        self.options.flavour = Some(flavour);
-        self
-    }
-
     /// Creates the request writer and reply reader.
     pub fn build(self) -> Result<DynamicServiceClient, SetupError> {
-        let runtime = Runtime::for_node(self.options.node.as_ref())?;
-        let name = self.options.name.clone().unwrap_or_default();
+        let runtime = Runtime::for_node(self.options.endpoint.node.as_ref())?;
+        let name = self
+            .options
+            .endpoint
+            .name
+            .clone()
+            .unwrap_or_else(|| default_name_of_type(&self.service_type));
         let topics = ServiceTopics::resolve_parts(
             &runtime.node,
             &name,
-            &self.options.qos,
+            &self.options.endpoint.qos,
             horus_ros_rmw::ServiceEndpointRole::Client,
             (self.request.dds_type_name, self.request.type_hash),
             (self.response.dds_type_name, self.response.type_hash),
@@ -145,49 +163,58 @@ impl std::fmt::Debug for DynamicServiceClient {
 }
 
 impl DynamicServiceClient {
-    /// A builder for the service `name` of type `service_type` (`pkg/srv/Name`) whose request
-    /// and response are `request` and `response`.
-    pub fn builder(
-        name: impl Into<String>,
-        service_type: impl Into<String>,
-        request: DynamicPart,
-        response: DynamicPart,
-    ) -> DynamicServiceClientBuilder {
+    /// A builder of a client of a service of the run-time type `service_type`: a
+    /// [`ServiceType`] (calls with values, YAML, JSON or CDR bodies) or
+    /// [`DynamicServiceType::Parts`] (CDR bodies only). The type is the builder's argument
+    /// because, unlike the options, it has no default: a dynamic client has no compiled type to
+    /// take it from. The name defaults to the type's name in snake case, as for compiled types
+    /// ([`default_service_name`](crate::default_service_name)).
+    ///
+    /// ```no_run
+    /// use horus_ros_services::prelude::*;
+    /// use horus_ros_services::{DynamicServiceClient, ServiceType};
+    ///
+    /// let service_type = ServiceType::compiled("example_interfaces/srv/AddTwoInts")
+    ///     .ok_or("not compiled in")?;
+    /// let mut client = DynamicServiceClient::builder(service_type)
+    ///     .name("/add_two_ints")
+    ///     .build()?;
+    /// let sum = client.call_yaml("{a: 2, b: 3}", Duration::from_secs(1))?;
+    /// println!("{sum:?}");
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn builder(service_type: impl Into<DynamicServiceType>) -> DynamicServiceClientBuilder {
+        let (service_type, request, response, schema) = match service_type.into() {
+            DynamicServiceType::Schema(schema) => {
+                let (request_hash, response_hash) = schema.part_hashes();
+                let request = DynamicPart {
+                    dds_type_name: dds_type_name(schema.request_type()),
+                    type_hash: request_hash,
+                };
+                let response = DynamicPart {
+                    dds_type_name: dds_type_name(schema.response_type()),
+                    type_hash: response_hash,
+                };
+                (
+                    schema.name().to_owned(),
+                    request,
+                    response,
+                    Some(Arc::new(schema)),
+                )
+            }
+            DynamicServiceType::Parts {
+                service_type,
+                request,
+                response,
+            } => (service_type, request, response, None),
+        };
         DynamicServiceClientBuilder {
-            options: ClientOptions {
-                name: Some(name.into()),
-                ..ClientOptions::default()
-            },
-            service_type: service_type.into(),
+            options: ClientOptions::default(),
+            service_type,
             request,
             response,
-            schema: None,
+            schema,
         }
-    }
-
-    /// A builder for the service `name` of the run-time type `service_type` (e.g.
-    /// [`ServiceType::compiled`], or [`ServiceType::from_descriptions`] on what a node's
-    /// `~/get_type_description` returned): its calls can take and give dynamic values, YAML and
-    /// JSON.
-    pub fn for_type(
-        name: impl Into<String>,
-        service_type: ServiceType,
-    ) -> DynamicServiceClientBuilder {
-        let (request_hash, response_hash) = service_type.part_hashes();
-        let mut builder = Self::builder(
-            name,
-            service_type.name(),
-            DynamicPart {
-                dds_type_name: dds_type_name(service_type.request_type()),
-                type_hash: request_hash,
-            },
-            DynamicPart {
-                dds_type_name: dds_type_name(service_type.response_type()),
-                type_hash: response_hash,
-            },
-        );
-        builder.schema = Some(Arc::new(service_type));
-        builder
     }
 
     /// The run-time service type, for a call with values.
@@ -195,7 +222,7 @@ impl DynamicServiceClient {
         self.schema.clone().ok_or(DynamicCallError::NoSchema)
     }
 
-    /// The run-time service type, when the client was built with [`for_type`](Self::for_type).
+    /// The run-time service type, when the client was built from a [`ServiceType`].
     pub fn service_type(&self) -> Option<&ServiceType> {
         self.schema.as_deref()
     }

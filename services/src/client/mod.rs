@@ -12,5 +12,6 @@ pub use blocking::{ServiceClient, ServiceClientBuilder};
 pub use codec::RawResponse;
 pub use dynamic::{
     DynamicCallError, DynamicPart, DynamicServiceClient, DynamicServiceClientBuilder,
+    DynamicServiceType,
 };
 pub use pending::{AsyncServiceClient, PendingResponse};

@@ -38,12 +38,13 @@ impl<S: Service> std::fmt::Debug for AsyncServiceClient<S> {
 impl<S: Service> AsyncServiceClient<S> {
     /// A client of the service's default name on the default node.
     pub fn new() -> Result<Self, SetupError> {
-        ServiceClientBuilder::<S>::default().build_async()
+        Self::builder().build()
     }
 
-    /// A builder to choose node, name, QoS and wire convention; `build()` gives this client.
+    /// A builder to choose node, name, QoS, wire convention and introspection; `build()` gives
+    /// this client.
     pub fn builder() -> ServiceClientBuilder<S, Self> {
-        ServiceClientBuilder::default()
+        ServiceClientBuilder::new()
     }
 
     pub(crate) fn from_core(core: ClientCore<Typed<S>>) -> Result<Self, SetupError> {
@@ -93,6 +94,13 @@ impl<S: Service> AsyncServiceClient<S> {
     /// (rclcpp `service_is_ready`; see [the readiness words](crate#readiness)).
     pub fn is_server_ready(&self) -> bool {
         self.core.is_server_ready()
+    }
+
+    /// Waits until [`is_server_ready`](Self::is_server_ready), at most `timeout`, blocking the
+    /// caller (rclcpp `wait_for_service`); woken by graph changes, never polled. In async code,
+    /// `wait_for_service_async` (feature `tokio`) waits without blocking.
+    pub fn wait_for_service(&self, timeout: Duration) -> bool {
+        self.core.wait_ready(Instant::now() + timeout).is_ok()
     }
 
     /// Requests sent whose replies are still awaited (0 once every call ended or was dropped:

@@ -9,8 +9,7 @@ use std::time::{Duration, Instant};
 
 use horus_ros_msgs::Service;
 use horus_ros_rmw::names::ServiceName;
-use horus_ros_rmw::qos::Qos;
-use horus_ros_rmw::{Gid, Node};
+use horus_ros_rmw::Gid;
 
 use super::{
     deserialize, encapsulate_into, le_body, serialize_into, RosService, ServiceClientTrait,
@@ -18,13 +17,13 @@ use super::{
 };
 use crate::client::codec::{Raw, RawResponse};
 use crate::client::core::{ClientCore, ClientOptions, Readiness, RequestKey};
-use crate::SetupError;
-use crate::WireFlavour;
+use crate::{EndpointBuilder, EndpointOptions, SetupError};
 
 /// The default [`send_timeout`](DdsServiceClientBuilder::send_timeout).
 const DEFAULT_SEND_TIMEOUT: Duration = Duration::from_secs(10);
 
-/// Builds a [`DdsServiceClient`].
+/// Builds a [`DdsServiceClient`] ([`DdsServiceClient::builder`]). Node, name, QoS and wire
+/// convention are set with the [`EndpointBuilder`] setters.
 #[must_use = "a builder does nothing until .build() is called"]
 pub struct DdsServiceClientBuilder<S: Service> {
     options: ClientOptions,
@@ -32,41 +31,13 @@ pub struct DdsServiceClientBuilder<S: Service> {
     _service: PhantomData<fn() -> S>,
 }
 
-impl<S: Service> Default for DdsServiceClientBuilder<S> {
-    fn default() -> Self {
-        Self {
-            options: ClientOptions::default(),
-            send_timeout: DEFAULT_SEND_TIMEOUT,
-            _service: PhantomData,
-        }
+impl<S: Service> EndpointBuilder for DdsServiceClientBuilder<S> {
+    fn options_mut(&mut self) -> &mut EndpointOptions {
+        &mut self.options.endpoint
     }
 }
 
 impl<S: Service> DdsServiceClientBuilder<S> {
-    /// Calls from `node` instead of the process's default node.
-    pub fn node(mut self, node: &Node) -> Self {
-        self.options.node = Some(node.clone());
-        self
-    }
-
-    /// The service name (default: [`default_service_name`](crate::default_service_name)).
-    pub fn name(mut self, name: impl Into<String>) -> Self {
-        self.options.name = Some(name.into());
-        self
-    }
-
-    /// The QoS of the request writer and reply reader (default: `services_default`).
-    pub fn qos(mut self, qos: Qos) -> Self {
-        self.options.qos = qos;
-        self
-    }
-
-    /// Uses this wire convention instead of the one of the server found.
-    pub fn wire_flavour(mut self, flavour: WireFlavour) -> Self {
-        self.options.flavour = Some(flavour);
-        self
-    }
-
     /// How long a request queued by `send_request_raw` may wait for a ready server before it is
     /// dropped and `try_recv_reply_raw` reports [`TransportError::NoServer`] (default 10 s).
     pub fn send_timeout(mut self, timeout: Duration) -> Self {
@@ -144,7 +115,11 @@ impl<S: Service> DdsServiceClient<S> {
 
     /// A builder to choose node, name, QoS, wire convention and send timeout.
     pub fn builder() -> DdsServiceClientBuilder<S> {
-        DdsServiceClientBuilder::default()
+        DdsServiceClientBuilder {
+            options: ClientOptions::default(),
+            send_timeout: DEFAULT_SEND_TIMEOUT,
+            _service: PhantomData,
+        }
     }
 
     /// The fully-qualified service name.

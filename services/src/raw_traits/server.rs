@@ -11,16 +11,15 @@ use std::time::{Duration, Instant};
 
 use horus_ros_msgs::Service;
 use horus_ros_rmw::names::ServiceName;
-use horus_ros_rmw::qos::Qos;
 use horus_ros_rmw::service::{ReplyRoute, Request, TakenRequest};
-use horus_ros_rmw::{Gid, Node, RawReader, RawReaderWaker, RawWriter};
+use horus_ros_rmw::{Gid, RawReader, RawReaderWaker, RawWriter};
 
 use super::{encapsulate_into, le_body, ServiceRequest, ServiceServerTrait, TransportError};
 use crate::naming::{default_service_name, ServiceTopics};
 use crate::runtime::Runtime;
 use crate::server::MAX_ERRORS_PER_DRAIN;
 use crate::server_wire::ServerWire;
-use crate::{SetupError, WireFlavour};
+use crate::{EndpointBuilder, EndpointOptions, SetupError};
 
 /// Most requests received and not yet taken; beyond, the oldest is dropped.
 const MAX_QUEUED: usize = 4096;
@@ -32,62 +31,29 @@ const OVERFLOW_WARNING_INTERVAL: Duration = Duration::from_secs(10);
 /// `send_reply` then fails with `UnknownRequest`).
 const MAX_OUTSTANDING: usize = 4096;
 
-/// Builds a [`DdsServiceServer`].
+/// Builds a [`DdsServiceServer`] ([`DdsServiceServer::builder`]). Node, name, QoS and wire
+/// convention are set with the [`EndpointBuilder`] setters.
 #[must_use = "a builder does nothing until .build() is called"]
 pub struct DdsServiceServerBuilder<S: Service> {
-    node: Option<Node>,
-    name: Option<String>,
-    qos: Qos,
-    flavour: Option<WireFlavour>,
+    options: EndpointOptions,
     _service: PhantomData<fn() -> S>,
 }
 
-impl<S: Service> Default for DdsServiceServerBuilder<S> {
-    fn default() -> Self {
-        Self {
-            node: None,
-            name: None,
-            qos: Qos::services_default(),
-            flavour: None,
-            _service: PhantomData,
-        }
+impl<S: Service> EndpointBuilder for DdsServiceServerBuilder<S> {
+    fn options_mut(&mut self) -> &mut EndpointOptions {
+        &mut self.options
     }
 }
 
 impl<S: Service> DdsServiceServerBuilder<S> {
-    /// Serves from `node` instead of the process's default node.
-    pub fn node(mut self, node: &Node) -> Self {
-        self.node = Some(node.clone());
-        self
-    }
-
-    /// The service name (default: [`default_service_name`]).
-    pub fn name(mut self, name: impl Into<String>) -> Self {
-        self.name = Some(name.into());
-        self
-    }
-
-    /// The QoS of the request reader and reply writer (default: `services_default`).
-    pub fn qos(mut self, qos: Qos) -> Self {
-        self.qos = qos;
-        self
-    }
-
-    /// Treats every client as following this wire convention instead of choosing per client
-    /// from its DDS vendor.
-    pub fn wire_flavour(mut self, flavour: WireFlavour) -> Self {
-        self.flavour = Some(flavour);
-        self
-    }
-
     /// Creates the request reader and reply writer and starts the request thread.
     pub fn build(self) -> Result<DdsServiceServer<S>, SetupError> {
-        let runtime = Runtime::for_service::<S>(self.node.as_ref())?;
-        let name = self.name.unwrap_or_else(default_service_name::<S>);
+        let runtime = Runtime::for_service::<S>(self.options.node.as_ref())?;
+        let name = self.options.name.unwrap_or_else(default_service_name::<S>);
         let topics = ServiceTopics::resolve::<S>(
             &runtime.node,
             &name,
-            &self.qos,
+            &self.options.qos,
             horus_ros_rmw::ServiceEndpointRole::Server,
         )?;
         let reader = runtime.node.create_raw_reader(&topics.request)?;
@@ -98,7 +64,7 @@ impl<S: Service> DdsServiceServerBuilder<S> {
             &runtime,
             topics.name,
             writer.gid(),
-            self.flavour,
+            self.options.wire_flavour,
             reader.waker(),
         );
         let shared = Arc::new(Shared {
@@ -168,7 +134,10 @@ impl<S: Service> DdsServiceServer<S> {
 
     /// A builder to choose node, name, QoS and wire convention.
     pub fn builder() -> DdsServiceServerBuilder<S> {
-        DdsServiceServerBuilder::default()
+        DdsServiceServerBuilder {
+            options: EndpointOptions::default(),
+            _service: PhantomData,
+        }
     }
 
     /// The fully-qualified service name.

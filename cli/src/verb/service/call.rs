@@ -28,7 +28,8 @@ use crate::dynamic::{ServiceType, Value};
 use crate::session::Session;
 use crate::{CliError, Global};
 use horus_ros_services::{
-    DynamicCallError, DynamicServiceClient, RawResponse, ServiceError, TransportError,
+    DynamicCallError, DynamicServiceClient, EndpointBuilder, RawResponse, ServiceError,
+    TransportError,
 };
 
 /// Arguments of `service call`.
@@ -251,11 +252,10 @@ pub(crate) struct Opened {
 impl Opened {
     /// A new client of the service on the session's node.
     pub(crate) fn client(&self) -> Result<DynamicServiceClient, CliError> {
-        Ok(
-            DynamicServiceClient::for_type(self.service.as_str(), self.info.clone())
-                .node(&self.session.node)
-                .build()?,
-        )
+        Ok(DynamicServiceClient::builder(self.info.clone())
+            .name(self.service.as_str())
+            .node(&self.session.node)
+            .build()?)
     }
 
     /// The request as Python's `repr` shows it.

@@ -49,7 +49,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
 
     let mode = Arc::new(AtomicU8::new(Telemetry::MODE_IDLE));
     let current = Arc::clone(&mode);
-    let server = ServiceServerBuilder::<SetMode>::new()
+    let server = ServiceServer::<SetMode>::builder()
         .node(&node)
         .name("set_mode")
         .on_request(move |request| {

@@ -54,7 +54,7 @@ mod run {
         let context = Context::from_env()?;
         let node = context.create_node("test_msgs_node", "/")?;
         let publisher = node.create_publisher::<Arrays>("arrays", &Qos::default_profile())?;
-        let server = ServiceServerBuilder::<BasicTypes>::new()
+        let server = ServiceServer::<BasicTypes>::builder()
             .node(&node)
             .name("basic_types")
             .on_request(|r| {

@@ -28,7 +28,7 @@ use horus_ros_rmw::names::ServiceName;
 use horus_ros_rmw::Node;
 
 use crate::dynamic::ServiceType;
-use horus_ros_services::ServiceClient;
+use horus_ros_services::{EndpointBuilder, ServiceClient};
 
 /// One type hash to ask a node about.
 struct Candidate {
