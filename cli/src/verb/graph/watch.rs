@@ -425,6 +425,113 @@ mod tests {
         assert_eq!(rfc3339_millis(t), "2099-12-31T23:59:59.000Z");
     }
 
+    /// A GID of participant `p`'s endpoint `n`.
+    fn gid(p: u8, n: u8) -> Gid {
+        let mut data = [p; 16];
+        data[12..].copy_from_slice(&[0, 0, 0, n]);
+        Gid::from_bytes(data)
+    }
+
+    fn entry(n: u8, topic: &str, ty: &str, kind: EndpointKind) -> horus_ros_graph::EndpointEntry {
+        horus_ros_graph::EndpointEntry {
+            gid: gid(1, n),
+            participant_gid: gid(1, 0xc1),
+            dds_topic_name: topic.to_owned(),
+            dds_type_name: ty.to_owned(),
+            qos: horus_ros_rmw::qos::Qos::default(),
+            type_hash: TypeHash::ZERO,
+            kind,
+        }
+    }
+
+    fn nodes(
+        names: &[&str],
+        writers: &[u8],
+    ) -> horus_ros_msgs::rmw_dds_common::ParticipantEntitiesInfo {
+        use horus_ros_msgs::rmw_dds_common::{NodeEntitiesInfo, ParticipantEntitiesInfo};
+        ParticipantEntitiesInfo {
+            gid: gid(1, 0xc1),
+            node_entities_info_seq: names
+                .iter()
+                .map(|name| NodeEntitiesInfo {
+                    node_namespace: "/".to_owned(),
+                    node_name: (*name).to_owned(),
+                    reader_gid_seq: Vec::new(),
+                    writer_gid_seq: writers.iter().map(|n| gid(1, *n)).collect(),
+                })
+                .collect(),
+        }
+    }
+
+    /// The lines of `changes` after their timestamp.
+    fn lines(changes: &[Change]) -> Vec<String> {
+        changes
+            .iter()
+            .map(|c| c.text("t").trim_start_matches("t ").to_owned())
+            .collect()
+    }
+
+    #[test]
+    fn the_snapshot_and_the_events_show_ros_endpoints_by_topic_then_service() {
+        use EndpointKind::{Reader, Writer};
+        const STRING: &str = "std_msgs::msg::dds_::String_";
+        const REQ: &str = "example_interfaces::srv::dds_::AddTwoInts_Request_";
+        const REP: &str = "example_interfaces::srv::dds_::AddTwoInts_Response_";
+        let mut cache = GraphCache::new();
+        cache.update_participant_entities(nodes(&["talker"], &[5, 9]));
+        for e in [
+            entry(1, "rq/add_two_intsRequest", REQ, Writer),
+            entry(2, "rq/add_two_intsRequest", REQ, Reader),
+            entry(3, "rt/chatter", STRING, Reader),
+            entry(4, "rr/add_two_intsReply", REP, Writer),
+            entry(5, "rt/chatter", STRING, Writer),
+            entry(6, "rr/add_two_intsReply", REP, Reader),
+            entry(7, "rt/_hidden", STRING, Writer),
+            entry(8, "ros_discovery_info", "x::dds_::Info_", Writer),
+            entry(9, "rt/alpha", STRING, Writer),
+        ] {
+            cache.add_entity(e);
+        }
+        let mut watcher = Watcher::new(false);
+        let g = |n| gid(1, n);
+        let srv = "/add_two_ints [example_interfaces/srv/AddTwoInts]";
+        assert_eq!(
+            lines(&watcher.snapshot(&cache)),
+            [
+                "+ node /talker".to_owned(),
+                format!("+ publisher /alpha [std_msgs/msg/String] gid {}", g(9)),
+                format!("+ publisher /chatter [std_msgs/msg/String] gid {}", g(5)),
+                format!("+ subscription /chatter [std_msgs/msg/String] gid {}", g(3)),
+                format!("+ service server {srv} request reader gid {}", g(2)),
+                format!("+ service server {srv} response writer gid {}", g(4)),
+                format!("+ service client {srv} request writer gid {}", g(1)),
+                format!("+ service client {srv} response reader gid {}", g(6)),
+            ]
+        );
+
+        // An endpoint moving to another node prints nothing but the nodes; the participant's
+        // loss its endpoints, then its node.
+        cache.record_events(true);
+        cache.update_participant_entities(nodes(&["renamed"], &[5, 9]));
+        let mut changes = Vec::new();
+        for event in cache.drain_events() {
+            changes.extend(watcher.apply(&cache, event));
+        }
+        assert_eq!(lines(&changes), ["+ node /renamed", "- node /talker"]);
+        cache.remove_participant(gid(1, 0xc1));
+        let mut changes = Vec::new();
+        for event in cache.drain_events() {
+            changes.extend(watcher.apply(&cache, event));
+        }
+        let changes = lines(&changes);
+        assert_eq!(changes.len(), 8, "{changes:?}");
+        assert_eq!(
+            changes[0],
+            format!("- service client {srv} request writer gid {}", g(1))
+        );
+        assert_eq!(changes[7], "- node /renamed");
+    }
+
     #[test]
     fn change_lines() {
         let view = EndpointView {
