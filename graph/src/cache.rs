@@ -13,19 +13,28 @@ use horus_ros_rmw::qos::EndpointKind;
 use serde::{Deserialize, Serialize};
 
 use crate::endpoint::{participant_gid_from_prefix, EndpointEntry, GuidPrefix};
-use crate::event::GraphEvent;
+use crate::event::{GraphEndpoint, GraphEvent, NodeName};
 use crate::query::{demangle_service_type, demangle_type};
 use crate::RosEndpoint;
 
-/// The event for the loss of `old`.
-fn removed_event(old: EndpointEntry) -> GraphEvent {
-    GraphEvent::EndpointRemoved {
-        gid: old.gid,
-        kind: old.kind,
-        ros: RosEndpoint::of(&old.dds_topic_name, old.kind),
-        type_name: demangle_type(&old.dds_type_name),
-        type_hash: old.type_hash,
-        topic: old.dds_topic_name,
+/// `e` as events report it, its node looked up in `participant` (its own participant, if known).
+fn graph_endpoint(e: &EndpointEntry, participant: Option<&Participant>) -> GraphEndpoint {
+    let ros = RosEndpoint::of(&e.dds_topic_name, e.kind);
+    let type_name = match &ros {
+        Some(r) if r.role.is_service() => demangle_service_type(&e.dds_type_name)
+            .unwrap_or_else(|| demangle_type(&e.dds_type_name)),
+        _ => demangle_type(&e.dds_type_name),
+    };
+    GraphEndpoint {
+        node: participant.and_then(|p| p.node_name_listing(e)),
+        ros,
+        gid: e.gid,
+        kind: e.kind,
+        dds_topic: e.dds_topic_name.clone(),
+        dds_type: e.dds_type_name.clone(),
+        type_name,
+        type_hash: e.type_hash,
+        qos: e.qos,
     }
 }
 
@@ -46,6 +55,23 @@ pub(crate) struct Participant {
 }
 
 impl Participant {
+    /// The node listing `e` (of the same kind) in its latest message, the first if several do
+    /// (rmw_dds_common `__find_name_and_namespace_from_entity_gid`).
+    pub(crate) fn node_listing(&self, e: &EndpointEntry) -> Option<&NodeEntitiesInfo> {
+        match self.owner.get(&e.gid) {
+            Some((kind, index)) if *kind == e.kind => self.nodes.get(*index),
+            _ => None,
+        }
+    }
+
+    /// The name and namespace of [`node_listing`](Self::node_listing).
+    fn node_name_listing(&self, e: &EndpointEntry) -> Option<NodeName> {
+        self.node_listing(e).map(|n| NodeName {
+            name: n.node_name.clone(),
+            namespace: n.node_namespace.clone(),
+        })
+    }
+
     /// Replaces the node list and rebuilds the GID → node index.
     fn set_nodes(&mut self, nodes: Vec<NodeEntitiesInfo>) {
         let mut owner = BTreeMap::new();
@@ -359,10 +385,22 @@ impl GraphCache {
 
     /// Removes a participant, its nodes, and every endpoint whose `participant_gid` has its
     /// GUID prefix (DDS reports only the participant's loss). Returns whether anything was
-    /// removed.
+    /// removed. Events: the endpoints removed (in GID order, each with its node), then the
+    /// nodes.
     pub fn remove_participant(&mut self, participant_gid: Gid) -> bool {
         let prefix = participant_gid.prefix();
         let mut changed = false;
+        // In GID order; removed while the participant still names their nodes.
+        let lost = self
+            .index
+            .by_participant
+            .get(&prefix)
+            .cloned()
+            .unwrap_or_default();
+        for gid in lost {
+            changed |= self.remove_entity(gid);
+        }
+        self.index.by_participant.remove(&prefix);
         if let Some(participant) = self.participants.remove(&prefix) {
             changed = true;
             self.index.remove_nodes(prefix, &participant.nodes);
@@ -373,16 +411,12 @@ impl GraphCache {
                 });
             }
         }
-        // In GID order, as the endpoints map would give them.
-        let lost = self
-            .index
-            .by_participant
-            .remove(&prefix)
-            .unwrap_or_default();
-        for gid in lost {
-            changed |= self.remove_entity(gid);
-        }
         changed
+    }
+
+    /// `e` as events report it, with its node as known now.
+    pub(crate) fn graph_endpoint(&self, e: &EndpointEntry) -> GraphEndpoint {
+        graph_endpoint(e, self.participants.get(&e.participant_prefix()))
     }
 
     /// Adds a reader or writer, or replaces what was known about its GID. Returns whether
@@ -391,75 +425,101 @@ impl GraphCache {
         if self.endpoints.get(&entry.gid) == Some(&entry) {
             return false;
         }
-        let event = self.recording().then(|| GraphEvent::EndpointAdded {
-            gid: entry.gid,
-            kind: entry.kind,
-            topic: entry.dds_topic_name.clone(),
-            ros: RosEndpoint::of(&entry.dds_topic_name, entry.kind),
-            type_name: demangle_type(&entry.dds_type_name),
-            type_hash: entry.type_hash,
-        });
-        if let Some(old) = self.endpoints.get(&entry.gid) {
-            self.index.remove_endpoint(old);
-        }
-        self.index.add_endpoint(&entry);
-        if let Some(old) = self.endpoints.insert(entry.gid, entry) {
-            if self.recording() {
-                self.emit(removed_event(old));
+        let added = self.recording().then(|| self.graph_endpoint(&entry));
+        let removed = match self.endpoints.get(&entry.gid) {
+            Some(old) => {
+                let event = self.recording().then(|| self.graph_endpoint(old));
+                self.index.remove_endpoint(old);
+                event
             }
+            None => None,
+        };
+        self.index.add_endpoint(&entry);
+        self.endpoints.insert(entry.gid, entry);
+        if let Some(old) = removed {
+            self.emit(GraphEvent::EndpointRemoved(old));
         }
-        if let Some(event) = event {
-            self.emit(event);
+        if let Some(new) = added {
+            self.emit(GraphEvent::EndpointAdded(new));
         }
         true
     }
 
     /// Removes a reader or writer. Returns whether it was known.
     pub fn remove_entity(&mut self, gid: Gid) -> bool {
-        match self.endpoints.remove(&gid) {
-            Some(old) => {
-                self.index.remove_endpoint(&old);
-                if self.recording() {
-                    self.emit(removed_event(old));
-                }
-                true
-            }
-            None => false,
+        let Some(old) = self.endpoints.remove(&gid) else {
+            return false;
+        };
+        self.index.remove_endpoint(&old);
+        if self.recording() {
+            let event = GraphEvent::EndpointRemoved(self.graph_endpoint(&old));
+            self.emit(event);
         }
+        true
     }
 
     /// Applies a participant's `ros_discovery_info` message: its node list replaces the
     /// previous one (a node missing from it is gone), as rmw_dds_common does. Creates the
     /// participant if unknown. Returns whether its node list changed.
+    ///
+    /// Events: the nodes added, then (in GID order) every discovered endpoint of the
+    /// participant whose node changed ([`GraphEvent::EndpointNodeChanged`]: first listed, moved,
+    /// or no longer listed), then the nodes removed.
     pub fn update_participant_entities(&mut self, msg: ParticipantEntitiesInfo) -> bool {
-        let participant = self.participants.entry(msg.gid.prefix()).or_default();
+        let prefix = msg.gid.prefix();
+        let participant = self.participants.entry(prefix).or_default();
         let first = !participant.announced;
         participant.announced = true;
         if participant.nodes == msg.node_entities_info_seq {
             return first;
         }
-        let prefix = msg.gid.prefix();
-        let old = std::mem::take(&mut participant.nodes);
-        self.index.remove_nodes(prefix, &old);
+        let old = Participant {
+            nodes: std::mem::take(&mut participant.nodes),
+            owner: std::mem::take(&mut participant.owner),
+            ..Participant::default()
+        };
         participant.set_nodes(msg.node_entities_info_seq);
+        self.index.remove_nodes(prefix, &old.nodes);
         self.index.add_nodes(prefix, &participant.nodes);
         if self.events.is_none() {
             return true;
         }
+        // The endpoints either message lists, in GID order.
+        let listed: BTreeSet<Gid> = old
+            .owner
+            .keys()
+            .chain(participant.owner.keys())
+            .copied()
+            .collect();
+        let moved: Vec<GraphEvent> = listed
+            .iter()
+            .filter_map(|gid| self.endpoints.get(gid))
+            .filter(|e| e.participant_prefix() == prefix)
+            .filter_map(|e| {
+                let previous = old.node_name_listing(e);
+                let endpoint = graph_endpoint(e, Some(&*participant));
+                (endpoint.node != previous)
+                    .then_some(GraphEvent::EndpointNodeChanged { endpoint, previous })
+            })
+            .collect();
         let new: Vec<(String, String)> = participant
             .nodes
             .iter()
             .map(|n| (n.node_name.clone(), n.node_namespace.clone()))
             .collect();
         let old: Vec<(String, String)> = old
+            .nodes
             .into_iter()
             .map(|n| (n.node_name, n.node_namespace))
             .collect();
-        for (name, namespace) in multiset_minus(&old, &new) {
-            self.emit(GraphEvent::NodeRemoved { name, namespace });
-        }
         for (name, namespace) in multiset_minus(&new, &old) {
             self.emit(GraphEvent::NodeAdded { name, namespace });
+        }
+        for event in moved {
+            self.emit(event);
+        }
+        for (name, namespace) in multiset_minus(&old, &new) {
+            self.emit(GraphEvent::NodeRemoved { name, namespace });
         }
         true
     }

@@ -15,6 +15,7 @@ use horus_ros_rmw::qos::EndpointKind;
 use crate::cache::{GraphCache, TopicEntry};
 use crate::endpoint::{EndpointEntry, GuidPrefix};
 use crate::error::GraphError;
+use crate::event::GraphEndpoint;
 use crate::info::{ServiceEndpointInfo, ServiceEndpointType, TopicEndpointInfo, TopicEndpointType};
 use crate::query::{demangle_service_type, demangle_type};
 
@@ -217,6 +218,24 @@ impl GraphCache {
             &format!("{ROS_SERVICE_REQUESTER_PREFIX}{service}{SERVICE_REQUEST_SUFFIX}"),
             ServiceEndpointType::Client,
         ))
+    }
+
+    /// One reader or writer as [`GraphEvent`](crate::GraphEvent)s report it, its node as known
+    /// now; `None` if its GID is not known.
+    pub fn endpoint(&self, gid: Gid) -> Option<GraphEndpoint> {
+        self.endpoints.get(&gid).map(|e| self.graph_endpoint(e))
+    }
+
+    /// Every reader and writer, ROS or not, in GID order, as [`GraphEvent`](crate::GraphEvent)s
+    /// report them (the endpoints a consumer of events started now has not been told of).
+    pub fn all_endpoints(&self) -> Vec<GraphEndpoint> {
+        let mut all: Vec<GraphEndpoint> = self
+            .endpoints
+            .values()
+            .map(|e| self.graph_endpoint(e))
+            .collect();
+        all.sort_by_key(|e| e.gid);
+        all
     }
 
     /// Whether at least one server of `service` has both its request reader and its response

@@ -5,8 +5,12 @@
 use horus_ros_rmw::names::DemangledTopic;
 use horus_ros_rmw::qos::EndpointKind;
 
-/// What a DDS endpoint is to ROS.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+/// What a DDS endpoint is to ROS: a publisher, a subscription, or which of a service server's
+/// or client's two DDS endpoints it is.
+///
+/// Ordered as listings show them: a topic's publishers then subscriptions, a service's server
+/// (request reader, response writer) then client (request writer, response reader) endpoints.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
 #[non_exhaustive]
 pub enum EndpointRole {
     /// A writer on `rt/…`.

@@ -34,7 +34,7 @@ pub use cache::{GraphCache, ParticipantKind, Unsettled};
 pub use endpoint::{participant_gid_from_prefix, EndpointEntry, GuidPrefix};
 pub use endpoint_role::{EndpointRole, RosEndpoint};
 pub use error::GraphError;
-pub use event::GraphEvent;
+pub use event::{GraphEndpoint, GraphEvent, NodeName};
 pub use horus_ros_msgs::rmw_dds_common::Gid;
 pub use info::{ServiceEndpointInfo, ServiceEndpointType, TopicEndpointInfo, TopicEndpointType};
 pub use live::{apply_discovery_event, Graph, GraphStartError, GraphView, GraphWatcher};

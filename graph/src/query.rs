@@ -124,13 +124,9 @@ impl GraphCache {
         let Some(participant) = self.participants.get(&e.participant_prefix()) else {
             return Creator::BareDds;
         };
-        match participant.owner.get(&e.gid) {
-            Some((kind, index)) if *kind == e.kind => participant
-                .nodes
-                .get(*index)
-                .map_or(Creator::UnknownNode, Creator::Node),
-            _ => Creator::UnknownNode,
-        }
+        participant
+            .node_listing(e)
+            .map_or(Creator::UnknownNode, Creator::Node)
     }
 
     /// Every node of every participant with its enclave, duplicates kept, sorted by

@@ -27,9 +27,9 @@ async fn a_graph_event_wakes_the_task_awaiting_the_stream() {
     let mut events = graph.events();
     let watcher = tokio::spawn(async move {
         while let Some(event) = events.next().await {
-            if let Ok(GraphEvent::EndpointAdded { topic, kind, .. }) = event {
-                if topic == "rt/awaited_topic" {
-                    return Some(kind);
+            if let Ok(GraphEvent::EndpointAdded(endpoint)) = event {
+                if endpoint.dds_topic == "rt/awaited_topic" {
+                    return Some(endpoint.kind);
                 }
             }
         }

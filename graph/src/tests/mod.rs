@@ -2,6 +2,7 @@
 //! `test/test_graph_cache.cpp` does.
 
 mod display;
+mod events;
 mod fixtures;
 mod index;
 mod mutators;

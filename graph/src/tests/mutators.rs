@@ -5,8 +5,8 @@ use horus_ros_rmw::qos::EndpointKind;
 
 use super::fixtures::*;
 use crate::{
-    participant_gid_from_prefix, EndpointRole, GraphCache, GraphEvent, ParticipantKind,
-    RosEndpoint, CREATED_BY_BARE_DDS_APP, NODE_NAME_UNKNOWN,
+    participant_gid_from_prefix, EndpointRole, GraphCache, GraphEndpoint, GraphEvent, NodeName,
+    ParticipantKind, RosEndpoint, CREATED_BY_BARE_DDS_APP, NODE_NAME_UNKNOWN,
 };
 
 fn node_added(name: &str, namespace: &str) -> GraphEvent {
@@ -23,14 +23,21 @@ fn node_removed(name: &str, namespace: &str) -> GraphEvent {
     }
 }
 
-fn endpoint_removed(g: &str, kind: EndpointKind, topic: &str) -> GraphEvent {
-    GraphEvent::EndpointRemoved {
+/// A `std_msgs/msg/String` publisher on `topic` (`rt/…`) of no known node, as events report it.
+fn string_publisher(g: &str, topic: &str) -> GraphEndpoint {
+    GraphEndpoint {
+        node: None,
+        ros: Some(RosEndpoint {
+            role: EndpointRole::Publisher,
+            name: topic.trim_start_matches("rt").to_owned(),
+        }),
         gid: gid(g),
-        kind,
-        topic: topic.to_owned(),
-        ros: RosEndpoint::of(topic, kind),
+        kind: EndpointKind::Writer,
+        dds_topic: topic.to_owned(),
+        dds_type: STRING.to_owned(),
         type_name: "std_msgs/msg/String".to_owned(),
         type_hash: TypeHash::ZERO,
+        qos: remote_qos(),
     }
 }
 
@@ -68,33 +75,24 @@ fn events_are_recorded_only_when_enabled() {
     moved.dds_topic_name = "rt/u".to_owned();
     g.add_entity(moved);
     g.update_participant_entities(msg("p", vec![node("/", "a", &[], &["w"])]));
+    let a = NodeName {
+        name: "a".to_owned(),
+        namespace: "/".to_owned(),
+    };
     assert_eq!(
         g.drain_events(),
         vec![
-            GraphEvent::EndpointAdded {
-                gid: gid("w"),
-                kind: EndpointKind::Writer,
-                topic: "rt/t".to_owned(),
-                ros: Some(RosEndpoint {
-                    role: EndpointRole::Publisher,
-                    name: "/t".to_owned()
-                }),
-                type_name: "std_msgs/msg/String".to_owned(),
-                type_hash: TypeHash::ZERO,
-            },
-            endpoint_removed("w", EndpointKind::Writer, "rt/t"),
-            GraphEvent::EndpointAdded {
-                gid: gid("w"),
-                kind: EndpointKind::Writer,
-                topic: "rt/u".to_owned(),
-                ros: Some(RosEndpoint {
-                    role: EndpointRole::Publisher,
-                    name: "/u".to_owned()
-                }),
-                type_name: "std_msgs/msg/String".to_owned(),
-                type_hash: TypeHash::ZERO,
-            },
+            GraphEvent::EndpointAdded(string_publisher("w", "rt/t")),
+            GraphEvent::EndpointRemoved(string_publisher("w", "rt/t")),
+            GraphEvent::EndpointAdded(string_publisher("w", "rt/u")),
             node_added("a", "/"),
+            GraphEvent::EndpointNodeChanged {
+                endpoint: GraphEndpoint {
+                    node: Some(a),
+                    ..string_publisher("w", "rt/u")
+                },
+                previous: None,
+            },
         ]
     );
     assert!(g.drain_events().is_empty());
@@ -124,15 +122,16 @@ fn participant_loss_removes_nodes_and_endpoints() {
         .clients_info_by_service("/add_two_ints", false)
         .is_ok_and(|c| c.len() == 1));
     let events = g.drain_events();
+    // Six endpoints of participant1 (with its ros_discovery_info writer), in GID order, then
+    // its nodes.
     assert_eq!(
-        events[..2],
+        events[6..],
         [node_removed("talker", "/"), node_removed("server", "/")]
     );
-    // Six endpoints of participant1 (with its ros_discovery_info writer), in GID order.
-    let removed: Vec<_> = events[2..]
+    let removed: Vec<_> = events[..6]
         .iter()
         .map(|e| match e {
-            GraphEvent::EndpointRemoved { gid, .. } => *gid,
+            GraphEvent::EndpointRemoved(e) => e.gid,
             other => panic!("unexpected event {other:?}"),
         })
         .collect();
@@ -158,7 +157,29 @@ fn node_missing_from_new_message_is_gone() {
         "participant1",
         vec![node("/", "talker", &[], &["talker_pub", "talker_hid"])],
     )));
-    assert_eq!(g.drain_events(), vec![node_removed("server", "/")]);
+    let server = Some(NodeName {
+        name: "server".to_owned(),
+        namespace: "/".to_owned(),
+    });
+    let events = g.drain_events();
+    // Its two endpoints, of no node now (GID order: `server_rep` < `server_req`), then the node.
+    let unlisted: Vec<_> = events[..2]
+        .iter()
+        .map(|e| match e {
+            GraphEvent::EndpointNodeChanged { endpoint, previous } => {
+                (endpoint.gid, endpoint.node.clone(), previous.clone())
+            }
+            other => panic!("unexpected event {other:?}"),
+        })
+        .collect();
+    assert_eq!(
+        unlisted,
+        [
+            (gid("server_rep"), None, server.clone()),
+            (gid("server_req"), None, server)
+        ]
+    );
+    assert_eq!(events[2..], [node_removed("server", "/")]);
     assert!(g.service_names_and_types_by_node("server", "/").is_err());
     // Its endpoints are still discovered, now of an unknown node.
     assert_eq!(g.count_services("/add_two_ints"), 1);

@@ -1,16 +1,21 @@
 //! `graph --watch`: the graph's changes as timestamped `+`/`-` lines (or JSON objects), one per
 //! node or endpoint appearing or vanishing.
+//!
+//! Everything shown comes from the graph's ROS-level events ([`GraphEvent`]) and, for the
+//! initial snapshot, the same endpoints as the graph lists them ([`GraphCache::all_endpoints`]):
+//! an endpoint's role, ROS name and ROS type are the graph's, never rebuilt here from DDS names.
+//! Endpoints that are not ROS (no role) are not shown, and the lines do not name an endpoint's
+//! node, so [`GraphEvent::EndpointNodeChanged`] prints nothing.
 
 use std::collections::{BTreeMap, HashMap};
 use std::io::Write;
 use std::time::SystemTime;
 
-use horus_ros_graph::{EndpointRole as Role, Gid, GraphCache, GraphEvent, RecvError, RosEndpoint};
-use horus_ros_msgs::TypeHash;
-use horus_ros_rmw::names::{
-    is_hidden_name, RosTypeName, ROS_SERVICE_REQUESTER_PREFIX, ROS_SERVICE_RESPONSE_PREFIX,
-    ROS_TOPIC_PREFIX, SERVICE_REPLY_SUFFIX, SERVICE_REQUEST_SUFFIX,
+use horus_ros_graph::{
+    EndpointRole as Role, Gid, GraphCache, GraphEndpoint, GraphEvent, RecvError, RosEndpoint,
 };
+use horus_ros_msgs::TypeHash;
+use horus_ros_rmw::names::is_hidden_name;
 use horus_ros_rmw::qos::EndpointKind;
 use serde_json::{json, Value};
 
@@ -72,6 +77,23 @@ pub(super) struct EndpointView {
     ty: String,
     type_hash: TypeHash,
     dds_topic: String,
+}
+
+impl EndpointView {
+    /// What the lines show of a ROS endpoint (`None`: not a ROS endpoint, not shown).
+    fn of(endpoint: GraphEndpoint) -> Option<Self> {
+        let RosEndpoint { role, name } = endpoint.ros?;
+        Some(Self {
+            gid: endpoint.gid,
+            role,
+            name,
+            // The type comes with the event: by the time it is applied, the cache may have lost
+            // the endpoint again.
+            ty: endpoint.type_name,
+            type_hash: endpoint.type_hash,
+            dds_topic: endpoint.dds_topic,
+        })
+    }
 }
 
 /// One line of `--watch`.
@@ -179,21 +201,6 @@ pub(super) struct Watcher {
     endpoints: HashMap<Gid, EndpointView>,
 }
 
-/// The type to show: a service endpoint's `pkg/srv/Name_Request` / `_Response` as the service
-/// type `pkg/srv/Name`.
-pub(super) fn endpoint_type(role: Role, ty: String) -> String {
-    if !role.is_service() {
-        return ty;
-    }
-    match ty
-        .strip_suffix("_Request")
-        .or_else(|| ty.strip_suffix("_Response"))
-    {
-        Some(service) => service.to_owned(),
-        None => ty,
-    }
-}
-
 pub(super) fn node_count(cache: &GraphCache, namespace: &str, name: &str) -> usize {
     cache
         .node_names()
@@ -236,45 +243,26 @@ impl Watcher {
                 namespace: n.namespace,
             });
         }
-        let mut dds_topics = Vec::new();
-        for name in cache.topic_names_and_types(self.all).into_keys() {
-            let dds = format!("{ROS_TOPIC_PREFIX}{name}");
-            dds_topics.push((dds.clone(), EndpointKind::Writer));
-            dds_topics.push((dds, EndpointKind::Reader));
-        }
-        for name in cache.service_names_and_types(self.all).into_keys() {
-            let request = format!("{ROS_SERVICE_REQUESTER_PREFIX}{name}{SERVICE_REQUEST_SUFFIX}");
-            let reply = format!("{ROS_SERVICE_RESPONSE_PREFIX}{name}{SERVICE_REPLY_SUFFIX}");
-            dds_topics.push((request.clone(), EndpointKind::Reader));
-            dds_topics.push((reply.clone(), EndpointKind::Writer));
-            dds_topics.push((request, EndpointKind::Writer));
-            dds_topics.push((reply, EndpointKind::Reader));
-        }
-        for (dds_topic, kind) in dds_topics {
-            let Some(RosEndpoint { role, name }) = RosEndpoint::of(&dds_topic, kind) else {
-                continue;
-            };
-            let infos = match kind {
-                EndpointKind::Writer => cache.publishers_info_by_topic(&dds_topic, true),
-                EndpointKind::Reader => cache.subscriptions_info_by_topic(&dds_topic, true),
-            };
-            for info in infos {
-                let view = EndpointView {
-                    gid: info.endpoint_gid,
-                    role,
-                    name: name.clone(),
-                    // Asked with no_mangle, the type is the DDS one.
-                    ty: endpoint_type(
-                        role,
-                        RosTypeName::from_dds_type_name(&info.topic_type)
-                            .map_or(info.topic_type, |t| t.as_str().to_owned()),
-                    ),
-                    type_hash: info.topic_type_hash,
-                    dds_topic: dds_topic.clone(),
-                };
-                self.endpoints.insert(view.gid, view.clone());
-                out.push(Change::Endpoint { added: true, view });
-            }
+        // Topics then services, each by name; a topic's publishers then subscriptions, a
+        // service's server (request reader, response writer) then client (request writer,
+        // response reader) endpoints: the order of `EndpointRole`; then GID order.
+        let mut views: Vec<EndpointView> = cache
+            .all_endpoints()
+            .into_iter()
+            .filter_map(EndpointView::of)
+            .filter(|view| self.visible_name(&view.name))
+            .collect();
+        views.sort_by(|a, b| {
+            (a.role.is_service(), &a.name, a.role, a.gid).cmp(&(
+                b.role.is_service(),
+                &b.name,
+                b.role,
+                b.gid,
+            ))
+        });
+        for view in views {
+            self.endpoints.insert(view.gid, view.clone());
+            out.push(Change::Endpoint { added: true, view });
         }
         out
     }
@@ -323,48 +311,35 @@ impl Watcher {
                     Vec::new()
                 }
             }
-            GraphEvent::EndpointAdded {
-                gid,
-                topic,
-                ros: Some(RosEndpoint { role, name }),
-                type_name,
-                type_hash,
-                ..
-            } => {
-                if !self.visible_name(&name) {
+            GraphEvent::EndpointAdded(endpoint) => {
+                let Some(view) = EndpointView::of(endpoint) else {
+                    return Vec::new();
+                };
+                if !self.visible_name(&view.name) {
                     return Vec::new();
                 }
                 let mut out = Vec::new();
-                if let Some(old) = self.endpoints.get(&gid) {
-                    if old.role == role && old.dds_topic == topic {
+                if let Some(old) = self.endpoints.get(&view.gid) {
+                    if old.role == view.role && old.dds_topic == view.dds_topic {
                         return out;
                     }
-                    if let Some(old) = self.endpoints.remove(&gid) {
+                    if let Some(old) = self.endpoints.remove(&view.gid) {
                         out.push(Change::Endpoint {
                             added: false,
                             view: old,
                         });
                     }
                 }
-                // The type comes with the event: by the time it is applied, the cache may
-                // have lost the endpoint again.
-                let view = EndpointView {
-                    gid,
-                    role,
-                    name,
-                    ty: endpoint_type(role, type_name),
-                    type_hash,
-                    dds_topic: topic,
-                };
-                self.endpoints.insert(gid, view.clone());
+                self.endpoints.insert(view.gid, view.clone());
                 out.push(Change::Endpoint { added: true, view });
                 out
             }
-            GraphEvent::EndpointAdded { ros: None, .. } => Vec::new(),
-            GraphEvent::EndpointRemoved { gid, .. } => match self.endpoints.remove(&gid) {
+            GraphEvent::EndpointRemoved(endpoint) => match self.endpoints.remove(&endpoint.gid) {
                 Some(view) => vec![Change::Endpoint { added: false, view }],
                 None => Vec::new(),
             },
+            // The lines do not name an endpoint's node.
+            GraphEvent::EndpointNodeChanged { .. } => Vec::new(),
         }
     }
 }
@@ -450,16 +425,120 @@ mod tests {
         assert_eq!(rfc3339_millis(t), "2099-12-31T23:59:59.000Z");
     }
 
+    /// A GID of participant `p`'s endpoint `n`.
+    fn gid(p: u8, n: u8) -> Gid {
+        let mut data = [p; 16];
+        data[12..].copy_from_slice(&[0, 0, 0, n]);
+        Gid::from_bytes(data)
+    }
+
+    fn entry(n: u8, topic: &str, ty: &str, kind: EndpointKind) -> horus_ros_graph::EndpointEntry {
+        horus_ros_graph::EndpointEntry {
+            gid: gid(1, n),
+            participant_gid: gid(1, 0xc1),
+            dds_topic_name: topic.to_owned(),
+            dds_type_name: ty.to_owned(),
+            qos: horus_ros_rmw::qos::Qos::default(),
+            type_hash: TypeHash::ZERO,
+            kind,
+        }
+    }
+
+    fn nodes(
+        names: &[&str],
+        writers: &[u8],
+    ) -> horus_ros_msgs::rmw_dds_common::ParticipantEntitiesInfo {
+        use horus_ros_msgs::rmw_dds_common::{NodeEntitiesInfo, ParticipantEntitiesInfo};
+        ParticipantEntitiesInfo {
+            gid: gid(1, 0xc1),
+            node_entities_info_seq: names
+                .iter()
+                .map(|name| NodeEntitiesInfo {
+                    node_namespace: "/".to_owned(),
+                    node_name: (*name).to_owned(),
+                    reader_gid_seq: Vec::new(),
+                    writer_gid_seq: writers.iter().map(|n| gid(1, *n)).collect(),
+                })
+                .collect(),
+        }
+    }
+
+    /// The lines of `changes` after their timestamp.
+    fn lines(changes: &[Change]) -> Vec<String> {
+        changes
+            .iter()
+            .map(|c| c.text("t").trim_start_matches("t ").to_owned())
+            .collect()
+    }
+
+    #[test]
+    fn the_snapshot_and_the_events_show_ros_endpoints_by_topic_then_service() {
+        use EndpointKind::{Reader, Writer};
+        const STRING: &str = "std_msgs::msg::dds_::String_";
+        const REQ: &str = "example_interfaces::srv::dds_::AddTwoInts_Request_";
+        const REP: &str = "example_interfaces::srv::dds_::AddTwoInts_Response_";
+        let mut cache = GraphCache::new();
+        cache.update_participant_entities(nodes(&["talker"], &[5, 9]));
+        for e in [
+            entry(1, "rq/add_two_intsRequest", REQ, Writer),
+            entry(2, "rq/add_two_intsRequest", REQ, Reader),
+            entry(3, "rt/chatter", STRING, Reader),
+            entry(4, "rr/add_two_intsReply", REP, Writer),
+            entry(5, "rt/chatter", STRING, Writer),
+            entry(6, "rr/add_two_intsReply", REP, Reader),
+            entry(7, "rt/_hidden", STRING, Writer),
+            entry(8, "ros_discovery_info", "x::dds_::Info_", Writer),
+            entry(9, "rt/alpha", STRING, Writer),
+        ] {
+            cache.add_entity(e);
+        }
+        let mut watcher = Watcher::new(false);
+        let g = |n| gid(1, n);
+        let srv = "/add_two_ints [example_interfaces/srv/AddTwoInts]";
+        assert_eq!(
+            lines(&watcher.snapshot(&cache)),
+            [
+                "+ node /talker".to_owned(),
+                format!("+ publisher /alpha [std_msgs/msg/String] gid {}", g(9)),
+                format!("+ publisher /chatter [std_msgs/msg/String] gid {}", g(5)),
+                format!("+ subscription /chatter [std_msgs/msg/String] gid {}", g(3)),
+                format!("+ service server {srv} request reader gid {}", g(2)),
+                format!("+ service server {srv} response writer gid {}", g(4)),
+                format!("+ service client {srv} request writer gid {}", g(1)),
+                format!("+ service client {srv} response reader gid {}", g(6)),
+            ]
+        );
+
+        // An endpoint moving to another node prints nothing but the nodes; the participant's
+        // loss its endpoints, then its node.
+        cache.record_events(true);
+        cache.update_participant_entities(nodes(&["renamed"], &[5, 9]));
+        let mut changes = Vec::new();
+        for event in cache.drain_events() {
+            changes.extend(watcher.apply(&cache, event));
+        }
+        assert_eq!(lines(&changes), ["+ node /renamed", "- node /talker"]);
+        cache.remove_participant(gid(1, 0xc1));
+        let mut changes = Vec::new();
+        for event in cache.drain_events() {
+            changes.extend(watcher.apply(&cache, event));
+        }
+        let changes = lines(&changes);
+        assert_eq!(changes.len(), 8, "{changes:?}");
+        assert_eq!(
+            changes[0],
+            format!("- service client {srv} request writer gid {}", g(1))
+        );
+        assert_eq!(changes[7], "- node /renamed");
+    }
+
     #[test]
     fn change_lines() {
         let view = EndpointView {
             gid: Gid::from_bytes([1; 16]),
             role: Role::ServerRequestReader,
             name: "/add_two_ints".to_owned(),
-            ty: endpoint_type(
-                Role::ServerRequestReader,
-                "example_interfaces/srv/AddTwoInts_Request".to_owned(),
-            ),
+            ty: "example_interfaces/srv/AddTwoInts".to_owned(),
             type_hash: TypeHash::ZERO,
             dds_topic: "rq/add_two_intsRequest".to_owned(),
         };
