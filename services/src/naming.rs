@@ -1,6 +1,6 @@
 //! Service names and the DDS topics and types behind them.
 
-use horus_ros_msgs::{Message, Service, TypeHash};
+use horus_ros_msgs::{Service, TypeHash};
 use horus_ros_rmw::names::ServiceName;
 use horus_ros_rmw::qos::Qos;
 use horus_ros_rmw::{Node, RawEndpointSpec, ServiceEndpointRole};
@@ -45,27 +45,9 @@ pub(crate) struct ServiceTopics {
 
 impl ServiceTopics {
     /// Resolves `name` (relative names, `~`, substitutions) for `node` and names the topics:
-    /// `rq/<name>Request` with `pkg::srv::dds_::Name_Request_`, `rr/<name>Reply` with
-    /// `pkg::srv::dds_::Name_Response_`.
-    pub(crate) fn resolve<S: Service>(
-        node: &Node,
-        name: &str,
-        qos: &Qos,
-        role: ServiceEndpointRole,
-    ) -> Result<Self, SetupError> {
-        Self::resolve_parts(
-            node,
-            name,
-            qos,
-            role,
-            (S::Request::dds_type_name(), S::Request::type_hash()),
-            (S::Response::dds_type_name(), S::Response::type_hash()),
-        )
-    }
-
-    /// Like [`resolve`](Self::resolve), with the request and response types given as DDS type
-    /// names and hashes.
-    pub(crate) fn resolve_parts(
+    /// `rq/<name>Request` with the request's DDS type name (`pkg::srv::dds_::Name_Request_`) and
+    /// hash, `rr/<name>Reply` with the response's (`pkg::srv::dds_::Name_Response_`).
+    pub(crate) fn resolve(
         node: &Node,
         name: &str,
         qos: &Qos,

@@ -5,9 +5,11 @@
 use std::sync::{Arc, Mutex, OnceLock};
 
 use horus_ros_graph::Graph;
-use horus_ros_rmw::{Context, Node, WeakNode};
+use horus_ros_msgs::{Message, Service, TypeHash};
+use horus_ros_rmw::{Context, Node, ServiceEndpointRole, WeakNode};
 
-use crate::SetupError;
+use crate::naming::{default_name_of_type, ServiceTopics};
+use crate::{EndpointOptions, SetupError};
 
 /// A node and the graph of its context.
 #[derive(Clone)]
@@ -19,14 +21,51 @@ pub(crate) struct Runtime {
 impl Runtime {
     /// `node` if given, else the process's default node; and its context's graph, told the hash
     /// of the service type `S` (which Jazzy peers do not send).
-    pub(crate) fn for_service<S: horus_ros_msgs::Service>(
-        node: Option<&Node>,
-    ) -> Result<Self, SetupError> {
+    fn for_service<S: Service>(node: Option<&Node>) -> Result<Self, SetupError> {
         let runtime = Self::for_node(node)?;
         runtime
             .graph
             .set_service_type_hash(S::TYPE_NAME, S::type_hash());
         Ok(runtime)
+    }
+
+    /// Where an endpoint of the compiled service `S` in `role` lives, as `options` set it (every
+    /// server and client of a compiled type is set up so): [`for_service`](Self::for_service)
+    /// on the options' node, and the topics of the options' name (default:
+    /// [`default_service_name`](crate::default_service_name)) and QoS.
+    pub(crate) fn endpoint<S: Service>(
+        options: &EndpointOptions,
+        role: ServiceEndpointRole,
+    ) -> Result<(Self, ServiceTopics), SetupError> {
+        Self::for_service::<S>(options.node.as_ref())?.with_topics(
+            options,
+            role,
+            S::TYPE_NAME,
+            (S::Request::dds_type_name(), S::Request::type_hash()),
+            (S::Response::dds_type_name(), S::Response::type_hash()),
+        )
+    }
+
+    /// This runtime, and the topics on its node of an endpoint in `role` of the service type
+    /// `service_type` (`pkg/srv/Name`) whose request and response have these DDS type names and
+    /// hashes, as `options` set it: its name (default: the type's name in snake case) and QoS.
+    /// [`endpoint`](Self::endpoint) for a compiled type; on [`for_node`](Self::for_node) for a
+    /// type known at run time.
+    pub(crate) fn with_topics(
+        self,
+        options: &EndpointOptions,
+        role: ServiceEndpointRole,
+        service_type: &str,
+        request: (String, TypeHash),
+        response: (String, TypeHash),
+    ) -> Result<(Self, ServiceTopics), SetupError> {
+        let name = options
+            .name
+            .clone()
+            .unwrap_or_else(|| default_name_of_type(service_type));
+        let topics =
+            ServiceTopics::resolve(&self.node, &name, &options.qos, role, request, response)?;
+        Ok((self, topics))
     }
 
     /// `node` if given, else the process's default node; and its context's graph.

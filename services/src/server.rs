@@ -8,17 +8,13 @@ use std::time::{Duration, Instant};
 
 use horus_ros_msgs::Service;
 use horus_ros_rmw::qos::Qos;
-use horus_ros_rmw::service::{Request, TakenRequest};
-use horus_ros_rmw::RawReader;
+use horus_ros_rmw::service::Request;
 
 use crate::cdr::decode;
 use crate::introspection::IntrospectionState;
 use crate::server_core::{server_handle_methods, ServerCore, ServerSettings};
+use crate::server_wire::Serve;
 use crate::{EndpointBuilder, EndpointOptions, SetupError};
-
-/// Most samples dropped (undecodable, or no request to answer) in one drain before the thread
-/// checks whether to stop.
-pub(crate) const MAX_ERRORS_PER_DRAIN: usize = 1000;
 
 type Handler<S> = Box<
     dyn FnMut(<S as Service>::Request) -> Result<<S as Service>::Response, String> + Send + 'static,
@@ -99,13 +95,10 @@ impl<S: Service> ServiceServerBuilder<S> {
         let handler = self.handler.take().ok_or(SetupError::NoHandler)?;
         let (core, requests) = ServerCore::create::<S>(self.settings())?;
         let worker = ServerLoop::<S> {
-            requests,
             handler,
             core: Arc::clone(&core),
         };
-        let thread = std::thread::Builder::new()
-            .name(format!("horus-srv{}", core.name()))
-            .spawn(move || worker.run())?;
+        let thread = core.start("horus-srv", requests, worker)?;
         tracing::debug!(service = %core.name(), "service server started");
         Ok(ServiceServer {
             core,
@@ -155,42 +148,23 @@ impl<S: Service> Drop for ServiceServer<S> {
     }
 }
 
-/// The server thread: takes requests and runs the handler on each, in turn.
+/// The server thread: runs the handler on each request, in turn.
 struct ServerLoop<S: Service> {
-    requests: RawReader,
     handler: Handler<S>,
     core: Arc<ServerCore>,
 }
 
-impl<S: Service> ServerLoop<S> {
-    fn run(mut self) {
-        while !self.core.stopping() {
-            let mut errors = 0;
-            let drained = loop {
-                match self.core.take_request(&mut self.requests) {
-                    TakenRequest::Request(request) => self.serve(request),
-                    TakenRequest::Empty => break true,
-                    TakenRequest::Dropped => {
-                        errors += 1;
-                        if errors >= MAX_ERRORS_PER_DRAIN {
-                            break false;
-                        }
-                    }
-                }
-            };
-            // Parked replies whose client can hear them now go out; old ones are dropped.
-            let next_expiry = self.core.flush_parked();
-            if !drained {
-                // Wake-ups are edge-triggered: what is left would not wake us.
-                continue;
-            }
-            let wait = next_expiry.map(|t| t.saturating_duration_since(Instant::now()));
-            // Woken at once by a request, by stop() and by graph changes while replies are
-            // parked; with none parked, nothing else can change, so there is no time limit.
-            self.requests.wait(wait);
-        }
+impl<S: Service> Serve for ServerLoop<S> {
+    fn request(&mut self, request: Request) {
+        self.serve(request);
     }
 
+    fn drained(&mut self) -> Option<Instant> {
+        self.core.flush_parked()
+    }
+}
+
+impl<S: Service> ServerLoop<S> {
     /// Decodes the request, runs the handler (catching panics) and answers.
     fn serve(&mut self, request: Request) {
         let outcome = match decode::<S::Request>(request.message(), request.big_endian) {

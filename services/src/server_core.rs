@@ -7,6 +7,7 @@
 
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::Arc;
+use std::thread::JoinHandle;
 use std::time::Instant;
 
 use horus_ros_msgs::description::EVENT_SUFFIX;
@@ -14,20 +15,61 @@ use horus_ros_msgs::service_msgs::msg::ServiceEventInfo;
 use horus_ros_msgs::{dds_type_name, Service};
 use horus_ros_rmw::names::ServiceName;
 use horus_ros_rmw::qos::Qos;
-use horus_ros_rmw::service::{ReplyRoute, Request, TakenRequest};
+use horus_ros_rmw::service::{ReplyRoute, Request};
 use horus_ros_rmw::{Gid, Node, RawReader, RawReaderWaker, RawWriter};
 
 use crate::cdr::encode;
 use crate::introspection::{encode_event, EventType, Introspection, IntrospectionState};
-use crate::naming::{default_service_name, ServiceTopics};
 use crate::runtime::Runtime;
-use crate::server_wire::ServerWire;
+use crate::server_wire::{Serve, ServerWire};
 use crate::{EndpointOptions, SetupError};
 
 /// What a server is made from (the builder's settings).
 pub(crate) struct ServerSettings<'a> {
     pub(crate) options: &'a EndpointOptions,
     pub(crate) introspection: Option<&'a (IntrospectionState, Qos)>,
+}
+
+/// What every server of a compiled service type is made of, whatever serves it
+/// ([`ServerCore`], [`DdsServiceServer`](crate::DdsServiceServer)): its node, resolved name,
+/// request reader and reply writer, and its reply path.
+pub(crate) struct ServerEndpoints {
+    /// The node and graph the endpoints live in.
+    pub(crate) runtime: Runtime,
+    /// The fully-qualified service name.
+    pub(crate) name: ServiceName,
+    /// The request reader.
+    pub(crate) requests: RawReader,
+    /// The reply writer.
+    pub(crate) replies: RawWriter,
+    /// The wire conventions and parked replies of the reply writer.
+    pub(crate) wire: ServerWire,
+}
+
+impl ServerEndpoints {
+    /// Creates the request reader and reply writer of service `S` as `options` set them, and
+    /// their reply path: parked replies go out when their client's reader is matched, the graph
+    /// waking the thread that waits on the request reader.
+    pub(crate) fn create<S: Service>(options: &EndpointOptions) -> Result<Self, SetupError> {
+        let (runtime, topics) =
+            Runtime::endpoint::<S>(options, horus_ros_rmw::ServiceEndpointRole::Server)?;
+        let requests = runtime.node.create_raw_reader(&topics.request)?;
+        let replies = runtime.node.create_raw_writer(&topics.reply)?;
+        let wire = ServerWire::new(
+            &runtime,
+            topics.name.clone(),
+            replies.gid(),
+            options.wire_flavour,
+            requests.waker(),
+        );
+        Ok(Self {
+            runtime,
+            name: topics.name,
+            requests,
+            replies,
+            wire,
+        })
+    }
 }
 
 /// A server's endpoints, reply path, introspection and counters (see the module docs).
@@ -52,25 +94,18 @@ impl ServerCore {
     pub(crate) fn create<S: Service>(
         settings: ServerSettings<'_>,
     ) -> Result<(Arc<Self>, RawReader), SetupError> {
-        let runtime = Runtime::for_service::<S>(settings.options.node.as_ref())?;
-        let name = settings
-            .options
-            .name
-            .clone()
-            .unwrap_or_else(default_service_name::<S>);
-        let topics = ServiceTopics::resolve::<S>(
-            &runtime.node,
-            &name,
-            &settings.options.qos,
-            horus_ros_rmw::ServiceEndpointRole::Server,
-        )?;
-        let requests = runtime.node.create_raw_reader(&topics.request)?;
-        let replies = runtime.node.create_raw_writer(&topics.reply)?;
+        let ServerEndpoints {
+            runtime,
+            name,
+            requests,
+            replies,
+            wire,
+        } = ServerEndpoints::create::<S>(settings.options)?;
         let waker = requests.waker();
         let (request_reader, reply_writer) = (requests.gid(), replies.gid());
         let introspection = Introspection::new(
             runtime.node.clone(),
-            topics.name.clone(),
+            name.clone(),
             Some(EventType {
                 dds_type_name: dds_type_name(&format!("{}{EVENT_SUFFIX}", S::TYPE_NAME)),
                 type_hash: S::event_type_hash(),
@@ -79,16 +114,8 @@ impl ServerCore {
         if let Some((state, qos)) = settings.introspection {
             introspection.configure(*state, qos)?;
         }
-        // Parked replies go out when their client's reader is matched: the graph wakes us.
-        let wire = ServerWire::new(
-            &runtime,
-            topics.name.clone(),
-            reply_writer,
-            settings.options.wire_flavour,
-            waker.clone(),
-        );
         let core = Self {
-            name: topics.name,
+            name,
             request_reader,
             reply_writer,
             replies,
@@ -140,14 +167,18 @@ impl ServerCore {
         self.waker.wake();
     }
 
-    /// Whether [`stop`](Self::stop) was asked.
-    pub(crate) fn stopping(&self) -> bool {
-        self.stop.load(Ordering::SeqCst)
-    }
-
-    /// The next request of `requests`, in its client's convention.
-    pub(crate) fn take_request(&self, requests: &mut RawReader) -> TakenRequest {
-        self.wire.take_request(requests)
+    /// Starts the thread that takes requests from `requests` (named `<thread><service name>`):
+    /// it hands them to `server` until [`stop`](Self::stop) (see [`ServerWire::serve`]).
+    pub(crate) fn start(
+        self: &Arc<Self>,
+        thread: &str,
+        mut requests: RawReader,
+        mut server: impl Serve + Send + 'static,
+    ) -> std::io::Result<JoinHandle<()>> {
+        let core = Arc::clone(self);
+        std::thread::Builder::new()
+            .name(format!("{thread}{}", self.name))
+            .spawn(move || core.wire.serve(&mut requests, &core.stop, &mut server))
     }
 
     /// Sends the parked replies whose client can hear them now, drops the old ones; when the

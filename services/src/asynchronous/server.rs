@@ -15,14 +15,14 @@ use futures_util::future::Either;
 use futures_util::FutureExt;
 use horus_ros_msgs::Service;
 use horus_ros_rmw::qos::Qos;
-use horus_ros_rmw::service::{Request, TakenRequest};
-use horus_ros_rmw::RawReader;
+use horus_ros_rmw::service::Request;
 use tokio::runtime::Handle;
 
 use crate::cdr::decode;
 use crate::introspection::IntrospectionState;
-use crate::server::{panic_message, MAX_ERRORS_PER_DRAIN};
+use crate::server::panic_message;
 use crate::server_core::{server_handle_methods, ServerCore};
+use crate::server_wire::Serve;
 use crate::{EndpointBuilder, EndpointOptions, ServiceServerBuilder, SetupError};
 
 /// How many requests one [`AsyncServiceServer`] handles at once unless told otherwise
@@ -156,7 +156,6 @@ impl<S: Service> AsyncServiceServerBuilder<S> {
             cancel: tokio::sync::watch::Sender::new(false),
         });
         let worker = Dispatcher::<S> {
-            requests,
             work: Work {
                 core: Arc::clone(&core),
                 shared: Arc::clone(&shared),
@@ -165,9 +164,7 @@ impl<S: Service> AsyncServiceServerBuilder<S> {
             handle,
             max_in_flight: self.max_in_flight,
         };
-        let thread = std::thread::Builder::new()
-            .name(format!("horus-asrv{}", core.name()))
-            .spawn(move || worker.run())?;
+        let thread = core.start("horus-asrv", requests, worker)?;
         tracing::debug!(service = %core.name(), "async service server started");
         Ok(AsyncServiceServer {
             core,
@@ -282,7 +279,6 @@ struct Work {
 /// The server's reader thread: takes requests while fewer than the bound are in flight and
 /// hands each to the runtime; flushes parked replies.
 struct Dispatcher<S: Service> {
-    requests: RawReader,
     work: Work,
     handler: AsyncHandler<S>,
     handle: Handle,
@@ -302,40 +298,22 @@ impl Drop for InFlight {
     }
 }
 
-impl<S: Service> Dispatcher<S> {
-    fn run(mut self) {
-        let shared = Arc::clone(&self.work.shared);
-        while !self.work.core.stopping() {
-            let mut errors = 0;
-            // Whether a drain stopped at its error bound with requests possibly left behind.
-            let mut cut_short = false;
-            // At the bound, requests stay in the reader: a finishing handler wakes us.
-            while shared.in_flight.load(Ordering::SeqCst) < self.max_in_flight {
-                match self.work.core.take_request(&mut self.requests) {
-                    TakenRequest::Request(request) => self.dispatch(request),
-                    TakenRequest::Empty => break,
-                    TakenRequest::Dropped => {
-                        errors += 1;
-                        if errors >= MAX_ERRORS_PER_DRAIN {
-                            cut_short = true;
-                            break;
-                        }
-                    }
-                }
-            }
-            // Parked replies whose client can hear them now go out; old ones are dropped.
-            let next_expiry = self.work.core.flush_parked();
-            if cut_short {
-                // Wake-ups are edge-triggered: what is left would not wake us.
-                continue;
-            }
-            // Requests, a handler finishing, `stop()` and graph changes while replies are parked
-            // all wake it; the only deadline is the earliest parked reply's expiry.
-            let wait = next_expiry.map(|t| t.saturating_duration_since(Instant::now()));
-            self.requests.wait(wait);
-        }
+impl<S: Service> Serve for Dispatcher<S> {
+    /// At the bound, requests stay in the reader: a finishing handler wakes the thread.
+    fn has_room(&self) -> bool {
+        self.work.shared.in_flight.load(Ordering::SeqCst) < self.max_in_flight
     }
 
+    fn request(&mut self, request: Request) {
+        self.dispatch(request);
+    }
+
+    fn drained(&mut self) -> Option<Instant> {
+        self.work.core.flush_parked()
+    }
+}
+
+impl<S: Service> Dispatcher<S> {
     /// Decodes one request and starts its handler as a task (a malformed one is answered, or
     /// dropped, here).
     fn dispatch(&mut self, request: Request) {

@@ -1,15 +1,13 @@
 //! [`ServiceClient`]: blocking calls, with retries and an optional-server variant.
 
 use std::sync::Arc;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use horus_ros_msgs::Service;
-use horus_ros_rmw::names::ServiceName;
 use horus_ros_rmw::qos::Qos;
-use horus_ros_rmw::Gid;
 
 use super::codec::Typed;
-use super::core::{ClientCore, ClientOptions};
+use super::core::{client_handle_methods, ClientCore, ClientOptions};
 use super::pending::AsyncServiceClient;
 use super::responses::Membership;
 use crate::{
@@ -106,33 +104,7 @@ impl<S: Service> ServiceClient<S> {
         ServiceClientBuilder::new()
     }
 
-    /// The fully-qualified service name.
-    pub fn name(&self) -> &ServiceName {
-        self.core.name()
-    }
-
-    /// The GIDs of the request writer and the reply reader.
-    pub fn gids(&self) -> (Gid, Gid) {
-        self.core.gids()
-    }
-
-    /// Whether a server of this service and type is known to the graph with both its endpoints
-    /// (discovered; see [the readiness words](crate#readiness)).
-    pub fn server_available(&self) -> bool {
-        self.core.server_available()
-    }
-
-    /// Whether a server can take a call now: known, and matched with this client both ways
-    /// (rclcpp `service_is_ready`; see [the readiness words](crate#readiness)).
-    pub fn is_server_ready(&self) -> bool {
-        self.core.is_server_ready()
-    }
-
-    /// Waits until [`is_server_ready`](Self::is_server_ready), at most `timeout` (rclcpp
-    /// `wait_for_service`); woken by graph changes, never polled.
-    pub fn wait_for_service(&self, timeout: Duration) -> bool {
-        self.core.wait_ready(Instant::now() + timeout).is_ok()
-    }
+    client_handle_methods!(discovery);
 
     /// Calls once: waits (within `timeout`) for a server, sends, waits for the reply.
     ///
@@ -192,37 +164,7 @@ impl<S: Service> ServiceClient<S> {
         }
     }
 
-    /// Turns service introspection on or off (rclcpp / rclpy `Client::configure_introspection`,
-    /// rcl `rcl_client_configure_service_introspection`): OFF removes the
-    /// `<service>/_service_event` publisher; METADATA publishes `REQUEST_SENT` and
-    /// `RESPONSE_RECEIVED` events with their `ServiceEventInfo` only, CONTENTS with the request
-    /// and the response. The publisher is created with `qos` when there is none; an existing one
-    /// keeps its QoS. Events never hold up a call: they go through a bounded queue and are
-    /// dropped when it is full.
-    pub fn configure_introspection(
-        &self,
-        state: IntrospectionState,
-        qos: &Qos,
-    ) -> Result<(), SetupError> {
-        self.core.configure_introspection(state, qos)
-    }
-
-    /// The introspection state in force.
-    pub fn introspection_state(&self) -> IntrospectionState {
-        self.core.introspection_state()
-    }
-
-    /// The `client_gid` of this client's introspection events (rmw `rmw_get_gid_for_client`):
-    /// its request writer's GID on the rustdds backend (as rmw_fastrtps), its `clientid` on the
-    /// Cyclone backend (as rmw_cyclonedds).
-    pub fn introspection_client_gid(&self) -> Gid {
-        self.core.introspection_client_gid()
-    }
-
-    /// The GID of the `<service>/_service_event` publisher, while introspection is on.
-    pub fn introspection_gid(&self) -> Option<Gid> {
-        self.core.introspection_gid()
-    }
+    client_handle_methods!(introspection);
 
     /// Requests sent whose replies are still awaited (0 between calls: nothing leaks).
     pub fn pending_requests(&self) -> usize {

@@ -20,7 +20,7 @@ use super::codec::{Codec, Typed};
 use super::responses::{Membership, ResponseWaitSet, TakeResponses};
 use crate::cdr::decode;
 use crate::introspection::{Introspection, IntrospectionState};
-use crate::naming::{default_service_name, ServiceTopics};
+use crate::naming::ServiceTopics;
 use crate::runtime::Runtime;
 use crate::{EndpointOptions, ServiceError, SetupError, TransportError};
 
@@ -153,16 +153,8 @@ impl<C: Codec> ClientCore<C> {
         codec: C,
         options: &ClientOptions,
     ) -> Result<Self, SetupError> {
-        let runtime = Runtime::for_service::<S>(options.endpoint.node.as_ref())?;
-        let name = options
-            .endpoint
-            .name
-            .clone()
-            .unwrap_or_else(default_service_name::<S>);
-        let topics = ServiceTopics::resolve::<S>(
-            &runtime.node,
-            &name,
-            &options.endpoint.qos,
+        let (runtime, topics) = Runtime::endpoint::<S>(
+            &options.endpoint,
             horus_ros_rmw::ServiceEndpointRole::Client,
         )?;
         Self::with_codec(runtime, topics, codec, options)
@@ -761,3 +753,75 @@ impl<C: Codec> TakeResponses for ClientCore<C> {
         self.drain_replies();
     }
 }
+
+/// The methods every client handle has, written once (each client holds a `core:
+/// Arc<ClientCore<_>>`): `discovery` the name, GIDs and server lookup (doc lines given after it
+/// are added to `wait_for_service`'s), `introspection` the introspection settings.
+macro_rules! client_handle_methods {
+    (discovery $(, $wait_doc:literal)*) => {
+        /// The fully-qualified service name.
+        pub fn name(&self) -> &horus_ros_rmw::names::ServiceName {
+            self.core.name()
+        }
+
+        /// The GIDs of the request writer and the reply reader.
+        pub fn gids(&self) -> (horus_ros_rmw::Gid, horus_ros_rmw::Gid) {
+            self.core.gids()
+        }
+
+        /// Whether a server of this service and type is known to the graph with both its
+        /// endpoints (discovered; see [the readiness words](crate#readiness)).
+        pub fn server_available(&self) -> bool {
+            self.core.server_available()
+        }
+
+        /// Whether a server can take a call now: known, and matched with this client both ways
+        /// (rclcpp `service_is_ready`; see [the readiness words](crate#readiness)).
+        pub fn is_server_ready(&self) -> bool {
+            self.core.is_server_ready()
+        }
+
+        /// Waits until [`is_server_ready`](Self::is_server_ready), at most `timeout` (rclcpp
+        /// `wait_for_service`); woken by graph changes, never polled.
+        $(#[doc = $wait_doc])*
+        pub fn wait_for_service(&self, timeout: std::time::Duration) -> bool {
+            self.core
+                .wait_ready(std::time::Instant::now() + timeout)
+                .is_ok()
+        }
+    };
+    (introspection) => {
+        /// Turns service introspection on or off (rclcpp / rclpy
+        /// `Client::configure_introspection`, rcl `rcl_client_configure_service_introspection`):
+        /// OFF removes the `<service>/_service_event` publisher; METADATA publishes
+        /// `REQUEST_SENT` and `RESPONSE_RECEIVED` events with their `ServiceEventInfo` only,
+        /// CONTENTS with the request and the response. The publisher is created with `qos` when
+        /// there is none; an existing one keeps its QoS. Events never hold up a call: they go
+        /// through a bounded queue and are dropped when it is full.
+        pub fn configure_introspection(
+            &self,
+            state: $crate::IntrospectionState,
+            qos: &horus_ros_rmw::qos::Qos,
+        ) -> Result<(), $crate::SetupError> {
+            self.core.configure_introspection(state, qos)
+        }
+
+        /// The introspection state in force.
+        pub fn introspection_state(&self) -> $crate::IntrospectionState {
+            self.core.introspection_state()
+        }
+
+        /// The `client_gid` of this client's introspection events (rmw
+        /// `rmw_get_gid_for_client`): its request writer's GID on the rustdds backend (as
+        /// rmw_fastrtps), its `clientid` on the Cyclone backend (as rmw_cyclonedds).
+        pub fn introspection_client_gid(&self) -> horus_ros_rmw::Gid {
+            self.core.introspection_client_gid()
+        }
+
+        /// The GID of the `<service>/_service_event` publisher, while introspection is on.
+        pub fn introspection_gid(&self) -> Option<horus_ros_rmw::Gid> {
+            self.core.introspection_gid()
+        }
+    };
+}
+pub(crate) use client_handle_methods;

@@ -4,17 +4,14 @@
 //! reaches services of packages it was not built with.
 
 use std::sync::Arc;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use horus_ros_dynamic::{DecodeError, RequestError, ServiceType, Value};
 use horus_ros_msgs::{dds_type_name, TypeHash};
-use horus_ros_rmw::names::ServiceName;
-use horus_ros_rmw::Gid;
 
 use super::codec::{Raw, RawResponse};
-use super::core::{ClientCore, ClientOptions};
+use super::core::{client_handle_methods, ClientCore, ClientOptions};
 use super::responses::Membership;
-use crate::naming::{default_name_of_type, ServiceTopics};
 use crate::runtime::Runtime;
 use crate::{EndpointBuilder, EndpointOptions, ServiceError, SetupError};
 
@@ -117,21 +114,14 @@ impl EndpointBuilder for DynamicServiceClientBuilder {
 impl DynamicServiceClientBuilder {
     /// Creates the request writer and reply reader.
     pub fn build(self) -> Result<DynamicServiceClient, SetupError> {
-        let runtime = Runtime::for_node(self.options.endpoint.node.as_ref())?;
-        let name = self
-            .options
-            .endpoint
-            .name
-            .clone()
-            .unwrap_or_else(|| default_name_of_type(&self.service_type));
-        let topics = ServiceTopics::resolve_parts(
-            &runtime.node,
-            &name,
-            &self.options.endpoint.qos,
-            horus_ros_rmw::ServiceEndpointRole::Client,
-            (self.request.dds_type_name, self.request.type_hash),
-            (self.response.dds_type_name, self.response.type_hash),
-        )?;
+        let (runtime, topics) = Runtime::for_node(self.options.endpoint.node.as_ref())?
+            .with_topics(
+                &self.options.endpoint,
+                horus_ros_rmw::ServiceEndpointRole::Client,
+                &self.service_type,
+                (self.request.dds_type_name, self.request.type_hash),
+                (self.response.dds_type_name, self.response.type_hash),
+            )?;
         let codec = Raw {
             service_type: self.service_type,
         };
@@ -227,33 +217,7 @@ impl DynamicServiceClient {
         self.schema.as_deref()
     }
 
-    /// The fully-qualified service name.
-    pub fn name(&self) -> &ServiceName {
-        self.core.name()
-    }
-
-    /// The GIDs of the request writer and the reply reader.
-    pub fn gids(&self) -> (Gid, Gid) {
-        self.core.gids()
-    }
-
-    /// Whether a server of this service and type is known to the graph with both its endpoints
-    /// (discovered; see [the readiness words](crate#readiness)).
-    pub fn server_available(&self) -> bool {
-        self.core.server_available()
-    }
-
-    /// Whether a server can take a call now: known, and matched with this client both ways
-    /// (rclcpp `service_is_ready`; see [the readiness words](crate#readiness)).
-    pub fn is_server_ready(&self) -> bool {
-        self.core.is_server_ready()
-    }
-
-    /// Waits until [`is_server_ready`](Self::is_server_ready), at most `timeout` (rclcpp
-    /// `wait_for_service`); woken by graph changes, never polled.
-    pub fn wait_for_service(&self, timeout: Duration) -> bool {
-        self.core.wait_ready(Instant::now() + timeout).is_ok()
-    }
+    client_handle_methods!(discovery);
 
     /// Calls once with `request` (a CDR_LE body of the request message, no encapsulation
     /// header); the reply comes back as its body, any rmw_cyclonedds header removed.
@@ -293,11 +257,8 @@ impl DynamicServiceClient {
         request: &str,
         timeout: Duration,
     ) -> Result<Value, DynamicCallError> {
-        let schema = self.schema()?;
-        let request = schema
-            .request_from_yaml(request)
-            .map_err(invalid_request(&schema))?;
-        self.call_value(&request, timeout)
+        self.call_filled(timeout, |schema| schema.request_from_yaml(request))
+            .map(|(_, response)| response)
     }
 
     /// Calls once with the request filled from a JSON object of its fields (checked as YAML
@@ -307,11 +268,21 @@ impl DynamicServiceClient {
         request: &serde_json::Value,
         timeout: Duration,
     ) -> Result<serde_json::Value, DynamicCallError> {
-        let schema = self.schema()?;
-        let request = schema
-            .request_from_json(request)
-            .map_err(invalid_request(&schema))?;
-        let response = self.call_value(&request, timeout)?;
+        let (schema, response) =
+            self.call_filled(timeout, |schema| schema.request_from_json(request))?;
         Ok(schema.response_to_json(&response))
+    }
+
+    /// Calls once with the request `fill` makes with the run-time service type (from YAML or
+    /// JSON); gives that type and the response.
+    fn call_filled<E: Into<RequestError>>(
+        &mut self,
+        timeout: Duration,
+        fill: impl FnOnce(&ServiceType) -> Result<Value, E>,
+    ) -> Result<(Arc<ServiceType>, Value), DynamicCallError> {
+        let schema = self.schema()?;
+        let request = fill(&schema).map_err(invalid_request(&schema))?;
+        let response = self.call_value(&request, timeout)?;
+        Ok((schema, response))
     }
 }

@@ -11,14 +11,13 @@ use std::time::{Duration, Instant};
 
 use horus_ros_msgs::Service;
 use horus_ros_rmw::names::ServiceName;
-use horus_ros_rmw::service::{ReplyRoute, Request, TakenRequest};
+use horus_ros_rmw::service::{ReplyRoute, Request};
 use horus_ros_rmw::{Gid, RawReader, RawReaderWaker, RawWriter};
 
 use super::{encapsulate_into, le_body, ServiceRequest, ServiceServerTrait, TransportError};
-use crate::naming::{default_service_name, ServiceTopics};
 use crate::runtime::Runtime;
-use crate::server::MAX_ERRORS_PER_DRAIN;
-use crate::server_wire::ServerWire;
+use crate::server_core::ServerEndpoints;
+use crate::server_wire::{Serve, ServerWire};
 use crate::{EndpointBuilder, EndpointOptions, SetupError};
 
 /// Most requests received and not yet taken; beyond, the oldest is dropped.
@@ -48,25 +47,13 @@ impl<S: Service> EndpointBuilder for DdsServiceServerBuilder<S> {
 impl<S: Service> DdsServiceServerBuilder<S> {
     /// Creates the request reader and reply writer and starts the request thread.
     pub fn build(self) -> Result<DdsServiceServer<S>, SetupError> {
-        let runtime = Runtime::for_service::<S>(self.options.node.as_ref())?;
-        let name = self.options.name.unwrap_or_else(default_service_name::<S>);
-        let topics = ServiceTopics::resolve::<S>(
-            &runtime.node,
-            &name,
-            &self.options.qos,
-            horus_ros_rmw::ServiceEndpointRole::Server,
-        )?;
-        let reader = runtime.node.create_raw_reader(&topics.request)?;
-        let writer = runtime.node.create_raw_writer(&topics.reply)?;
-        // Parked replies go out when their client's reader is matched: the graph wakes the
-        // request thread, which flushes them.
-        let wire = ServerWire::new(
-            &runtime,
-            topics.name,
-            writer.gid(),
-            self.options.wire_flavour,
-            reader.waker(),
-        );
+        let ServerEndpoints {
+            runtime,
+            requests: reader,
+            replies: writer,
+            wire,
+            ..
+        } = ServerEndpoints::create::<S>(&self.options)?;
         let shared = Arc::new(Shared {
             request_reader: reader.gid(),
             reply_writer: writer.gid(),
@@ -235,6 +222,49 @@ impl<S: Service> ServiceServerTrait for DdsServiceServer<S> {
     }
 }
 
+/// The request thread's state between drains (see [`Shared::pump`]).
+struct Pump<'a> {
+    shared: &'a Shared,
+    /// Requests dropped at the queue's bound since the last warning.
+    overflowed: u64,
+    /// When that warning was.
+    warned_at: Option<Instant>,
+    /// Whether a request arrived in this drain.
+    arrived: bool,
+}
+
+impl Serve for Pump<'_> {
+    fn request(&mut self, request: Request) {
+        let mut queue = self.shared.queue();
+        if queue.len() >= MAX_QUEUED {
+            queue.pop_front();
+            self.overflowed += 1;
+        }
+        queue.push_back(request);
+        self.arrived = true;
+    }
+
+    fn drained(&mut self) -> Option<Instant> {
+        // One warning per interval at most, with the count, however fast requests overflow.
+        if self.overflowed > 0
+            && self
+                .warned_at
+                .is_none_or(|at| at.elapsed() >= OVERFLOW_WARNING_INTERVAL)
+        {
+            self.shared.warn_overflowed(self.overflowed);
+            (self.overflowed, self.warned_at) = (0, Some(Instant::now()));
+        }
+        if std::mem::take(&mut self.arrived) {
+            let waker = self.shared.waker().take();
+            if let Some(w) = waker {
+                w.wake();
+            }
+        }
+        // Parked replies whose client can hear them now go out; old ones are dropped.
+        self.shared.wire.flush_parked(&lock(&self.shared.writer))
+    }
+}
+
 struct Shared {
     /// Keeps the node alive.
     _runtime: Runtime,
@@ -270,59 +300,20 @@ impl Shared {
         );
     }
 
-    /// The request thread: queues requests, wakes the waker, sends deferred replies.
+    /// The request thread: queues requests, wakes the waker, sends deferred replies. Woken by
+    /// requests, by drop, by `send_reply` parking a reply and by the graph changes a parked reply
+    /// waits for; otherwise only a parked reply's expiry is due.
     fn pump(&self, mut reader: RawReader) {
-        // Requests dropped at the queue's bound since the last warning, and when that was.
-        let (mut overflowed, mut warned_at) = (0u64, None::<Instant>);
-        while !self.stop.load(Ordering::SeqCst) {
-            let mut arrived = false;
-            let mut errors = 0;
-            let drained = loop {
-                match self.wire.take_request(&mut reader) {
-                    TakenRequest::Request(request) => {
-                        let mut queue = self.queue();
-                        if queue.len() >= MAX_QUEUED {
-                            queue.pop_front();
-                            overflowed += 1;
-                        }
-                        queue.push_back(request);
-                        arrived = true;
-                    }
-                    TakenRequest::Empty => break true,
-                    TakenRequest::Dropped => {
-                        errors += 1;
-                        if errors >= MAX_ERRORS_PER_DRAIN {
-                            break false;
-                        }
-                    }
-                }
-            };
-            // One warning per interval at most, with the count, however fast requests overflow.
-            if overflowed > 0
-                && warned_at.is_none_or(|at| at.elapsed() >= OVERFLOW_WARNING_INTERVAL)
-            {
-                self.warn_overflowed(overflowed);
-                (overflowed, warned_at) = (0, Some(Instant::now()));
-            }
-            if arrived {
-                let waker = self.waker().take();
-                if let Some(w) = waker {
-                    w.wake();
-                }
-            }
-            // Parked replies whose client can hear them now go out; old ones are dropped.
-            let next_expiry = self.wire.flush_parked(&lock(&self.writer));
-            if !drained {
-                // Wake-ups are edge-triggered: what is left would not wake us.
-                continue;
-            }
-            // Woken by requests, by drop, by `send_reply` parking a reply and by the graph
-            // changes a parked reply waits for; otherwise only a parked reply's expiry is due.
-            reader.wait(next_expiry.map(|t| t.saturating_duration_since(Instant::now())));
-        }
+        let mut pump = Pump {
+            shared: self,
+            overflowed: 0,
+            warned_at: None,
+            arrived: false,
+        };
+        self.wire.serve(&mut reader, &self.stop, &mut pump);
         // What overflowed since the last warning is told too.
-        if overflowed > 0 {
-            self.warn_overflowed(overflowed);
+        if pump.overflowed > 0 {
+            self.warn_overflowed(pump.overflowed);
         }
     }
 }
