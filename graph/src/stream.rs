@@ -1,11 +1,10 @@
 //! The graph's changes as a [`futures_core::Stream`] (feature `tokio`): [`Graph::events`].
 
 use std::pin::Pin;
-use std::sync::Arc;
 use std::task::{Context as TaskContext, Poll};
 
-use horus_ros_rmw::queue::DropOldestQueue;
 pub use horus_ros_rmw::queue::Lagged;
+use horus_ros_rmw::queue::QueueConsumer;
 
 use crate::{Graph, GraphEvent};
 
@@ -18,7 +17,8 @@ pub const DEFAULT_EVENTS_CAPACITY: usize = 1024;
 /// Bounded: at most its capacity of events are buffered; when the consumer falls behind, the
 /// oldest are dropped and the consumer's next item is `Err(Lagged(n))` with their number, then
 /// the newest events (see [`horus_ros_rmw::stream`]). Woken by the graph's thread as it applies
-/// each change, never by polling. The stream ends when the graph is dropped.
+/// each change, never by polling. The stream ends when the graph is dropped. Its counters
+/// (`len`, `lagged`, `received`, `peak`, …) come from [`QueueConsumer`], to which it derefs.
 ///
 /// ```no_run
 /// # async fn demo() -> Result<(), Box<dyn std::error::Error>> {
@@ -40,7 +40,7 @@ pub const DEFAULT_EVENTS_CAPACITY: usize = 1024;
 /// ```
 #[derive(Debug)]
 pub struct GraphEvents {
-    queue: Arc<DropOldestQueue<GraphEvent>>,
+    queue: QueueConsumer<GraphEvent>,
 }
 
 impl GraphEvents {
@@ -57,35 +57,17 @@ impl GraphEvents {
     pub fn try_next(&mut self) -> Option<Result<GraphEvent, Lagged>> {
         self.queue.try_next()
     }
+}
 
-    /// Events buffered now (at most [`capacity`](Self::capacity)).
-    pub fn len(&self) -> usize {
-        self.queue.len()
-    }
+/// The counters, each counting events: [`len`](QueueConsumer::len),
+/// [`is_empty`](QueueConsumer::is_empty), [`capacity`](QueueConsumer::capacity),
+/// [`lagged`](QueueConsumer::lagged), [`received`](QueueConsumer::received) and
+/// [`peak`](QueueConsumer::peak).
+impl std::ops::Deref for GraphEvents {
+    type Target = QueueConsumer<GraphEvent>;
 
-    /// Whether no event is buffered now.
-    pub fn is_empty(&self) -> bool {
-        self.queue.is_empty()
-    }
-
-    /// The most events buffered.
-    pub fn capacity(&self) -> usize {
-        self.queue.capacity()
-    }
-
-    /// Events dropped so far because the consumer was behind (oldest first).
-    pub fn lagged(&self) -> u64 {
-        self.queue.lagged()
-    }
-
-    /// Events received so far (delivered, buffered or dropped).
-    pub fn received(&self) -> u64 {
-        self.queue.pushed()
-    }
-
-    /// The most events ever buffered at once (at most [`capacity`](Self::capacity)).
-    pub fn peak(&self) -> usize {
-        self.queue.peak()
+    fn deref(&self) -> &QueueConsumer<GraphEvent> {
+        &self.queue
     }
 }
 
@@ -107,7 +89,7 @@ impl Graph {
     /// Every change from now on as a stream buffering at most `capacity` events (at least 1).
     pub fn events_with_capacity(&self, capacity: usize) -> GraphEvents {
         GraphEvents {
-            queue: self.subscribers().add(capacity),
+            queue: QueueConsumer::new(self.subscribers().add(capacity)),
         }
     }
 }

@@ -9,7 +9,7 @@
 //! more than the capacity in memory, and always gets the most recent items.
 
 use std::collections::VecDeque;
-use std::sync::{Mutex, MutexGuard};
+use std::sync::{Arc, Mutex, MutexGuard};
 use std::task::{Context as TaskContext, Poll, Waker};
 
 /// Items dropped from a bounded stream's buffer because its consumer was slower than its
@@ -195,11 +195,78 @@ impl<T> DropOldestQueue<T> {
     }
 }
 
+/// The consumer's side of a [`DropOldestQueue`] shared with its producer: the items and the
+/// counters, without `push` or `close`. The bounded streams (feature `tokio`: a subscription's
+/// `SubscriptionStream`, the graph's `GraphEvents`) deref to it for their counters; an item is
+/// a message or an event there.
+///
+/// ```
+/// use std::sync::Arc;
+/// use horus_ros_rmw::queue::{DropOldestQueue, Lagged, QueueConsumer};
+///
+/// let queue = Arc::new(DropOldestQueue::new(2));
+/// let consumer = QueueConsumer::new(Arc::clone(&queue));
+/// queue.push_all([1, 2, 3]);
+/// assert_eq!((consumer.len(), consumer.lagged(), consumer.received()), (2, 1, 3));
+/// assert_eq!(consumer.try_next(), Some(Err(Lagged(1))));
+/// ```
+#[derive(Debug)]
+pub struct QueueConsumer<T> {
+    queue: Arc<DropOldestQueue<T>>,
+}
+
+impl<T> QueueConsumer<T> {
+    /// The consumer of `queue`, whose producer keeps another handle to it.
+    pub fn new(queue: Arc<DropOldestQueue<T>>) -> Self {
+        Self { queue }
+    }
+
+    /// The next item or gap report, registering the task's waker (what `Stream::poll_next`
+    /// does); `Ready(None)` once the producer closed the queue and it is drained.
+    pub fn poll_next(&self, cx: &mut TaskContext<'_>) -> Poll<Option<Result<T, Lagged>>> {
+        self.queue.poll_next(cx)
+    }
+
+    /// The next item or gap report if one is buffered (never waits).
+    pub fn try_next(&self) -> Option<Result<T, Lagged>> {
+        self.queue.try_next()
+    }
+
+    /// Items buffered now (at most [`capacity`](Self::capacity)).
+    pub fn len(&self) -> usize {
+        self.queue.len()
+    }
+
+    /// Whether no item is buffered now.
+    pub fn is_empty(&self) -> bool {
+        self.queue.is_empty()
+    }
+
+    /// The most items buffered.
+    pub fn capacity(&self) -> usize {
+        self.queue.capacity()
+    }
+
+    /// Items dropped so far because the consumer was behind (oldest first).
+    pub fn lagged(&self) -> u64 {
+        self.queue.lagged()
+    }
+
+    /// Items received so far (delivered, buffered or dropped).
+    pub fn received(&self) -> u64 {
+        self.queue.pushed()
+    }
+
+    /// The most items ever buffered at once (at most [`capacity`](Self::capacity)).
+    pub fn peak(&self) -> usize {
+        self.queue.peak()
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use std::sync::atomic::{AtomicBool, Ordering};
-    use std::sync::Arc;
 
     #[test]
     fn a_full_queue_drops_the_oldest_and_reports_the_gap_first() {

@@ -13,7 +13,7 @@ use std::thread::JoinHandle;
 
 use horus_ros_msgs::Message;
 
-pub use crate::queue::{DropOldestQueue, Lagged};
+pub use crate::queue::{DropOldestQueue, Lagged, QueueConsumer};
 use crate::{RawReaderWaker, Subscription};
 
 /// How many items a [`SubscriptionStream`] buffers unless told otherwise.
@@ -23,7 +23,8 @@ pub const DEFAULT_STREAM_CAPACITY: usize = 256;
 /// [module](self) for the overflow policy): a background thread blocks on the subscription's
 /// reader (woken by arriving data, never polling) and moves every message into a bounded
 /// buffer, waking the consumer task. Dropping the stream stops the thread and drops the
-/// subscription (it leaves the graph).
+/// subscription (it leaves the graph). Its counters (`len`, `lagged`, `received`, `peak`, …)
+/// come from [`QueueConsumer`], to which it derefs.
 ///
 /// ```no_run
 /// # async fn demo() -> Result<(), Box<dyn std::error::Error>> {
@@ -45,7 +46,7 @@ pub const DEFAULT_STREAM_CAPACITY: usize = 256;
 /// # Ok(()) }
 /// ```
 pub struct SubscriptionStream<M: Message> {
-    queue: Arc<DropOldestQueue<M>>,
+    queue: QueueConsumer<M>,
     stop: Arc<AtomicBool>,
     waker: RawReaderWaker,
     thread: Option<JoinHandle<()>>,
@@ -78,7 +79,7 @@ impl<M: Message> Subscription<M> {
                 .spawn(move || pump(self, &queue, &stop))?
         };
         Ok(SubscriptionStream {
-            queue,
+            queue: QueueConsumer::new(queue),
             stop,
             waker,
             thread: Some(thread),
@@ -139,36 +140,6 @@ impl<M: Message> SubscriptionStream<M> {
         self.queue.try_next()
     }
 
-    /// Messages buffered now (at most [`capacity`](Self::capacity)).
-    pub fn len(&self) -> usize {
-        self.queue.len()
-    }
-
-    /// Whether no message is buffered now.
-    pub fn is_empty(&self) -> bool {
-        self.queue.is_empty()
-    }
-
-    /// The most messages buffered.
-    pub fn capacity(&self) -> usize {
-        self.queue.capacity()
-    }
-
-    /// Messages dropped so far because the consumer was behind (oldest first).
-    pub fn lagged(&self) -> u64 {
-        self.queue.lagged()
-    }
-
-    /// Messages received so far (delivered, buffered or dropped).
-    pub fn received(&self) -> u64 {
-        self.queue.pushed()
-    }
-
-    /// The most messages ever buffered at once (at most [`capacity`](Self::capacity)).
-    pub fn peak(&self) -> usize {
-        self.queue.peak()
-    }
-
     /// The reader's GID.
     pub fn gid(&self) -> crate::Gid {
         self.gid
@@ -177,6 +148,18 @@ impl<M: Message> SubscriptionStream<M> {
     /// The fully-qualified topic name.
     pub fn topic_name(&self) -> &str {
         &self.topic
+    }
+}
+
+/// The counters, each counting messages: [`len`](QueueConsumer::len),
+/// [`is_empty`](QueueConsumer::is_empty), [`capacity`](QueueConsumer::capacity),
+/// [`lagged`](QueueConsumer::lagged), [`received`](QueueConsumer::received) and
+/// [`peak`](QueueConsumer::peak).
+impl<M: Message> std::ops::Deref for SubscriptionStream<M> {
+    type Target = QueueConsumer<M>;
+
+    fn deref(&self) -> &QueueConsumer<M> {
+        &self.queue
     }
 }
 

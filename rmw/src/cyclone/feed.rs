@@ -16,7 +16,7 @@ use super::{cyclone_error, gid, qos, CycloneParticipant, LocalEndpoints};
 use crate::context::DiscoveryFeedError;
 use crate::contract::{FeedBackend, LocalEvents, Wake};
 use crate::dds::discovery_info::{TOPIC_NAME, TYPE_NAME};
-use crate::dds::late_joiner::{Action, LateJoinerReader};
+use crate::dds::late_joiner::{InfoReaderSource, LateJoiner, Taken};
 use crate::discovery::{DiscoveredEndpoint, DiscoveredParticipant, DiscoveryEvent, VendorId};
 use crate::qos::EndpointKind;
 
@@ -28,9 +28,6 @@ const INFO: usize = 4;
 const LATE_JOINER: usize = 5;
 /// Tokens of our own endpoints' matched statuses start here.
 const FIRST_ENDPOINT_TOKEN: usize = 16;
-
-/// Most `ros_discovery_info` samples taken in one go.
-const MAX_INFO_SAMPLES: usize = 4096;
 
 /// Wakes the feed's waitset from the context's side.
 struct GuardWake(cyc::GuardCondition);
@@ -80,8 +77,7 @@ pub(crate) struct CycloneDiscoveryFeed {
     late_topic: cyc::Topic,
     /// The extra reader announced after a peer's `ros_discovery_info` writer was discovered
     /// (see [`crate::dds::late_joiner`]).
-    late_joiner: Option<cyc::Reader>,
-    late_joiner_state: LateJoinerReader,
+    late_joiner: LateJoiner<cyc::Reader>,
     local: LocalEvents,
     local_endpoints: Arc<LocalEndpoints>,
     watched: HashMap<usize, Watched>,
@@ -153,8 +149,7 @@ impl CycloneDiscoveryFeed {
             info,
             participant: p.participant.clone(),
             late_topic,
-            late_joiner: None,
-            late_joiner_state: LateJoinerReader::default(),
+            late_joiner: LateJoiner::new(p.gid),
             local,
             local_endpoints: Arc::clone(&p.local_endpoints),
             watched: HashMap::new(),
@@ -185,13 +180,15 @@ impl CycloneDiscoveryFeed {
         self.take_builtin(BuiltinTopic::Participant);
         self.take_builtin(BuiltinTopic::Publication);
         self.take_builtin(BuiltinTopic::Subscription);
-        let samples = Self::take_info(&self.info, self.own_gid, &mut self.late_joiner_state);
-        self.pending.extend(samples);
-        if let Some(late) = &self.late_joiner {
-            let samples = Self::take_info(late, self.own_gid, &mut self.late_joiner_state);
-            self.pending.extend(samples);
-        }
-        self.update_late_joiner();
+        self.late_joiner
+            .take_all::<LateReaders>(&mut self.info, &mut self.pending);
+        let mut source = LateReaders {
+            waiter: &self.waiter,
+            participant: &self.participant,
+            topic: &self.late_topic,
+        };
+        self.late_joiner
+            .update(&mut source, &mut self.pending, Instant::now());
         let tokens: Vec<usize> = match triggered {
             Some(t) => t
                 .iter()
@@ -300,20 +297,7 @@ impl CycloneDiscoveryFeed {
         };
         for sample in samples {
             if let Some(event) = self.convert(sample) {
-                match &event {
-                    DiscoveryEvent::EndpointDiscovered(e)
-                        if e.kind == EndpointKind::Writer && e.dds_topic_name == TOPIC_NAME =>
-                    {
-                        self.late_joiner_state.writer_discovered(e.participant_gid)
-                    }
-                    DiscoveryEvent::ParticipantLost { gid } => {
-                        self.late_joiner_state.participant_lost(*gid)
-                    }
-                    DiscoveryEvent::ParticipantDiscovered(p) => self
-                        .late_joiner_state
-                        .participant_discovered(p.gid, p.vendor_id),
-                    _ => {}
-                }
+                self.late_joiner.observe(&event);
                 self.pending.push_back(event);
             }
         }
@@ -381,79 +365,54 @@ impl CycloneDiscoveryFeed {
             user_data: e.user_data,
         }))
     }
+}
 
-    /// Takes the `ros_discovery_info` samples `reader` holds.
-    fn take_info(
-        reader: &cyc::Reader,
-        own_gid: Gid,
-        late_joiner: &mut LateJoinerReader,
-    ) -> Vec<DiscoveryEvent> {
-        let mut events = Vec::new();
-        for _ in 0..MAX_INFO_SAMPLES {
-            match reader.take() {
-                Ok(Some(sample)) => {
-                    match horus_ros_msgs::cdr::from_cdr::<ParticipantEntitiesInfo>(&sample.cdr) {
-                        // As rmw_dds_common's reader (ignore local): ours is reported by the
-                        // context itself.
-                        Ok(info) if info.gid == own_gid => {}
-                        Ok(info) => {
-                            late_joiner.heard(info.gid);
-                            events.push(DiscoveryEvent::ParticipantEntities(info));
-                        }
-                        Err(e) => {
-                            tracing::warn!("dropped a malformed ros_discovery_info sample: {e}")
-                        }
+/// The Cyclone calls for the feed's late-joiner `ros_discovery_info` reader.
+struct LateReaders<'a> {
+    waiter: &'a cyc::Waiter,
+    participant: &'a cyc::Participant,
+    topic: &'a cyc::Topic,
+}
+
+impl InfoReaderSource for LateReaders<'_> {
+    type Reader = cyc::Reader;
+    type CreateError = cyc::Error;
+    type AttachError = cyc::Error;
+
+    fn create(&mut self) -> Result<cyc::Reader, cyc::Error> {
+        self.participant.reader(
+            self.topic,
+            &qos::discovery_info(0),
+            super::discovery_info::discovery_info_user_data().as_bytes(),
+        )
+    }
+
+    fn attach(&mut self, reader: &mut cyc::Reader) -> Result<(), cyc::Error> {
+        self.waiter.attach_reader(reader, LATE_JOINER)
+    }
+
+    fn detach(&mut self, _reader: &mut cyc::Reader) {
+        if let Err(e) = self.waiter.detach(LATE_JOINER) {
+            tracing::debug!("detaching the late-joiner reader: {e}");
+        }
+    }
+
+    fn take(reader: &mut cyc::Reader) -> Taken {
+        match reader.take() {
+            Ok(Some(sample)) => {
+                match horus_ros_msgs::cdr::from_cdr::<ParticipantEntitiesInfo>(&sample.cdr) {
+                    Ok(info) => Taken::Sample(info),
+                    Err(e) => {
+                        tracing::warn!("dropped a malformed ros_discovery_info sample: {e}");
+                        Taken::Skipped
                     }
                 }
-                Ok(None) => break,
-                Err(e) => {
-                    tracing::warn!("reading ros_discovery_info failed: {e}");
-                    break;
-                }
             }
-        }
-        events
-    }
-
-    /// Announces, renews or drops the late-joiner reader as [`LateJoinerReader`] says.
-    fn update_late_joiner(&mut self) {
-        match self
-            .late_joiner_state
-            .action(self.late_joiner.is_some(), Instant::now())
-        {
-            Action::Keep => {}
-            Action::Drop => self.drop_late_joiner(),
-            Action::Renew => {
-                self.drop_late_joiner();
-                let created = self.participant.reader(
-                    &self.late_topic,
-                    &qos::discovery_info(0),
-                    super::discovery_info::discovery_info_user_data().as_bytes(),
-                );
-                match created {
-                    Ok(reader) => match self.waiter.attach_reader(&reader, LATE_JOINER) {
-                        Ok(()) => self.late_joiner = Some(reader),
-                        Err(e) => tracing::debug!(
-                            "could not watch a late-joiner ros_discovery_info reader: {e}"
-                        ),
-                    },
-                    // Without it the samples still come, at the writers' next heartbeat.
-                    Err(e) => tracing::debug!(
-                        "could not create a late-joiner ros_discovery_info reader: {e}"
-                    ),
-                }
+            Ok(None) => Taken::End,
+            Err(e) => {
+                tracing::warn!("reading ros_discovery_info failed: {e}");
+                Taken::End
             }
-        }
-    }
-
-    /// Drops the late-joiner reader, taking the samples it already holds first.
-    fn drop_late_joiner(&mut self) {
-        if let Some(old) = self.late_joiner.take() {
-            if let Err(e) = self.waiter.detach(LATE_JOINER) {
-                tracing::debug!("detaching the late-joiner reader: {e}");
-            }
-            let samples = Self::take_info(&old, self.own_gid, &mut self.late_joiner_state);
-            self.pending.extend(samples);
         }
     }
 }
@@ -468,7 +427,7 @@ impl FeedBackend for CycloneDiscoveryFeed {
 
     fn wait(&mut self, limit: Option<Duration>) -> std::io::Result<bool> {
         // The late-joiner reader's retry is due at most then (see `crate::dds::late_joiner`).
-        let limit = self.late_joiner_state.wait_limit(limit, Instant::now());
+        let limit = self.late_joiner.wait_limit(limit, Instant::now());
         let triggered = self.waiter.wait_for(limit).map_err(std::io::Error::other)?;
         self.drain(Some(&triggered));
         Ok(!triggered.is_empty())

@@ -26,11 +26,25 @@
 //! awaited the reader is renewed again, after [`FIRST_RETRY`] and then twice as long each time,
 //! at most [`MAX_RETRIES`] times; past that the periodic heartbeats deliver (each retry costs
 //! one reader and its SEDP announcement).
+//!
+//! [`LateJoiner`] does the rest of the handling both DDS feeds share: it feeds the bookkeeping
+//! from the discovery events, takes the `ros_discovery_info` samples of the feed's readers, and
+//! announces, renews or drops the extra reader through the backend's [`InfoReaderSource`],
+//! which holds only the backend's DDS calls.
 
-use std::collections::BTreeSet;
+use std::collections::{BTreeSet, VecDeque};
+use std::fmt::Display;
 use std::time::{Duration, Instant};
 
+use horus_ros_msgs::rmw_dds_common::ParticipantEntitiesInfo;
+
+use crate::discovery::{DiscoveredEndpoint, DiscoveryEvent};
+use crate::qos::EndpointKind;
 use crate::{Gid, VendorId};
+
+/// Most `ros_discovery_info` samples taken from one reader in one go (the rest come with the
+/// feed's next drain: a feed drains whenever nothing is pending).
+pub(crate) const MAX_INFO_SAMPLES: usize = 4096;
 
 /// Most participants awaited at once: past this, more are not tracked (their samples still
 /// come, at the writer's next heartbeat), so a flood of discovered writers cannot grow us.
@@ -162,6 +176,170 @@ impl LateJoinerReader {
     #[cfg(test)]
     pub(crate) fn awaited(&self) -> usize {
         self.awaited.len()
+    }
+}
+
+/// One take from a `ros_discovery_info` reader.
+#[derive(Debug)]
+pub(crate) enum Taken {
+    /// A sample.
+    Sample(ParticipantEntitiesInfo),
+    /// A sample that could not be used (the backend logged why); the reader may hold more.
+    Skipped,
+    /// Nothing more to take now (or the reader failed; the backend logged why).
+    End,
+}
+
+/// A backend's DDS calls for its `ros_discovery_info` readers: what [`LateJoiner`] needs to
+/// announce, watch, retire and read them.
+pub(crate) trait InfoReaderSource {
+    /// The backend's `ros_discovery_info` reader.
+    type Reader;
+    /// Why [`create`](Self::create) failed.
+    type CreateError: Display;
+    /// Why [`attach`](Self::attach) failed.
+    type AttachError: Display;
+
+    /// Announces a new reader of the topic (with the QoS and USER_DATA of the feed's own).
+    fn create(&mut self) -> Result<Self::Reader, Self::CreateError>;
+
+    /// Makes `reader`'s arriving samples wake the feed.
+    fn attach(&mut self, reader: &mut Self::Reader) -> Result<(), Self::AttachError>;
+
+    /// Stops `reader`'s samples waking the feed (before it is dropped).
+    fn detach(&mut self, reader: &mut Self::Reader);
+
+    /// Takes `reader`'s next sample.
+    fn take(reader: &mut Self::Reader) -> Taken;
+}
+
+/// Whether `e` is another participant's `ros_discovery_info` writer.
+fn is_remote_info_writer(e: &DiscoveredEndpoint, own_gid: Gid) -> bool {
+    e.kind == EndpointKind::Writer
+        && e.dds_topic_name == super::discovery_info::TOPIC_NAME
+        && e.gid.prefix() != own_gid.prefix()
+}
+
+/// A DDS feed's late-joiner reader (of type `R`) and its bookkeeping ([`LateJoinerReader`]).
+#[derive(Debug)]
+pub(crate) struct LateJoiner<R> {
+    /// The extra reader, while one is announced.
+    reader: Option<R>,
+    state: LateJoinerReader,
+    /// Our own participant's GID: its samples and endpoints are not awaited.
+    own_gid: Gid,
+}
+
+impl<R> LateJoiner<R> {
+    /// No reader yet, nothing awaited; `own_gid` is the feed's participant.
+    pub(crate) fn new(own_gid: Gid) -> Self {
+        Self {
+            reader: None,
+            state: LateJoinerReader::default(),
+            own_gid,
+        }
+    }
+
+    /// Updates the bookkeeping with a discovery event the feed reports.
+    pub(crate) fn observe(&mut self, event: &DiscoveryEvent) {
+        match event {
+            DiscoveryEvent::EndpointDiscovered(e) if is_remote_info_writer(e, self.own_gid) => {
+                self.state.writer_discovered(e.participant_gid)
+            }
+            DiscoveryEvent::ParticipantLost { gid } => self.state.participant_lost(*gid),
+            DiscoveryEvent::ParticipantDiscovered(p) => {
+                self.state.participant_discovered(p.gid, p.vendor_id)
+            }
+            _ => {}
+        }
+    }
+
+    /// Takes the samples of the feed's own `ros_discovery_info` reader `main`, then of the
+    /// late-joiner reader, into `pending`.
+    pub(crate) fn take_all<S>(&mut self, main: &mut R, pending: &mut VecDeque<DiscoveryEvent>)
+    where
+        S: InfoReaderSource<Reader = R>,
+    {
+        take_info::<S>(main, self.own_gid, &mut self.state, pending);
+        if let Some(late) = self.reader.as_mut() {
+            take_info::<S>(late, self.own_gid, &mut self.state, pending);
+        }
+    }
+
+    /// Announces, renews or drops the reader as [`LateJoinerReader::action`] says at `now`;
+    /// samples the old reader already holds are taken into `pending` before it goes.
+    pub(crate) fn update<S>(
+        &mut self,
+        source: &mut S,
+        pending: &mut VecDeque<DiscoveryEvent>,
+        now: Instant,
+    ) where
+        S: InfoReaderSource<Reader = R>,
+    {
+        match self.state.action(self.reader.is_some(), now) {
+            Action::Keep => {}
+            Action::Drop => self.retire(source, pending),
+            Action::Renew => {
+                self.retire(source, pending);
+                match source.create() {
+                    Ok(mut reader) => match source.attach(&mut reader) {
+                        Ok(()) => self.reader = Some(reader),
+                        Err(e) => tracing::debug!(
+                            "could not watch a late-joiner ros_discovery_info reader: {e}"
+                        ),
+                    },
+                    // Without it the samples still come, at the writers' next heartbeat.
+                    Err(e) => tracing::debug!(
+                        "could not create a late-joiner ros_discovery_info reader: {e}"
+                    ),
+                }
+            }
+        }
+    }
+
+    /// Detaches and drops the reader, taking the samples it already holds first.
+    fn retire<S>(&mut self, source: &mut S, pending: &mut VecDeque<DiscoveryEvent>)
+    where
+        S: InfoReaderSource<Reader = R>,
+    {
+        if let Some(mut old) = self.reader.take() {
+            source.detach(&mut old);
+            take_info::<S>(&mut old, self.own_gid, &mut self.state, pending);
+        }
+    }
+
+    /// The reader, if one is announced (for a feed detaching it as it closes).
+    pub(crate) fn reader_mut(&mut self) -> Option<&mut R> {
+        self.reader.as_mut()
+    }
+
+    /// How long a feed waiting at `now` at most `left` may wait (see
+    /// [`LateJoinerReader::wait_limit`]).
+    pub(crate) fn wait_limit(&self, left: Option<Duration>, now: Instant) -> Option<Duration> {
+        self.state.wait_limit(left, now)
+    }
+}
+
+/// Takes at most [`MAX_INFO_SAMPLES`] `ros_discovery_info` samples from `reader` into
+/// `pending`, noting each participant heard.
+fn take_info<S: InfoReaderSource>(
+    reader: &mut S::Reader,
+    own_gid: Gid,
+    state: &mut LateJoinerReader,
+    pending: &mut VecDeque<DiscoveryEvent>,
+) {
+    for _ in 0..MAX_INFO_SAMPLES {
+        match S::take(reader) {
+            // As rmw_dds_common's reader (ignore_local_publications): skip our own, which the
+            // context reports itself.
+            Taken::Sample(info) if info.gid == own_gid => {}
+            Taken::Sample(info) => {
+                state.heard(info.gid);
+                pending.push_back(DiscoveryEvent::ParticipantEntities(info));
+            }
+            Taken::Skipped => {}
+            Taken::End => return,
+        }
     }
 }
 

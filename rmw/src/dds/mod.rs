@@ -6,7 +6,8 @@
 //!   rmw_dds_common's `GraphCache` keeps them for the local participant; every change gives the
 //!   whole `ParticipantEntitiesInfo` to publish.
 //! - [`late_joiner`]: when a feed renews its extra `ros_discovery_info` reader, for peers whose
-//!   TRANSIENT_LOCAL sample never reached us.
+//!   TRANSIENT_LOCAL sample never reached us, and the reader handling both feeds share (each
+//!   backend gives only its DDS calls, as an `InfoReaderSource`).
 //!
 //! Topic mangling (`rt/`, `rq/`, `rr/`) lives in [`crate::names`], the two request/reply
 //! conventions in [`crate::service`]: both are written against the

@@ -304,6 +304,24 @@ pub(crate) fn unusual_profile() -> Qos {
         .with_liveliness_lease_duration(Duration::from_nanos(1))
 }
 
+/// Checks what a writer's and a reader's profiles read from DDS policies that are all absent
+/// give (for the mapping tests of both backends): the DDS defaults per kind.
+#[cfg(test)]
+pub(crate) fn assert_dds_defaults_per_kind(writer: &DdsQos, reader: &DdsQos) {
+    let w = Qos::from_dds(writer);
+    let r = Qos::from_dds(reader);
+    assert_eq!(w.reliability, ReliabilityPolicy::Reliable);
+    assert_eq!(r.reliability, ReliabilityPolicy::BestEffort);
+    for q in [w, r] {
+        assert_eq!(q.history, HistoryPolicy::Unknown);
+        assert_eq!(q.durability, DurabilityPolicy::Volatile);
+        assert_eq!(q.liveliness, LivelinessPolicy::Automatic);
+        assert!(q.deadline.is_infinite() && q.lifespan.is_infinite());
+        assert!(q.liveliness_lease_duration.is_infinite());
+        assert!(!q.avoid_ros_namespace_conventions);
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -445,18 +463,10 @@ mod tests {
 
     #[test]
     fn dds_defaults_per_kind() {
-        let w = Qos::from_dds(&DdsQos::dds_defaults(EndpointKind::Writer));
-        let r = Qos::from_dds(&DdsQos::dds_defaults(EndpointKind::Reader));
-        assert_eq!(w.reliability, ReliabilityPolicy::Reliable);
-        assert_eq!(r.reliability, ReliabilityPolicy::BestEffort);
-        for q in [w, r] {
-            assert_eq!(q.history, HistoryPolicy::Unknown);
-            assert_eq!(q.durability, DurabilityPolicy::Volatile);
-            assert_eq!(q.liveliness, LivelinessPolicy::Automatic);
-            assert!(q.deadline.is_infinite() && q.lifespan.is_infinite());
-            assert!(q.liveliness_lease_duration.is_infinite());
-            assert!(!q.avoid_ros_namespace_conventions);
-        }
+        assert_dds_defaults_per_kind(
+            &DdsQos::dds_defaults(EndpointKind::Writer),
+            &DdsQos::dds_defaults(EndpointKind::Reader),
+        );
     }
 
     #[test]

@@ -23,7 +23,7 @@ mod profiles;
 
 pub use compatibility::{check_compatible, QosCompatibility};
 #[cfg(test)]
-pub(crate) use dds::unusual_profile;
+pub(crate) use dds::{assert_dds_defaults_per_kind, unusual_profile};
 pub use dds::{
     DdsDurability, DdsHistory, DdsLiveliness, DdsQos, DdsReliability, EndpointKind,
     MAX_DDS_DURATION, RELIABLE_MAX_BLOCKING_TIME,

@@ -18,14 +18,10 @@ use rustdds::{
 
 use super::gid_from_guid;
 use crate::contract::{FeedBackend, LocalEvents, Wake};
-use crate::dds::late_joiner::{Action, LateJoinerReader};
+use crate::dds::late_joiner::{InfoReaderSource, LateJoiner, Taken};
 use crate::discovery::{DiscoveredEndpoint, DiscoveredParticipant, DiscoveryEvent, VendorId};
 use crate::qos::{EndpointKind, Qos};
 use crate::Gid;
-
-/// Most samples drained from the `ros_discovery_info` reader in one go (the rest come with the
-/// next call: `try_next` drains whenever nothing is pending).
-const MAX_SAMPLES_PER_POLL: usize = 4096;
 
 const STATUS: mio::Token = mio::Token(0);
 const INFO: mio::Token = mio::Token(1);
@@ -94,10 +90,45 @@ pub(crate) struct InfoReaderFactory {
     pub(crate) topic: rustdds::Topic,
 }
 
-impl InfoReaderFactory {
-    fn create(&self) -> Result<InfoReader, rustdds::dds::CreateError> {
-        self.subscriber
-            .create_datareader_no_key(&self.topic, Some(super::discovery_info::reader_qos()))
+/// The rustdds calls for the feed's late-joiner `ros_discovery_info` reader.
+struct LateReaders<'a> {
+    factory: &'a InfoReaderFactory,
+    status: &'a Mutex<StatusPoll>,
+}
+
+impl InfoReaderSource for LateReaders<'_> {
+    type Reader = InfoReader;
+    type CreateError = rustdds::dds::CreateError;
+    type AttachError = std::io::Error;
+
+    fn create(&mut self) -> Result<InfoReader, rustdds::dds::CreateError> {
+        self.factory.subscriber.create_datareader_no_key(
+            &self.factory.topic,
+            Some(super::discovery_info::reader_qos()),
+        )
+    }
+
+    fn attach(&mut self, reader: &mut InfoReader) -> std::io::Result<()> {
+        lock(self.status)
+            .poll
+            .registry()
+            .register(reader, LATE_JOINER, mio::Interest::READABLE)
+    }
+
+    fn detach(&mut self, reader: &mut InfoReader) {
+        let _ = lock(self.status).poll.registry().deregister(reader);
+    }
+
+    fn take(reader: &mut InfoReader) -> Taken {
+        match reader.take_next_sample() {
+            Ok(Some(sample)) => Taken::Sample(sample.into_value()),
+            Ok(None) => Taken::End,
+            // Malformed CDR from the wire: that sample is dropped, the feed goes on.
+            Err(e) => {
+                tracing::warn!("dropped a malformed ros_discovery_info sample: {e}");
+                Taken::Skipped
+            }
+        }
     }
 }
 
@@ -110,8 +141,7 @@ pub(crate) struct DdsDiscoveryFeed {
     factory: InfoReaderFactory,
     /// The extra reader announced after a peer's `ros_discovery_info` writer was discovered
     /// (see [`crate::dds::late_joiner`]).
-    late_joiner: Option<InfoReader>,
-    late_joiner_state: LateJoinerReader,
+    late_joiner: LateJoiner<InfoReader>,
     local: LocalEvents,
     own_gid: Gid,
     pending: VecDeque<DiscoveryEvent>,
@@ -138,25 +168,16 @@ impl DdsDiscoveryFeed {
                 .register(&mut reader, INFO, mio::Interest::READABLE)?;
             Arc::clone(&status.waker)
         };
-        let mut late_joiner_state = LateJoinerReader::default();
+        let mut late_joiner = LateJoiner::new(own_gid);
         for event in &initial {
-            match event {
-                DiscoveryEvent::ParticipantDiscovered(p) => {
-                    late_joiner_state.participant_discovered(p.gid, p.vendor_id)
-                }
-                DiscoveryEvent::EndpointDiscovered(e) if is_remote_info_writer(e, own_gid) => {
-                    late_joiner_state.writer_discovered(e.participant_gid)
-                }
-                _ => {}
-            }
+            late_joiner.observe(event);
         }
         Ok(Self {
             status,
             waker,
             reader,
             factory,
-            late_joiner: None,
-            late_joiner_state,
+            late_joiner,
             local,
             own_gid,
             pending: initial.into(),
@@ -172,110 +193,18 @@ impl DdsDiscoveryFeed {
         }
         while let Some(status) = lock(&self.status).try_recv() {
             if let Some(event) = self.convert(status) {
-                match &event {
-                    DiscoveryEvent::EndpointDiscovered(e)
-                        if is_remote_info_writer(e, self.own_gid) =>
-                    {
-                        self.late_joiner_state.writer_discovered(e.participant_gid)
-                    }
-                    DiscoveryEvent::ParticipantLost { gid } => {
-                        self.late_joiner_state.participant_lost(*gid)
-                    }
-                    DiscoveryEvent::ParticipantDiscovered(p) => self
-                        .late_joiner_state
-                        .participant_discovered(p.gid, p.vendor_id),
-                    _ => {}
-                }
+                self.late_joiner.observe(&event);
                 self.pending.push_back(event);
             }
         }
-        Self::take_info(
-            &mut self.reader,
-            self.own_gid,
-            &mut self.late_joiner_state,
-            &mut self.pending,
-        );
-        if let Some(late) = self.late_joiner.as_mut() {
-            Self::take_info(
-                late,
-                self.own_gid,
-                &mut self.late_joiner_state,
-                &mut self.pending,
-            );
-        }
-        self.update_late_joiner();
-    }
-
-    /// Takes `ros_discovery_info` samples from `reader` into `pending`.
-    fn take_info(
-        reader: &mut InfoReader,
-        own_gid: Gid,
-        late_joiner: &mut LateJoinerReader,
-        pending: &mut VecDeque<DiscoveryEvent>,
-    ) {
-        for _ in 0..MAX_SAMPLES_PER_POLL {
-            match reader.take_next_sample() {
-                Ok(Some(sample)) => {
-                    let info = sample.into_value();
-                    // As rmw_dds_common's reader (ignore_local_publications): skip our own,
-                    // which the context reports itself.
-                    if info.gid != own_gid {
-                        late_joiner.heard(info.gid);
-                        pending.push_back(DiscoveryEvent::ParticipantEntities(info));
-                    }
-                }
-                Ok(None) => return,
-                // Malformed CDR from the wire: that sample is dropped, the feed goes on.
-                Err(e) => tracing::warn!("dropped a malformed ros_discovery_info sample: {e}"),
-            }
-        }
-    }
-
-    /// Announces, renews or drops the late-joiner reader as [`LateJoinerReader`] says.
-    fn update_late_joiner(&mut self) {
-        match self
-            .late_joiner_state
-            .action(self.late_joiner.is_some(), Instant::now())
-        {
-            Action::Keep => {}
-            Action::Drop => {
-                if let Some(mut old) = self.late_joiner.take() {
-                    let _ = lock(&self.status).poll.registry().deregister(&mut old);
-                }
-            }
-            Action::Renew => {
-                // Samples the old reader already holds are taken before it goes.
-                if let Some(mut old) = self.late_joiner.take() {
-                    let _ = lock(&self.status).poll.registry().deregister(&mut old);
-                    Self::take_info(
-                        &mut old,
-                        self.own_gid,
-                        &mut self.late_joiner_state,
-                        &mut self.pending,
-                    );
-                }
-                match self.factory.create() {
-                    Ok(mut reader) => {
-                        match lock(&self.status).poll.registry().register(
-                            &mut reader,
-                            LATE_JOINER,
-                            mio::Interest::READABLE,
-                        ) {
-                            Ok(()) => self.late_joiner = Some(reader),
-                            Err(e) => tracing::debug!(
-                                "could not watch a late-joiner ros_discovery_info reader: {e}"
-                            ),
-                        }
-                    }
-                    // Without it the samples still come, at the writers' next heartbeat.
-                    Err(e) => {
-                        tracing::debug!(
-                            "could not create a late-joiner ros_discovery_info reader: {e}"
-                        )
-                    }
-                }
-            }
-        }
+        self.late_joiner
+            .take_all::<LateReaders>(&mut self.reader, &mut self.pending);
+        let mut source = LateReaders {
+            factory: &self.factory,
+            status: &self.status,
+        };
+        self.late_joiner
+            .update(&mut source, &mut self.pending, Instant::now());
     }
 
     fn convert(&self, status: DomainParticipantStatusEvent) -> Option<DiscoveryEvent> {
@@ -352,8 +281,8 @@ impl Drop for DdsDiscoveryFeed {
         let status = lock(&self.status);
         // Deregistering fails only for what was never registered; nothing to undo then.
         let _ = status.poll.registry().deregister(&mut self.reader);
-        if let Some(mut late) = self.late_joiner.take() {
-            let _ = status.poll.registry().deregister(&mut late);
+        if let Some(late) = self.late_joiner.reader_mut() {
+            let _ = status.poll.registry().deregister(late);
         }
     }
 }
@@ -368,7 +297,7 @@ impl FeedBackend for DdsDiscoveryFeed {
 
     fn wait(&mut self, limit: Option<Duration>) -> std::io::Result<bool> {
         // The late-joiner reader's retry is due at most then (see `crate::dds::late_joiner`).
-        let limit = self.late_joiner_state.wait_limit(limit, Instant::now());
+        let limit = self.late_joiner.wait_limit(limit, Instant::now());
         self.events.clear();
         lock(&self.status).poll.poll(&mut self.events, limit)?;
         Ok(!self.events.is_empty())
@@ -377,13 +306,6 @@ impl FeedBackend for DdsDiscoveryFeed {
     fn waker(&self) -> Arc<dyn Wake> {
         Arc::clone(&self.waker) as Arc<dyn Wake>
     }
-}
-
-/// Whether `e` is another participant's `ros_discovery_info` writer.
-fn is_remote_info_writer(e: &DiscoveredEndpoint, own_gid: Gid) -> bool {
-    e.kind == EndpointKind::Writer
-        && e.dds_topic_name == super::discovery_info::TOPIC_NAME
-        && e.gid.prefix() != own_gid.prefix()
 }
 
 /// The participant GID for a GUID prefix: the prefix + `ENTITYID_PARTICIPANT` (`00 00 01 c1`).

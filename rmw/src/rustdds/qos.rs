@@ -118,9 +118,7 @@ pub(crate) fn from_rustdds(policies: &QosPolicies, kind: EndpointKind) -> DdsQos
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::qos::{
-        DurabilityPolicy, HistoryPolicy, LivelinessPolicy, Qos, ReliabilityPolicy, MAX_DDS_DURATION,
-    };
+    use crate::qos::{DurabilityPolicy, LivelinessPolicy, Qos, MAX_DDS_DURATION};
 
     /// What SEDP carries of a local endpoint's policies: no history, no resource limits
     /// (rustdds `sedp_messages.rs` `qos()`).
@@ -175,17 +173,10 @@ mod tests {
     #[test]
     fn absent_policies_take_dds_defaults_per_kind() {
         let empty = QosPolicies::qos_none();
-        let w = Qos::from_dds(&from_rustdds(&empty, EndpointKind::Writer));
-        let r = Qos::from_dds(&from_rustdds(&empty, EndpointKind::Reader));
-        assert_eq!(w.reliability, ReliabilityPolicy::Reliable);
-        assert_eq!(r.reliability, ReliabilityPolicy::BestEffort);
-        for q in [w, r] {
-            assert_eq!(q.history, HistoryPolicy::Unknown);
-            assert_eq!(q.durability, DurabilityPolicy::Volatile);
-            assert_eq!(q.liveliness, LivelinessPolicy::Automatic);
-            assert!(q.deadline.is_infinite() && q.lifespan.is_infinite());
-            assert!(q.liveliness_lease_duration.is_infinite());
-        }
+        crate::qos::assert_dds_defaults_per_kind(
+            &from_rustdds(&empty, EndpointKind::Writer),
+            &from_rustdds(&empty, EndpointKind::Reader),
+        );
     }
 
     #[test]
