@@ -8,26 +8,11 @@
 use std::time::Duration;
 
 use crate::contract::WaitSetBackend;
-use crate::dds_error::DdsError;
+pub use crate::contract::WaitSetError;
 use crate::{Context, RawReader, RawReaderWaker};
 
 /// The key no reader may take (backends may use it for the set's own waker).
 const RESERVED: usize = usize::MAX;
-
-/// Why a wait set could not be made, or a reader not attached.
-#[derive(Debug, thiserror::Error)]
-#[non_exhaustive]
-pub enum WaitSetError {
-    /// The DDS layer refused.
-    #[error("wait set: {0}")]
-    Dds(DdsError),
-    /// The reader belongs to another backend than the set.
-    #[error("wait set: the reader is of another DDS backend than the set")]
-    OtherBackend,
-    /// `usize::MAX` is the set's own.
-    #[error("wait set: key {0} is reserved")]
-    ReservedKey(usize),
-}
 
 /// Waits on many readers' data at once; one thread waits at a time (a second caller of
 /// [`wait`](Self::wait) blocks until the first returns).

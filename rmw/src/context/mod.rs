@@ -12,6 +12,7 @@ use std::sync::atomic::{AtomicBool, AtomicU32, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard, Weak};
 
 use crate::backend::{Backend, BackendError};
+pub use crate::contract::DiscoveryFeedError;
 use crate::contract::{
     Capabilities, FeedBackend, Implementation, ParticipantBackend, ParticipantConfig,
 };
@@ -463,27 +464,6 @@ impl ContextInner {
             self.announce(&mut local, message);
         }
     }
-}
-
-/// Why a [`DiscoveryFeed`] could not be opened.
-#[derive(Debug, thiserror::Error)]
-#[non_exhaustive]
-pub enum DiscoveryFeedError {
-    /// The context already has a feed (rustdds keeps one discovery event queue per participant).
-    #[error("this context already has a discovery feed")]
-    AlreadyOpen,
-    /// The wake-up machinery (an OS poll instance) could not be set up.
-    #[error("could not set up waiting for discovery events: {cause}")]
-    Poll {
-        /// What the OS (rustdds backend) or Cyclone DDS said.
-        cause: DdsError,
-    },
-    /// A reader (`ros_discovery_info` or a built-in topic) could not be created.
-    #[error("could not create a discovery reader: {cause}")]
-    Reader {
-        /// What the DDS layer said.
-        cause: DdsError,
-    },
 }
 
 /// Every [`DiscoveryEvent`] of a context: remote participants (SPDP), readers and writers (SEDP),

@@ -11,11 +11,11 @@ use horus_ros_rmw_cyclone as cyc;
 
 use super::wait_set::{SignalWake, WaitSet};
 use super::{cyclone_error, gid, qos, CycloneParticipant, LocalEndpoints};
+use crate::contract::WaitSetError;
+use crate::contract::{RawEndpointSpec, RawSample, SampleId};
 use crate::contract::{ReaderBackend, WaitSetBackend, Wake, WriterBackend};
 use crate::dds_error::DdsError;
 use crate::qos::{DdsQos, EndpointKind};
-use crate::raw::{RawEndpointSpec, RawSample, SampleId};
-use crate::wait_set::WaitSetError;
 
 /// The blob topic `topic_name` of type `type_name` (each endpoint gets its own topic entity;
 /// Cyclone shares what lies behind same-named ones).

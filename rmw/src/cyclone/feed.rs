@@ -13,7 +13,7 @@ use horus_ros_msgs::TypeHash;
 use horus_ros_rmw_cyclone::{self as cyc, BuiltinSample, BuiltinTopic, StatusMask};
 
 use super::{cyclone_error, gid, qos, CycloneParticipant, LocalEndpoints};
-use crate::context::DiscoveryFeedError;
+use crate::contract::DiscoveryFeedError;
 use crate::contract::{FeedBackend, LocalEvents, Wake};
 use crate::dds::discovery_info::{TOPIC_NAME, TYPE_NAME};
 use crate::dds::late_joiner::{InfoReaderSource, LateJoiner, Taken};

@@ -28,7 +28,9 @@ use horus_ros_msgs::rmw_dds_common::{Gid, ParticipantEntitiesInfo};
 use horus_ros_rmw_cyclone as cyc;
 
 use crate::backend::Backend;
-use crate::context::DiscoveryFeedError;
+use crate::contract::DiscoveryFeedError;
+use crate::contract::RawEndpointSpec;
+use crate::contract::WaitSetError;
 use crate::contract::{
     Capabilities, FeedBackend, Implementation, LocalEvents, ParticipantBackend, ParticipantConfig,
     ReaderBackend, WaitSetBackend, WriterBackend,
@@ -37,8 +39,6 @@ use crate::dds::discovery_info::TOPIC_NAME;
 use crate::dds_error::{boxed, DdsError};
 use crate::discovery::VendorId;
 use crate::qos::{DdsQos, EndpointKind};
-use crate::raw::RawEndpointSpec;
-use crate::wait_set::WaitSetError;
 pub(crate) use participant::CycloneParticipant;
 
 /// The Cyclone DDS backend (for `rmw_cyclonedds_cpp`).

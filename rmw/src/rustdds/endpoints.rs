@@ -12,11 +12,11 @@ use rustdds::{RTPSEntity, SampleIdentity, SequenceNumber, TopicKind, WriteOption
 use super::raw::{RawAdapter, RawPayload};
 use super::wait_set::{wait_on, WaitSet, Waker};
 use super::{gid_from_guid, guid_from_gid, qos, RustddsParticipant};
+use crate::contract::WaitSetError;
+use crate::contract::{RawEndpointSpec, RawSample, SampleId};
 use crate::contract::{ReaderBackend, WaitSetBackend, Wake, WriterBackend};
 use crate::dds_error::{boxed, DdsError};
 use crate::qos::DdsQos;
-use crate::raw::{RawEndpointSpec, RawSample, SampleId};
-use crate::wait_set::WaitSetError;
 
 /// Poll token of a reader's data.
 const DATA: usize = 0;

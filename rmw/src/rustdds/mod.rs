@@ -19,7 +19,9 @@ use horus_ros_msgs::rmw_dds_common::{Gid, ParticipantEntitiesInfo};
 use rustdds::GUID;
 
 use crate::backend::Backend;
-use crate::context::DiscoveryFeedError;
+use crate::contract::DiscoveryFeedError;
+use crate::contract::RawEndpointSpec;
+use crate::contract::WaitSetError;
 use crate::contract::{
     Capabilities, FeedBackend, Implementation, LocalEvents, ParticipantBackend, ParticipantConfig,
     ReaderBackend, WaitSetBackend, WriterBackend,
@@ -27,8 +29,6 @@ use crate::contract::{
 use crate::dds_error::{boxed, DdsError};
 use crate::discovery::VendorId;
 use crate::qos::DdsQos;
-use crate::raw::RawEndpointSpec;
-use crate::wait_set::WaitSetError;
 use feed::{DdsDiscoveryFeed, InfoReaderFactory};
 pub(crate) use participant::RustddsParticipant;
 

@@ -51,12 +51,12 @@ pub enum ConventionError {
 /// server then cannot tell whether its writer reached our reader (rmw_cyclonedds
 /// `check_for_response_reader` looks for the client id), and learns of our reader about when we
 /// learn of its writer. No event tells when it has.
-pub const CYCLONE_MATCH_SETTLE: std::time::Duration = std::time::Duration::from_millis(100);
+const CYCLONE_MATCH_SETTLE: std::time::Duration = std::time::Duration::from_millis(100);
 
 impl WireFlavour {
     /// How long a client of this convention, on a backend that can do `capabilities`, lets a
     /// server's reply writer match its reply reader before its first request
-    /// ([`CYCLONE_MATCH_SETTLE`] for the rmw_cyclonedds convention without USER_DATA); `None`:
+    /// (100 ms for the rmw_cyclonedds convention without USER_DATA); `None`:
     /// no wait, the matches tell.
     pub fn reply_match_settle(self, capabilities: Capabilities) -> Option<std::time::Duration> {
         (self == Self::CycloneDds && !capabilities.announces_user_data)

@@ -16,7 +16,7 @@
 //! | the graph guard condition and `rmw_dds_common::GraphCache`'s inputs | [`FeedBackend`] |
 //!
 //! The built-in backends ([`Backend`](crate::Backend)) are DDS implementations: RustDDS and
-//! Cyclone DDS. What they share — `ros_discovery_info` ([`DiscoveredEndpoint`]s listed under
+//! Cyclone DDS. What they share — `ros_discovery_info` (endpoints listed under
 //! nodes), topic mangling, the request/reply conventions and late joiners — lives in the layers
 //! above and in the crate's shared DDS modules, so each of them is only the DDS calls. A test
 //! (or a new backend) plugs in with
@@ -31,13 +31,16 @@ use std::time::Duration;
 
 use horus_ros_msgs::rmw_dds_common::ParticipantEntitiesInfo;
 
+mod endpoint;
+mod errors;
+
+pub use endpoint::{RawEndpointSpec, RawSample, SampleId, ServiceEndpointId, ServiceEndpointRole};
+pub use errors::{DiscoveryFeedError, WaitSetError};
+
 use crate::context::env::{DiscoveryOptions, DomainId};
-use crate::context::DiscoveryFeedError;
 use crate::dds_error::DdsError;
 use crate::discovery::{DiscoveryEvent, VendorId};
 use crate::qos::DdsQos;
-use crate::raw::{RawEndpointSpec, RawSample, SampleId};
-use crate::wait_set::WaitSetError;
 use crate::Gid;
 
 /// What a backend can do, where backends differ; the layers above ask this rather than which
