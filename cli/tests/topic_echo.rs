@@ -255,6 +255,26 @@ fn echoes_a_type_known_only_from_the_publishers_node() {
         "[]",
         false,
     );
+    if std::env::var("HORUS_ROS_BACKEND").as_deref() == Ok("cyclone") {
+        // A Fast DDS node's services speak a request/reply convention the Cyclone backend (and
+        // rmw_cyclonedds) cannot: the error names the node asked and says so.
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_horus-ros"))
+            .args(["--domain-id", &domain.to_string(), "--no-daemon"])
+            .args(["topic", "echo", "/strings", "--once"])
+            .env_remove("ROS_DOMAIN_ID")
+            .env_remove("AMENT_PREFIX_PATH")
+            .env("RUST_LOG", "error")
+            .output()
+            .expect("run horus-ros");
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{stderr}");
+        assert!(
+            stderr.contains("/strings/get_type_description")
+                && stderr.contains("whose service convention needs related_sample_identity"),
+            "{stderr}"
+        );
+        return;
+    }
     let (out, code) = echo(domain, &["/strings", "--once"], Ament::Unset);
     assert_eq!((out, code), (format!("{}---\n", yaml_of(&peer)), Some(0)));
     let (out, code) = echo(domain, &["/strings", "--once", "--csv"], Ament::Unset);
