@@ -129,8 +129,9 @@ pub fn to_csv(schema: &Schema, type_name: &str, v: &Value, o: ConvertOptions) ->
         return String::new();
     }
     let mut out = String::new();
-    for (i, (m, f)) in s.members.iter().zip(fields).enumerate() {
-        if i > 0 {
+    for (m, f) in s.members.iter().zip(fields) {
+        // `if result: result += ','`: no separator after empty leading values.
+        if !out.is_empty() {
             out.push(',');
         }
         match (m.ty.container, f) {

@@ -1,0 +1,500 @@
+//! `horus-ros topic echo` (ros2topic jazzy 0.32 `verb/echo.py`): prints the messages of a topic.
+//!
+//! As ros2cli: the type comes from the command line or from the graph (the one type of the
+//! topic, hidden topics included; else `WARNING: topic [...] does not appear to be published
+//! yet` and `Could not determine the type for the passed topic`); the QoS is echo's
+//! `choose_qos` (the `--qos-*` options as given when any policy is, else the `--qos-profile`
+//! preset with reliability and durability adapted to the publishers'); each message is printed as
+//! `message_to_yaml(…)` followed by `---` (`--csv`: `message_to_csv`, one line), a `--field`
+//! that selects no message as Python's `str()` followed by `---`, `--raw` as the Python `repr`
+//! of the serialized message followed by `---`; `--include-message-info` prints the message
+//! info first (YAML: `yaml.dump(info)` and `---`; CSV: its values prepended). With the global
+//! `--json`, each message is one JSON object on one line (docs/cli-json.md).
+//!
+//! Types are resolved as [`super::subscribe::resolve_type`] does: compiled in, interface files on
+//! `AMENT_PREFIX_PATH`, else the `~/get_type_description` of a node on the topic.
+//!
+//! Differences, for lack of support below: `--filter` evaluates a subset of Python
+//! ([`Filter`]); the message info's `source_timestamp` is 0 (the DDS layers do not hand it over
+//! here) and `reception_sequence_number` is `None` (as rmw_fastrtps_cpp reports it); lost messages
+//! are not reported (`--no-lost-messages` is accepted and changes nothing).
+
+use std::io::Write;
+use std::time::{Duration, Instant};
+
+use horus_ros_rmw::SampleId;
+use serde_json::{json, Map, Value as Json};
+
+use super::subscribe::{
+    expand, graph_type, normalize_message_type, now_ns, numeric, publisher_qos, resolve_type,
+    select, subscribe, Filter, MessageType, Part, QosArgs,
+};
+use crate::dynamic::convert::{to_csv, to_ordereddict, ConvertOptions};
+use crate::dynamic::json::to_json;
+use crate::dynamic::pyyaml::{dump, PyValue};
+use crate::dynamic::repr::{py_bytes, py_float, py_str, repr};
+use crate::dynamic::{cdr, Container, Elem, Schema, Value};
+use crate::session::Session;
+use crate::{CliError, Global};
+
+/// ros2topic echo `DEFAULT_TRUNCATE_LENGTH`.
+const DEFAULT_TRUNCATE_LENGTH: usize = 128;
+
+/// ros2topic `positive_float`.
+fn positive_float(value: &str) -> Result<f64, String> {
+    let v: f64 = value
+        .trim()
+        .parse()
+        .map_err(|_| "Expects a floating point number".to_owned())?;
+    if v.is_nan() || v <= 0.0 {
+        return Err("Value must be positive".to_owned());
+    }
+    Ok(v)
+}
+
+/// Arguments of `topic echo`.
+#[derive(Debug, clap::Args)]
+pub struct EchoArgs {
+    /// Name of the ROS topic to listen to (e.g. '/chatter')
+    pub topic_name: String,
+    /// Type of the ROS message (e.g. 'std_msgs/msg/String')
+    pub message_type: Option<String>,
+    #[command(flatten)]
+    pub qos: QosArgs,
+    /// Output all recursive fields separated by commas (e.g. for plotting). If
+    /// --include-message-info is also passed, the following fields are prepended:
+    /// source_timestamp, received_timestamp, publication_sequence_number,
+    /// reception_sequence_number.
+    #[arg(long)]
+    pub csv: bool,
+    /// Echo a selected field of a message. Use '.' to select sub-fields. For example, to echo the
+    /// position field of a nav_msgs/msg/Odometry message: 'ros2 topic echo /odom --field
+    /// pose.pose.position'
+    #[arg(long)]
+    pub field: Option<String>,
+    /// Output all elements for arrays, bytes, and string with a length > '--truncate-length', by
+    /// default they are truncated after '--truncate-length' elements with '...''
+    #[arg(short = 'f', long)]
+    pub full_length: bool,
+    /// The length to truncate arrays, bytes, and string to (default: 128)
+    #[arg(short = 'l', long, default_value_t = DEFAULT_TRUNCATE_LENGTH)]
+    pub truncate_length: usize,
+    /// Don't print array fields of messages
+    #[arg(long)]
+    pub no_arr: bool,
+    /// Don't print string fields of messages
+    #[arg(long)]
+    pub no_str: bool,
+    /// Print collections in the block style (not available with csv format)
+    #[arg(long)]
+    pub flow_style: bool,
+    /// Don't report when a message is lost
+    #[arg(long)]
+    pub no_lost_messages: bool,
+    /// Echo the raw binary representation
+    #[arg(long)]
+    pub raw: bool,
+    /// Python expression to filter messages that are printed. Expression can use Python
+    /// builtins as well as m (the message). Here a subset of Python: paths from m
+    /// (m.a.b, m.data[0]), len(…), numbers, 'strings', True/False, == != < <= > >=, and, or,
+    /// not, parentheses.
+    #[arg(long = "filter", value_name = "FILTER_EXPR")]
+    pub filter_expr: Option<String>,
+    /// Print the first message received and then exit.
+    #[arg(long)]
+    pub once: bool,
+    /// Set a timeout in seconds for waiting
+    #[arg(long, value_name = "N", value_parser = positive_float)]
+    pub timeout: Option<f64>,
+    /// Shows the associated message info.
+    #[arg(short = 'i', long)]
+    pub include_message_info: bool,
+}
+
+/// rmw's message info of one sample, in rclpy's dict order (`None` where the rmw reports no
+/// number: rmw_fastrtps_cpp has no `reception_sequence_number`).
+struct MessageInfo {
+    source_timestamp: i64,
+    received_timestamp: i64,
+    publication_sequence_number: Option<i64>,
+    reception_sequence_number: Option<i64>,
+}
+
+impl MessageInfo {
+    fn entries(&self) -> [(&'static str, Option<i64>); 4] {
+        [
+            ("source_timestamp", Some(self.source_timestamp)),
+            ("received_timestamp", Some(self.received_timestamp)),
+            (
+                "publication_sequence_number",
+                self.publication_sequence_number,
+            ),
+            ("reception_sequence_number", self.reception_sequence_number),
+        ]
+    }
+
+    /// `yaml.dump(info)`: block style, keys sorted, `None` as `null`.
+    fn yaml(&self) -> String {
+        let mut e = self.entries();
+        e.sort_by_key(|(k, _)| *k);
+        e.iter()
+            .map(|(k, v)| match v {
+                Some(v) => format!("{k}: {v}\n"),
+                None => format!("{k}: null\n"),
+            })
+            .collect()
+    }
+
+    /// Python `str()` of each value, in order (`--csv`).
+    fn csv_values(&self) -> Vec<String> {
+        self.entries()
+            .iter()
+            .map(|(_, v)| v.map_or_else(|| "None".to_owned(), |v| v.to_string()))
+            .collect()
+    }
+
+    /// `print(info)`: the dict's repr.
+    fn py_repr(&self) -> String {
+        let items: Vec<String> = self
+            .entries()
+            .iter()
+            .zip(self.csv_values())
+            .map(|((k, _), v)| format!("'{k}': {v}"))
+            .collect();
+        format!("{{{}}}", items.join(", "))
+    }
+
+    fn json(&self) -> Json {
+        let mut m = Map::new();
+        for (k, v) in self.entries() {
+            m.insert(k.to_owned(), json!(v));
+        }
+        Json::Object(m)
+    }
+}
+
+/// Runs `topic echo`.
+pub fn run(global: &Global, args: &EchoArgs) -> Result<(), CliError> {
+    // echo.py `main`: the field is validated first.
+    let field: Option<Vec<String>> = match &args.field {
+        None => None,
+        Some(f) => {
+            let parts: Vec<String> = f
+                .split('.')
+                .filter(|s| !s.is_empty())
+                .map(str::to_owned)
+                .collect();
+            if parts.is_empty() {
+                return Err(CliError::new(format!("Invalid field value '{f}'")));
+            }
+            Some(parts)
+        }
+    };
+    let filter = args
+        .filter_expr
+        .as_deref()
+        .map(|e| {
+            Filter::parse(e).map_err(|why| {
+                CliError::new(format!(
+                    "Unsupported --filter expression '{e}': {why} (horus-ros evaluates a subset \
+                     of Python: paths from m, len(), literals, comparisons, and/or/not)"
+                ))
+            })
+        })
+        .transpose()?;
+    let options = ConvertOptions {
+        truncate_length: (!args.full_length).then_some(args.truncate_length),
+        no_arr: args.no_arr,
+        no_str: args.no_str,
+    };
+    let deadline = args
+        .timeout
+        .map(|t| Instant::now() + Duration::from_secs_f64(t));
+
+    let session = Session::open(global)?;
+    let topic = expand(&session, &args.topic_name)?;
+    let (qos, notes) = args.qos.choose(&publisher_qos(&session, &topic));
+    for n in notes {
+        println!("{n}");
+    }
+    let type_name = match &args.message_type {
+        Some(t) => normalize_message_type(t)?,
+        None => match graph_type(&session, &args.topic_name, &topic)? {
+            Some(t) => t,
+            None => {
+                println!(
+                    "WARNING: topic [{}] does not appear to be published yet",
+                    args.topic_name
+                );
+                return Err(CliError::new(
+                    "Could not determine the type for the passed topic",
+                ));
+            }
+        },
+    };
+    // `--raw` needs no description: the bytes are printed as they came.
+    let message_type = if args.raw {
+        None
+    } else {
+        Some(resolve_type(&session, &type_name)?)
+    };
+    let hash = match &message_type {
+        Some(t) => t.hash,
+        None => super::subscribe::announced_hash(&session, &topic, &type_name),
+    };
+    let mut reader = subscribe(&session, &topic, &type_name, hash, qos)?;
+
+    let stdout = std::io::stdout();
+    loop {
+        let left = match deadline {
+            Some(d) => match d.checked_duration_since(Instant::now()) {
+                Some(left) => Some(left),
+                None => return Ok(()),
+            },
+            None => None,
+        };
+        reader.wait(left);
+        loop {
+            let sample = match reader.take() {
+                Ok(Some(s)) => s,
+                Ok(None) => break,
+                Err(e) => {
+                    tracing::warn!("dropped a message: {e}");
+                    continue;
+                }
+            };
+            let info = MessageInfo {
+                source_timestamp: 0,
+                received_timestamp: now_ns(),
+                publication_sequence_number: (sample.id.sequence_number
+                    != SampleId::UNKNOWN_SEQUENCE_NUMBER)
+                    .then_some(sample.id.sequence_number),
+                reception_sequence_number: None,
+            };
+            let text = match &message_type {
+                None => {
+                    let mut bytes = vec![0, if sample.big_endian { 0 } else { 1 }, 0, 0];
+                    bytes.extend_from_slice(&sample.body);
+                    if let Some(f) = &field {
+                        return Err(CliError::new(format!(
+                            "Invalid field '{}': 'bytes' object has no attribute '{}'",
+                            f.join("."),
+                            f[0]
+                        )));
+                    }
+                    if filter.is_some() {
+                        return Err(CliError::new("--filter is not supported with --raw here"));
+                    }
+                    raw_text(global, args, &info, &bytes)
+                }
+                Some(t) => {
+                    let value =
+                        match cdr::decode(&t.schema, &t.name, &sample.body, sample.big_endian) {
+                            Ok(v) => v,
+                            Err(e) => {
+                                tracing::warn!("could not decode a message: {e}");
+                                continue;
+                            }
+                        };
+                    let part = match &field {
+                        None => Part::Message(&t.name, &value),
+                        Some(f) => select(&t.schema, &t.name, &value, f).map_err(|e| {
+                            CliError::new(format!("Invalid field '{}': {e}", f.join(".")))
+                        })?,
+                    };
+                    if let Some(filter) = &filter {
+                        match filter.matches(&t.schema, part) {
+                            Ok(true) => {}
+                            Ok(false) => continue,
+                            Err(e) => {
+                                return Err(CliError::new(format!(
+                                    "The --filter expression failed: {e}"
+                                )))
+                            }
+                        }
+                    }
+                    message_text(
+                        global,
+                        args,
+                        options,
+                        t,
+                        &value,
+                        field.as_deref(),
+                        part,
+                        &info,
+                    )
+                }
+            };
+            let mut out = stdout.lock();
+            if writeln!(out, "{text}").and_then(|()| out.flush()).is_err() {
+                // stdout closed (e.g. `| head`): nothing more to do.
+                return Ok(());
+            }
+            if args.once {
+                return Ok(());
+            }
+        }
+    }
+}
+
+/// What `--raw` prints for one message (without the final newline).
+fn raw_text(global: &Global, args: &EchoArgs, info: &MessageInfo, bytes: &[u8]) -> String {
+    if global.json {
+        let hex: String = bytes.iter().map(|b| format!("{b:02x}")).collect();
+        let mut j = json!({ "raw": hex });
+        if args.include_message_info {
+            j["message_info"] = info.json();
+        }
+        return serde_json::to_string(&j).unwrap_or_default();
+    }
+    let mut t = String::new();
+    if args.include_message_info {
+        t.push_str("---Got new message, message info:---\n");
+        t.push_str(&info.py_repr());
+        t.push_str("\n---Message data:---\n");
+    }
+    t.push_str(&py_bytes(bytes));
+    t.push_str("\n---");
+    t
+}
+
+/// What echo prints for one decoded message (without the final newline).
+#[allow(clippy::too_many_arguments)]
+fn message_text(
+    global: &Global,
+    args: &EchoArgs,
+    options: ConvertOptions,
+    t: &MessageType,
+    value: &Value,
+    field: Option<&[String]>,
+    part: Part<'_>,
+    info: &MessageInfo,
+) -> String {
+    if global.json {
+        let mut j = to_json(&t.schema, &t.name, value);
+        for name in field.unwrap_or_default() {
+            j = j.get(name).cloned().unwrap_or(Json::Null);
+        }
+        if args.include_message_info {
+            j = json!({ "message_info": info.json(), "message": j });
+        }
+        return serde_json::to_string(&j).unwrap_or_default();
+    }
+    let (type_name, v) = match part {
+        Part::Message(n, v) => (n, v),
+        other => {
+            // Not a message: `print(submsg, end='\n---\n')`.
+            let mut s = String::new();
+            if args.include_message_info {
+                s.push_str("---Got new message, message info:---\n");
+                s.push_str(&info.py_repr());
+                s.push_str("\n---Message data:---\n");
+            }
+            s.push_str(&py_str_of(&t.schema, other));
+            s.push_str("\n---");
+            return s;
+        }
+    };
+    if args.csv {
+        let csv = to_csv(&t.schema, type_name, v, options);
+        if args.include_message_info {
+            return format!("{},{csv}", info.csv_values().join(","));
+        }
+        return csv;
+    }
+    let mut s = String::new();
+    if args.include_message_info {
+        s.push_str(&info.yaml());
+        s.push_str("---\n");
+    }
+    let d: PyValue = to_ordereddict(&t.schema, type_name, v, options);
+    s.push_str(&dump(&d, args.flow_style));
+    s.push_str("---");
+    s
+}
+
+/// array.array typecode of a numeric element.
+fn typecode(e: &Elem) -> char {
+    match e {
+        Elem::Int { bits: 8, signed } => {
+            if *signed {
+                'b'
+            } else {
+                'B'
+            }
+        }
+        Elem::Int { bits: 16, signed } => {
+            if *signed {
+                'h'
+            } else {
+                'H'
+            }
+        }
+        Elem::Int { bits: 32, signed } => {
+            if *signed {
+                'i'
+            } else {
+                'I'
+            }
+        }
+        Elem::Int { signed, .. } => {
+            if *signed {
+                'q'
+            } else {
+                'Q'
+            }
+        }
+        Elem::F32 => 'f',
+        _ => 'd',
+    }
+}
+
+/// Python `repr` of one element as rclpy stores it.
+fn elem_repr(schema: &Schema, e: &Elem, v: &Value) -> String {
+    match (e, v) {
+        (Elem::Nested(n), v) => repr(schema, n, v),
+        (_, Value::Bool(b)) => (if *b { "True" } else { "False" }).to_owned(),
+        (_, Value::Int(i)) => i.to_string(),
+        (_, Value::Float(f)) => py_float(*f),
+        (_, Value::Str(s)) => py_str(s),
+        (_, Value::Byte(b)) => py_bytes(&[*b]),
+        (_, other) => format!("{other:?}"),
+    }
+}
+
+/// Python `str()` of a part that is not a message, as rclpy holds it: scalars as Python
+/// prints them, numeric sequences as `array.array`, numeric fixed arrays as numpy prints
+/// 1-D arrays (`[1 2 3]`; floats as Python writes them), other lists as Python lists.
+fn py_str_of(schema: &Schema, part: Part<'_>) -> String {
+    match part {
+        Part::Message(n, v) => repr(schema, n, v),
+        Part::Elem(e, v) => match v {
+            Value::Str(s) => s.clone(),
+            v => elem_repr(schema, e, v),
+        },
+        Part::Field(ty, v) => match (ty.container, v) {
+            (_, Value::List(items)) if numeric(&ty.elem) => {
+                let words: Vec<String> = items
+                    .iter()
+                    .map(|i| elem_repr(schema, &ty.elem, i))
+                    .collect();
+                if matches!(ty.container, Container::Array(_)) {
+                    format!("[{}]", words.join(" "))
+                } else if items.is_empty() {
+                    format!("array('{}')", typecode(&ty.elem))
+                } else {
+                    format!("array('{}', [{}])", typecode(&ty.elem), words.join(", "))
+                }
+            }
+            (_, Value::List(items)) => {
+                let words: Vec<String> = items
+                    .iter()
+                    .map(|i| elem_repr(schema, &ty.elem, i))
+                    .collect();
+                format!("[{}]", words.join(", "))
+            }
+            (_, Value::Str(s)) => s.clone(),
+            (_, v) => elem_repr(schema, &ty.elem, v),
+        },
+    }
+}
