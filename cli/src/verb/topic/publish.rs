@@ -343,11 +343,11 @@ impl Stamps {
                         map.remove(&key);
                     }
                 }
-                (Container::Single, Yaml::String(v)) if nested == TIME && v == "now" => {
-                    if is_time(schema) {
-                        self.0.push(path.clone());
-                        map.remove(&key);
-                    }
+                (Container::Single, Yaml::String(v))
+                    if nested == TIME && v == "now" && is_time(schema) =>
+                {
+                    self.0.push(path.clone());
+                    map.remove(&key);
                 }
                 (Container::Single, value @ Yaml::Hash(_)) => {
                     self.walk(schema, nested, value, path);
