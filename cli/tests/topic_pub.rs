@@ -163,6 +163,23 @@ fn pub_once_sends_a_string_to_an_rclpy_subscriber() {
         without_waiting(&run.stdout, 1).0,
         pub_output(&[(1, &got[0].0)])
     );
+
+    // --json: one line per message, the waiting line on stderr.
+    let run = run_pub(
+        domain,
+        &[
+            "--json",
+            "-1",
+            "/chatter",
+            "std_msgs/msg/String",
+            "{data: j}",
+        ],
+        None,
+    );
+    assert_eq!(run.code, Some(0), "{run:?}");
+    assert_eq!(received(&mut peer, 1)[0].1, json!({"data": "j"}));
+    let line: Value = serde_json::from_str(&run.stdout).expect("one JSON line");
+    assert_eq!(line, json!({"count": 1, "message": {"data": "j"}}));
 }
 
 #[test]

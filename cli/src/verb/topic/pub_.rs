@@ -14,6 +14,9 @@
 //! type's DDS name and RIHS01 hash, from the CLI's hidden node (`_horus_ros_<pid>`, as ros2cli's
 //! `_ros2cli_<pid>`) or the node `--node-name` names.
 //!
+//! With `--json`, each message printed is one line `{"count": N, "message": {fields}}` instead
+//! (docs/cli-json.md), and the waiting line goes to stderr.
+//!
 //! One difference from ros2cli: the values are checked against the type before waiting for
 //! subscriptions, so a wrong value fails at once.
 
@@ -27,9 +30,11 @@ use horus_ros_rmw::raw::{RawEndpointSpec, RawWriter};
 use yaml_rust2::{Yaml, YamlLoader};
 
 use super::publish::{normalize_type, MessageType, QosArgs, Stamps};
+use crate::dynamic::json::to_json;
 use crate::dynamic::{cdr, repr, yaml, Value};
 use crate::session::Session;
 use crate::{CliError, Global};
+use serde_json::json;
 
 /// ros2cli's `DEFAULT_WAIT_TIME`: how often the subscription count is checked.
 const WAIT_STEP: Duration = Duration::from_millis(100);
@@ -170,11 +175,13 @@ pub fn run(global: &Global, args: &PubArgs) -> Result<(), CliError> {
         topic: topic.as_str(),
         stop: &stop,
     };
-    if !publisher.wait_for_subscriptions(wait_for, args.max_wait_time_secs)? {
+    if !publisher.wait_for_subscriptions(wait_for, args.max_wait_time_secs, global.json)? {
         return Err(interrupted());
     }
 
-    println!("publisher: beginning loop");
+    if !global.json {
+        println!("publisher: beginning loop");
+    }
     let period = Duration::from_secs_f64(1.0 / args.rate);
     let keep_alive = Duration::from_secs_f64(args.keep_alive);
     let mut count: u64 = 0;
@@ -183,10 +190,18 @@ pub fn run(global: &Global, args: &PubArgs) -> Result<(), CliError> {
             stamps.apply(message, SystemTime::now());
         }
         if args.print_nth != 0 && i128::from(count) % i128::from(args.print_nth) == 0 {
-            println!(
-                "publishing #{count}: {}\n",
-                repr::repr(&message_type.schema, &message_type.name, message)
-            );
+            if global.json {
+                let line = json!({
+                    "count": count,
+                    "message": to_json(&message_type.schema, &message_type.name, message),
+                });
+                println!("{line}");
+            } else {
+                println!(
+                    "publishing #{count}: {}\n",
+                    repr::repr(&message_type.schema, &message_type.name, message)
+                );
+            }
         }
         let body = cdr::encode(&message_type.schema, &message_type.name, message)
             .map_err(|e| CliError::new(format!("Cannot encode the message: {e}")))?;
@@ -311,13 +326,24 @@ impl Publisher<'_> {
 
     /// pub.py's wait: the count checked every 100 ms, a line printed every second, ros2cli's
     /// error (its spelling kept) once `max_wait` has passed. `Ok(false)` when interrupted.
-    fn wait_for_subscriptions(&self, wanted: u64, max_wait: Option<f64>) -> Result<bool, CliError> {
+    /// With `json`, the waiting line goes to stderr, leaving stdout to the JSON lines.
+    fn wait_for_subscriptions(
+        &self,
+        wanted: u64,
+        max_wait: Option<f64>,
+        json: bool,
+    ) -> Result<bool, CliError> {
         let wanted_count = usize::try_from(wanted).unwrap_or(usize::MAX);
         let mut since_last_log = 0;
         let mut waited = 0.0;
         while self.subscription_count() < wanted_count {
             if since_last_log == 0 {
-                println!("Waiting for at least {wanted} matching subscription(s)...");
+                let line = format!("Waiting for at least {wanted} matching subscription(s)...");
+                if json {
+                    eprintln!("{line}");
+                } else {
+                    println!("{line}");
+                }
             }
             if let Some(max) = max_wait {
                 if max <= waited {
