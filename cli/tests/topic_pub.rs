@@ -53,13 +53,23 @@ fn jazzy_prefix() -> PathBuf {
 /// `horus-ros --domain-id <domain> topic pub <args…>`, started (not awaited), with
 /// `AMENT_PREFIX_PATH` set to the Jazzy install, `stdin` written to its standard input.
 fn start_pub(domain: u32, args: &[&str], stdin: Option<&str>) -> Child {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_horus-ros"))
+    start_pub_with(domain, args, stdin, true)
+}
+
+/// [`start_pub`], without any install when `installed` is false (`AMENT_PREFIX_PATH` unset).
+fn start_pub_with(domain: u32, args: &[&str], stdin: Option<&str>, installed: bool) -> Child {
+    let mut command = Command::new(env!("CARGO_BIN_EXE_horus-ros"));
+    command
         .arg("--domain-id")
         .arg(domain.to_string())
         .args(["topic", "pub"])
         .args(args)
         .env_remove("ROS_DOMAIN_ID")
-        .env("AMENT_PREFIX_PATH", jazzy_prefix())
+        .env_remove("AMENT_PREFIX_PATH");
+    if installed {
+        command.env("AMENT_PREFIX_PATH", jazzy_prefix());
+    }
+    let mut child = command
         .env("RUST_LOG", "error")
         .stdin(Stdio::piped())
         .stdout(Stdio::piped())
@@ -447,5 +457,46 @@ fn type_and_find_read_rclpy_publishers() {
         domain,
         &["--json", "topic", "find", "-c", "std_msgs/msg/String"],
         |v| *v == json!({"count": 1}),
+    );
+}
+
+#[test]
+fn pub_learns_a_type_from_the_subscribers_node() {
+    let domain = 177;
+    let mut peer = subscriber(domain, "nested_listener", "/nested", "test_msgs/msg/Nested");
+    // No install: test_msgs/msg/Nested is neither compiled in nor on AMENT_PREFIX_PATH; the
+    // subscriber's node describes it (~/get_type_description).
+    let run = finish(start_pub_with(
+        domain,
+        &[
+            "-1",
+            "/nested",
+            "test_msgs/msg/Nested",
+            "{basic_types_value: {int32_value: 7}}",
+        ],
+        None,
+        false,
+    ));
+    if std::env::var("HORUS_ROS_BACKEND").as_deref() == Ok("cyclone") {
+        // Cyclone cannot call a Fast DDS node's service (it cannot send
+        // related_sample_identity): the error says so.
+        assert_eq!(run.code, Some(1), "{run:?}");
+        assert!(
+            run.stderr.starts_with(
+                "The passed message type is invalid: 'test_msgs/msg/Nested' is not built into \
+                 horus-ros nor in a package on AMENT_PREFIX_PATH, and the graph does not describe \
+                 it: "
+            ),
+            "{}",
+            run.stderr
+        );
+        return;
+    }
+    assert_eq!(run.code, Some(0), "{run:?}");
+    let got = received(&mut peer, 1);
+    assert_eq!(got[0].1["basic_types_value"]["int32_value"], json!(7));
+    assert_eq!(
+        without_waiting(&run.stdout, 1).0,
+        pub_output(&[(1, &got[0].0)])
     );
 }
