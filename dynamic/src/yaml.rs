@@ -110,8 +110,14 @@ pub fn fill_from_yaml(schema: &Schema, type_name: &str, text: &str) -> Result<Va
     let docs =
         YamlLoader::load_from_str(text).map_err(|source| FillError::Yaml { cause: source })?;
     let doc = docs.into_iter().next().unwrap_or(Yaml::Null);
+    fill_from_doc(schema, type_name, &doc)
+}
+
+/// Fills a message of type `type_name` with a YAML document already parsed (what
+/// [`fill_from_yaml`] does after parsing).
+pub fn fill_from_doc(schema: &Schema, type_name: &str, doc: &Yaml) -> Result<Value, FillError> {
     let mut value = schema.default_value(type_name)?;
-    fill_struct(schema, type_name, &mut value, &doc)?;
+    fill_struct(schema, type_name, &mut value, doc)?;
     Ok(value)
 }
 

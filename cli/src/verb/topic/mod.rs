@@ -3,10 +3,14 @@
 pub mod bw;
 pub mod delay;
 pub mod echo;
+pub mod find;
 pub mod hz;
 pub mod info;
 pub mod list;
+pub mod pub_;
+pub mod publish;
 pub mod subscribe;
+pub mod type_;
 
 use clap::Subcommand;
 
@@ -27,6 +31,13 @@ pub enum TopicCommand {
     Bw(bw::BwArgs),
     /// Display delay of topic from timestamp in header.
     Delay(delay::DelayArgs),
+    /// Publish a message to a topic.
+    #[command(name = "pub")]
+    Pub(Box<pub_::PubArgs>),
+    /// Print a topic's type.
+    Type(type_::TypeArgs),
+    /// Output a list of available topics of a given type.
+    Find(find::FindArgs),
 }
 
 /// Runs a `topic` verb.
@@ -38,5 +49,8 @@ pub fn run(global: &Global, command: TopicCommand) -> Result<(), CliError> {
         TopicCommand::Hz(a) => hz::run(global, &a),
         TopicCommand::Bw(a) => bw::run(global, &a),
         TopicCommand::Delay(a) => delay::run(global, &a),
+        TopicCommand::Pub(a) => pub_::run(global, &a),
+        TopicCommand::Type(a) => type_::run(global, &a),
+        TopicCommand::Find(a) => find::run(global, &a),
     }
 }

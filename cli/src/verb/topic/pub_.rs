@@ -1,0 +1,373 @@
+//! `horus-ros topic pub` (ros2topic jazzy `verb/pub.py`): fills a message from YAML as
+//! rosidl_runtime_py's `set_message_fields` does (with `header: auto` and `stamp: now`), and
+//! publishes it at `--rate`, printing
+//!
+//! ```text
+//! publisher: beginning loop
+//! publishing #1: std_msgs.msg.String(data='hi')
+//!
+//! ```
+//!
+//! The type is what horus-ros has compiled in, else its interface file in a package on
+//! `AMENT_PREFIX_PATH`, else what a node of the graph that publishes or subscribes to it
+//! describes (`~/get_type_description`). The message goes out through a raw writer with the
+//! type's DDS name and RIHS01 hash, from the CLI's hidden node (`_horus_ros_<pid>`, as ros2cli's
+//! `_ros2cli_<pid>`) or the node `--node-name` names.
+//!
+//! With `--json`, each message printed is one line `{"count": N, "message": {fields}}` instead
+//! (docs/cli-json.md), and the waiting line goes to stderr.
+//!
+//! One difference from ros2cli: the values are checked against the type before waiting for
+//! subscriptions, so a wrong value fails at once.
+
+use std::io::Read;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+use std::time::{Duration, Instant, SystemTime};
+
+use horus_ros_rmw::names::TopicName;
+use horus_ros_rmw::raw::{RawEndpointSpec, RawWriter};
+use yaml_rust2::{Yaml, YamlLoader};
+
+use super::publish::{normalize_type, MessageType, QosArgs, Stamps};
+use crate::dynamic::json::to_json;
+use crate::dynamic::{cdr, repr, yaml, Value};
+use crate::session::Session;
+use crate::{CliError, Global};
+use serde_json::json;
+
+/// ros2cli's `DEFAULT_WAIT_TIME`: how often the subscription count is checked.
+const WAIT_STEP: Duration = Duration::from_millis(100);
+
+/// Arguments of `topic pub`.
+#[derive(Debug, clap::Args)]
+pub struct PubArgs {
+    /// Name of the ROS topic to publish to (e.g. '/chatter').
+    pub topic_name: String,
+    /// Type of the ROS message (e.g. 'std_msgs/String').
+    pub message_type: String,
+    /// Values to fill the message with in YAML format (e.g. 'data: Hello World'), otherwise the
+    /// message will be published with default values.
+    #[arg(default_value = "{}", conflicts_with = "stdin")]
+    pub values: String,
+    /// Read values from standard input.
+    #[arg(long)]
+    pub stdin: bool,
+    /// Publishing rate in Hz (default: 1).
+    #[arg(short = 'r', long, value_name = "N", default_value_t = 1.0, value_parser = positive_float)]
+    pub rate: f64,
+    /// Only print every N-th published message (default: 1).
+    #[arg(
+        short = 'p',
+        long = "print",
+        value_name = "N",
+        default_value_t = 1,
+        allow_negative_numbers = true
+    )]
+    pub print_nth: i64,
+    /// Publish one message and exit.
+    #[arg(short = '1', long, conflicts_with = "times")]
+    pub once: bool,
+    /// Publish this number of times and then exit.
+    #[arg(short = 't', long, default_value_t = 0)]
+    pub times: u64,
+    /// Wait until finding the specified number of matching subscriptions. Defaults to 1 when
+    /// using "-1"/"--once"/"--times", otherwise defaults to 0.
+    #[arg(short = 'w', long)]
+    pub wait_matching_subscriptions: Option<u64>,
+    /// This sets the maximum wait time in seconds if --wait-until-matching-subscriptions is
+    /// set. By default, this flag is not set meaning the subscriber will wait endlessly.
+    #[arg(long, value_parser = positive_float)]
+    pub max_wait_time_secs: Option<f64>,
+    /// Keep publishing node alive for N seconds after the last msg (default: 0.1).
+    #[arg(long, value_name = "N", default_value_t = 0.1, value_parser = positive_float)]
+    pub keep_alive: f64,
+    /// Name of the created publishing node.
+    #[arg(short = 'n', long)]
+    pub node_name: Option<String>,
+    #[command(flatten)]
+    pub qos: QosArgs,
+    /// Longest wait for a node's ~/get_type_description answer, for a type neither compiled
+    /// in nor installed, in seconds.
+    #[arg(
+        long,
+        value_name = "SECONDS",
+        default_value_t = 10.0,
+        allow_negative_numbers = true,
+        value_parser = crate::args::seconds
+    )]
+    pub type_timeout: f64,
+}
+
+/// ros2topic's `positive_float`.
+fn positive_float(s: &str) -> Result<f64, String> {
+    let v: f64 = s
+        .trim()
+        .parse()
+        .map_err(|_| "Expects a floating point number".to_owned())?;
+    if v.is_nan() || v <= 0.0 {
+        return Err("Value must be positive".to_owned());
+    }
+    Ok(v)
+}
+
+/// Runs `topic pub`.
+pub fn run(global: &Global, args: &PubArgs) -> Result<(), CliError> {
+    let times = if args.once { 1 } else { args.times };
+    let values = if args.stdin {
+        let mut text = String::new();
+        std::io::stdin()
+            .read_to_string(&mut text)
+            .map_err(|e| CliError::new(format!("Cannot read the values from stdin: {e}")))?;
+        text
+    } else {
+        args.values.clone()
+    };
+    let type_name = normalize_type(&args.message_type)?;
+    let known = MessageType::without_graph(&type_name)?;
+    let mut doc = load_values(&values)?;
+
+    let mut session = match &args.node_name {
+        Some(name) => Session::join_as(global, name)?,
+        None => Session::join(global)?,
+    };
+    session.settle(global);
+    let message_type = match known {
+        Some(t) => t,
+        None => MessageType::from_graph(
+            &session,
+            &type_name,
+            Duration::from_secs_f64(args.type_timeout),
+        )?,
+    };
+    let stamps = Stamps::take(&message_type.schema, &message_type.name, &mut doc);
+    let mut message = yaml::fill_from_doc(&message_type.schema, &message_type.name, &doc)
+        .map_err(|e| CliError::new(format!("Failed to populate field: {e}")))?;
+
+    let topic = TopicName::expand(
+        &args.topic_name,
+        session.node.name(),
+        session.node.namespace(),
+    )
+    .map_err(|e| CliError::new(format!("Invalid topic name '{}': {e}", args.topic_name)))?;
+    let qos = resolve_qos(&session, topic.as_str(), args.qos.qos());
+    let writer = session.node.create_raw_writer(&RawEndpointSpec {
+        dds_topic_name: topic.to_dds_topic_name(qos.avoid_ros_namespace_conventions),
+        dds_type_name: message_type.dds_type_name.clone(),
+        type_hash: message_type.type_hash,
+        qos,
+        service_id: None,
+    })?;
+
+    let wait_for = args
+        .wait_matching_subscriptions
+        .unwrap_or(u64::from(times != 0));
+    if wait_for == 0 && args.max_wait_time_secs.is_some() {
+        return Err(CliError::new(
+            "--max-wait-time-secs option is only effective with \
+             --wait-matching-subscriptions, --once or --times",
+        ));
+    }
+    let stop = interrupt_flag();
+    let publisher = Publisher {
+        session: &session,
+        writer: &writer,
+        topic: topic.as_str(),
+        stop: &stop,
+    };
+    if !publisher.wait_for_subscriptions(wait_for, args.max_wait_time_secs, global.json)? {
+        return Err(interrupted());
+    }
+
+    if !global.json {
+        println!("publisher: beginning loop");
+    }
+    let period = Duration::from_secs_f64(1.0 / args.rate);
+    let keep_alive = Duration::from_secs_f64(args.keep_alive);
+    let mut count: u64 = 0;
+    let publish = |message: &mut Value, count: u64| -> Result<(), CliError> {
+        if !stamps.is_empty() {
+            stamps.apply(message, SystemTime::now());
+        }
+        if args.print_nth != 0 && i128::from(count) % i128::from(args.print_nth) == 0 {
+            if global.json {
+                let line = json!({
+                    "count": count,
+                    "message": to_json(&message_type.schema, &message_type.name, message),
+                });
+                println!("{line}");
+            } else {
+                println!(
+                    "publishing #{count}: {}\n",
+                    repr::repr(&message_type.schema, &message_type.name, message)
+                );
+            }
+        }
+        let body = cdr::encode(&message_type.schema, &message_type.name, message)
+            .map_err(|e| CliError::new(format!("Cannot encode the message: {e}")))?;
+        writer
+            .write(body, None, None)
+            .map_err(|e| CliError::new(format!("Cannot publish on {topic}: {e}")))?;
+        Ok(())
+    };
+    count += 1;
+    publish(&mut message, count)?;
+    if times != 1 {
+        // rclpy's timer: the first tick one period after it is created, then every period,
+        // missed ticks skipped (rcl `rcl_timer_call`).
+        let mut next = Instant::now() + period;
+        while times == 0 || count < times {
+            if !sleep_until(next, &stop) {
+                publisher.linger(keep_alive);
+                return Err(interrupted());
+            }
+            count += 1;
+            publish(&mut message, count)?;
+            let now = Instant::now();
+            next += period;
+            if next <= now {
+                let behind = (now - next).as_nanos() / period.as_nanos().max(1) + 1;
+                next += period * u32::try_from(behind).unwrap_or(u32::MAX);
+            }
+        }
+    }
+    // ros2cli: "give some time for the messages to reach the wire before exiting".
+    publisher.linger(keep_alive);
+    Ok(())
+}
+
+/// The values as ros2cli loads them (`yaml.safe_load`), which must be a mapping.
+fn load_values(values: &str) -> Result<Yaml, CliError> {
+    let docs = YamlLoader::load_from_str(values)
+        .map_err(|e| CliError::new(format!("Failed to parse values as YAML: {e}")))?;
+    match docs.into_iter().next() {
+        Some(doc @ Yaml::Hash(_)) => Ok(doc),
+        _ => Err(CliError::new(
+            "The passed value needs to be a dictionary in YAML format",
+        )),
+    }
+}
+
+/// A profile with best-available policies resolved against the subscriptions the graph lists
+/// on `topic`, as rmw does for a publisher (rmw_dds_common `qos_profile_get_best_available_for_
+/// topic_publisher`); any other profile as it is.
+fn resolve_qos(
+    session: &Session,
+    topic: &str,
+    qos: horus_ros_rmw::qos::Qos,
+) -> horus_ros_rmw::qos::Qos {
+    if !qos.has_best_available_policy() {
+        return qos;
+    }
+    let subscriptions: Vec<_> = session.graph.read(|c| {
+        c.subscriptions_info_by_topic(topic, false)
+            .into_iter()
+            .map(|s| s.qos_profile)
+            .collect()
+    });
+    qos.resolve_best_available_for_publisher(&subscriptions)
+}
+
+/// Set once SIGINT or SIGTERM arrives (the loop then ends quietly, as ros2cli does on
+/// `KeyboardInterrupt`).
+fn interrupt_flag() -> Arc<AtomicBool> {
+    let stop = Arc::new(AtomicBool::new(false));
+    let flag = Arc::clone(&stop);
+    // Without the handler a signal ends the process at once, which is still an end.
+    let _ = ctrlc::set_handler(move || flag.store(true, Ordering::SeqCst));
+    stop
+}
+
+/// ros2cli's exit on an interrupt: status `signal.SIGINT` (2), nothing printed.
+fn interrupted() -> CliError {
+    CliError {
+        message: String::new(),
+        code: 2,
+    }
+}
+
+/// Sleeps until `deadline`, waking early when `stop` is set; returns whether it was not.
+fn sleep_until(deadline: Instant, stop: &AtomicBool) -> bool {
+    const SLICE: Duration = Duration::from_millis(50);
+    loop {
+        if stop.load(Ordering::SeqCst) {
+            return false;
+        }
+        let now = Instant::now();
+        if now >= deadline {
+            return true;
+        }
+        std::thread::sleep((deadline - now).min(SLICE));
+    }
+}
+
+/// The writer on the graph.
+struct Publisher<'a> {
+    session: &'a Session,
+    writer: &'a RawWriter,
+    topic: &'a str,
+    stop: &'a AtomicBool,
+}
+
+impl Publisher<'_> {
+    /// rclpy's `get_subscription_count`: the subscriptions of the topic the writer is matched
+    /// with.
+    fn subscription_count(&self) -> usize {
+        let readers = self
+            .session
+            .graph
+            .read(|c| c.subscriptions_info_by_topic(self.topic, false));
+        let gid = self.writer.gid();
+        readers
+            .iter()
+            .filter(|r| self.session.graph.is_matched(gid, r.endpoint_gid))
+            .count()
+    }
+
+    /// pub.py's wait: the count checked every 100 ms, a line printed every second, ros2cli's
+    /// error (its spelling kept) once `max_wait` has passed. `Ok(false)` when interrupted.
+    /// With `json`, the waiting line goes to stderr, leaving stdout to the JSON lines.
+    fn wait_for_subscriptions(
+        &self,
+        wanted: u64,
+        max_wait: Option<f64>,
+        json: bool,
+    ) -> Result<bool, CliError> {
+        let wanted_count = usize::try_from(wanted).unwrap_or(usize::MAX);
+        let mut since_last_log = 0;
+        let mut waited = 0.0;
+        while self.subscription_count() < wanted_count {
+            if since_last_log == 0 {
+                let line = format!("Waiting for at least {wanted} matching subscription(s)...");
+                if json {
+                    eprintln!("{line}");
+                } else {
+                    println!("{line}");
+                }
+            }
+            if let Some(max) = max_wait {
+                if max <= waited {
+                    return Err(CliError::new(format!(
+                        "Timed out waiting for subscribers: Expected {wanted} subcribers but \
+                         only got {} subscribers",
+                        self.subscription_count()
+                    )));
+                }
+            }
+            since_last_log = (since_last_log + 1) % 10;
+            if !sleep_until(Instant::now() + WAIT_STEP, self.stop) {
+                return Ok(false);
+            }
+            waited += WAIT_STEP.as_secs_f64();
+        }
+        Ok(true)
+    }
+
+    /// ros2cli's `time.sleep(keep_alive)` after the last message; the matched reliable readers'
+    /// acknowledgments are awaited within that time.
+    fn linger(&self, keep_alive: Duration) {
+        let end = Instant::now() + keep_alive;
+        self.writer.wait_for_acknowledgments(keep_alive);
+        sleep_until(end, self.stop);
+    }
+}
