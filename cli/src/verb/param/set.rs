@@ -16,6 +16,7 @@ pub struct SetArgs {
     /// Name of the parameter.
     pub parameter_name: String,
     /// Value of the parameter.
+    #[arg(allow_negative_numbers = true)]
     pub value: String,
 }
 
