@@ -263,7 +263,8 @@ fn dump_then_load_gives_the_parameters_back() {
     // float, then types `str([1.5, -2.0, 1e-05])` again, where PyYAML takes `1e-05` (no dot)
     // for a string: a mixed list, hence a string value, refused for a double array.
     assert!(
-        load.stderr.contains("Set parameter doubles failed: Wrong parameter type"),
+        load.stderr
+            .contains("Set parameter doubles failed: Wrong parameter type"),
         "{}",
         load.stderr
     );
@@ -330,4 +331,91 @@ fn json_documents() {
     assert_eq!(set["successful"], false);
     let described = json(&["describe", NODE, "count"]);
     assert_eq!(described[0]["integer_range"][0]["step"], 5);
+}
+
+/// A horus-ros node of the test process serving its parameters (`NodeServices`), on whichever
+/// backend HORUS_ROS_BACKEND names: the verbs against our own nodes (and on Cyclone DDS, which
+/// cannot call the Fast DDS rclpy peer).
+#[test]
+fn verbs_against_a_horus_ros_node() {
+    use horus_ros_msgs::rcl_interfaces::msg::{IntegerRange, ParameterDescriptor, ParameterValue};
+    use horus_ros_services::{NodeServices, ParameterValueExt};
+
+    let context = horus_ros_rmw::Context::builder()
+        .domain_id(168)
+        .build()
+        .expect("context");
+    let node = context.create_node("horus_params", "/").expect("node");
+    let services = NodeServices::start(&node).expect("node services");
+    let declare = |name: &str, value: ParameterValue, descriptor: ParameterDescriptor| {
+        services
+            .declare_parameter(name, value, descriptor)
+            .expect("declare");
+    };
+    declare(
+        "speed",
+        ParameterValue::from_integer(4),
+        ParameterDescriptor {
+            integer_range: vec![IntegerRange {
+                from_value: 0,
+                to_value: 10,
+                step: 2,
+            }],
+            ..Default::default()
+        },
+    );
+    declare(
+        "mode",
+        ParameterValue::from_string("auto"),
+        Default::default(),
+    );
+    declare(
+        "gains",
+        ParameterValue::from_double_array(vec![0.5, 1.5]),
+        Default::default(),
+    );
+    declare("a.b", ParameterValue::from_bool(true), Default::default());
+    let n = "/horus_params";
+    let run = param(168, &["list", n]);
+    assert_eq!(
+        run.stdout,
+        "  a.b\n  gains\n  mode\n  speed\n  start_type_description_service\n  use_sim_time\n",
+        "{}",
+        run.stderr
+    );
+    let run = param(168, &["set", n, "speed", "5"]);
+    assert_eq!(
+        (run.stdout.as_str(), run.stderr.as_str()),
+        (
+            "",
+            "Setting parameter failed: Parameter {speed} doesn't comply with integer range.\n"
+        )
+    );
+    let run = param(168, &["set", n, "speed", "6"]);
+    assert_eq!(run.stdout, "Set parameter successful\n", "{}", run.stderr);
+    assert_eq!(
+        param(168, &["get", n, "speed"]).stdout,
+        "Integer value is: 6\n"
+    );
+    let dump = param(168, &["dump", n]).stdout;
+    assert_eq!(
+        dump,
+        "/horus_params:\n  ros__parameters:\n    a:\n      b: true\n    gains:\n    - 0.5\n    \
+         - 1.5\n    mode: auto\n    speed: 6\n    start_type_description_service: true\n    \
+         use_sim_time: false\n\n"
+    );
+    let file = temp_file("horus_params.yaml", &dump);
+    let run = param(168, &["set", n, "mode", "manual"]);
+    assert_eq!(run.stdout, "Set parameter successful\n", "{}", run.stderr);
+    let run = param(168, &["load", n, &file]);
+    assert!(
+        run.stdout.contains("Set parameter mode successful\n"),
+        "{run:?}"
+    );
+    assert_eq!(param(168, &["dump", n]).stdout, dump);
+    let run = param(168, &["delete", n, "mode"]);
+    assert!(
+        run.stderr.starts_with("Deleting parameter failed"),
+        "{run:?}"
+    );
 }
