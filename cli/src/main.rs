@@ -182,6 +182,9 @@ enum Command {
     /// Inspect topics.
     #[command(subcommand)]
     Topic(verb::topic::TopicCommand),
+    /// Get, set, list, describe, dump, load and delete a node's parameters.
+    #[command(subcommand)]
+    Param(verb::param::ParamCommand),
     /// Inspect the interfaces (message, service, action types) installed, compiled in, or
     /// used by a running node.
     #[command(subcommand)]
@@ -252,6 +255,7 @@ fn main() -> ExitCode {
         Command::Service(c) => verb::service::run(&cli.global, c),
         Command::Node(c) => verb::node::run(&cli.global, c),
         Command::Topic(c) => verb::topic::run(&cli.global, c),
+        Command::Param(c) => verb::param::run(&cli.global, c),
         Command::Interface(c) => verb::interface::run(&cli.global, c),
         Command::Graph(args) => verb::graph::run(&cli.global, &args),
         Command::Daemon(c) => verb::daemon::run(&cli.global, c),

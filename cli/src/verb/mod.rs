@@ -7,5 +7,6 @@ pub mod graph;
 pub mod interface;
 pub mod names;
 pub mod node;
+pub mod param;
 pub mod service;
 pub mod topic;
