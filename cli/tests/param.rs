@@ -11,7 +11,7 @@
 mod common;
 
 use std::process::{Command, Stdio};
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use common::{cli_peer_script, horus, python, Peer, Run, PEER_START};
 use serde_json::Value;
@@ -53,18 +53,14 @@ fn reference(domain: u32, args: &[&str]) -> Run {
     }
 }
 
-/// Runs `horus-ros param <args>` until it finds the node (discovery may still be settling).
+/// Runs `horus-ros param <args>` against the rclpy peer. The peer runs on Fast DDS, whose
+/// service convention only the rustdds backend speaks (a Cyclone DDS context is refused by
+/// Fast DDS servers, as rmw_cyclonedds is: `verbs_against_a_horus_ros_node` covers Cyclone),
+/// so these comparisons run the CLI on rustdds whatever HORUS_ROS_BACKEND says.
 fn param(domain: u32, args: &[&str]) -> Run {
-    let mut all = vec!["param"];
+    let mut all = vec!["--backend", "rustdds", "param"];
     all.extend_from_slice(args);
-    let deadline = Instant::now() + Duration::from_secs(10);
-    loop {
-        let run = horus(domain, &all);
-        if !run.stderr.contains("Node not found") || Instant::now() >= deadline {
-            return run;
-        }
-        std::thread::sleep(Duration::from_millis(200));
-    }
+    horus(domain, &all)
 }
 
 /// Asserts `horus-ros param <args>` prints what ros2param prints (stdout and stderr, and the
