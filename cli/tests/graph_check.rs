@@ -1,10 +1,10 @@
 //! `horus-ros graph check`, run as the binary against live graphs where each finding is
 //! provoked: our own nodes (in this process, on the backend HORUS_ROS_BACKEND names, or on
-//! Cyclone DDS where the finding needs it), a real rclpy node on Fast DDS
-//! (`tests/peers/jazzy_set_bool.py`) and a bare Cyclone DDS participant
-//! (`tests/peers/bare_participant.py`).
+//! Cyclone DDS where the finding needs it), real rclpy nodes on Fast DDS
+//! (`tests/peers/jazzy_set_bool.py`, `tests/peers/jazzy_qos_endpoint.py`) and a bare Cyclone
+//! DDS participant (`tests/peers/bare_participant.py`).
 //!
-//! Every test joins its own domain (171-179), so they run in parallel; run them inside the
+//! Every test joins its own domain (171-178), so they run in parallel; run them inside the
 //! private network namespace (`scripts/isolated cargo test …`).
 
 mod common;
@@ -380,4 +380,52 @@ fn a_clean_graph_exits_zero() {
     let doc: Value = serde_json::from_str(&run.stdout).expect("JSON");
     assert_eq!(doc["findings"], Value::Array(Vec::new()), "{doc}");
     assert_eq!(doc["domain_id"], DOMAIN);
+}
+
+#[test]
+fn an_rclpy_best_effort_volatile_publisher_with_a_reliable_transient_local_subscription() {
+    const DOMAIN: u32 = 178;
+    // A real rclpy publisher on Fast DDS: BEST_EFFORT, VOLATILE.
+    let talker = Peer::start_path(
+        &common::cli_peer_script("jazzy_qos_endpoint.py"),
+        &[
+            &DOMAIN.to_string(),
+            "rclpy_talker",
+            "/rclpy_qos/chatter",
+            "pub",
+            "best_effort",
+            "volatile",
+            common::LINGER,
+        ],
+        Duration::from_secs(20),
+    );
+    assert_eq!(talker.field("/node"), "/rclpy_talker");
+    // Our subscription: RELIABLE, TRANSIENT_LOCAL.
+    let ctx = context(DOMAIN);
+    let node = ctx.create_node("listener", "/rclpy_qos").expect("node");
+    let subscription = node
+        .create_subscription::<horus_ros_msgs::std_msgs::msg::String>(
+            "chatter",
+            &Qos::default().reliable().transient_local(),
+        )
+        .expect("subscription");
+    let finding = expect_finding(DOMAIN, "qos_incompatible", "/rclpy_qos/chatter");
+    assert_eq!(
+        why(&finding),
+        [
+            "Best effort publisher and reliable subscription",
+            "Volatile publisher and transient local subscription"
+        ],
+        "{finding:#}"
+    );
+    assert_eq!(
+        finding["fix"],
+        "make the subscription BEST_EFFORT or the publisher RELIABLE; make the subscription \
+         VOLATILE or the publisher TRANSIENT_LOCAL"
+    );
+    let endpoints = finding["endpoints"].as_array().expect("endpoints");
+    assert_eq!(endpoints[0]["node"], "/rclpy_talker", "{finding:#}");
+    assert_eq!(endpoints[0]["vendor"], "Fast DDS", "{finding:#}");
+    assert_eq!(endpoints[0]["qos"]["reliability"], "BEST_EFFORT");
+    assert_eq!(endpoints[1]["gid"], subscription.gid().to_string());
 }

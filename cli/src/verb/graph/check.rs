@@ -926,7 +926,7 @@ fn endpoint_json(e: &Endpoint) -> Value {
         "vendor": e.vendor.map(|v| vendor_text(Some(v))),
         "node": e.node_name(),
         "role": e.role.map(|r| r.json_kind()),
-        "part": e.role.and_then(|r| r.part()),
+        "part": e.role.and_then(|r| r.part()).map(|p| p.replace(' ', "_")),
         "name": e.ros_name,
         "dds_topic": e.dds_topic,
         "type": e.type_name,
