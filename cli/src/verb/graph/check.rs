@@ -13,8 +13,8 @@
 //!   the two request/reply conventions that cannot talk to each other
 //!   ([`WireFlavour::for_vendor`]: an rmw_cyclonedds participant and an rmw_fastrtps one,
 //!   ros2/rmw_cyclonedds#184);
-//! - `duplicate_node_name`: one fully qualified node name announced more than once (rcl warns
-//!   of it: `rcl/src/rcl/node.c`, "Publisher already registered for provided node name");
+//! - `duplicate_node_name`: one fully qualified node name announced more than once (`ros2 node
+//!   list` warns of it: ros2node `verb/list.py`);
 //! - `participant_without_nodes`: a participant with endpoints whose `ros_discovery_info`
 //!   announces no node (a bare DDS application, or a ROS participant whose announcement never
 //!   reached us), and a ROS participant that never announced its nodes;
@@ -303,6 +303,8 @@ enum Detail {
     Type,
     /// Nothing more.
     None,
+    /// In text, one line a participant (its count of endpoints) instead of one an endpoint.
+    PerParticipant,
 }
 
 /// One finding: what, where, why, and what to change.
@@ -676,11 +678,7 @@ fn duplicate_node_names(input: &Input, all: bool, findings: &mut Vec<Finding>) {
             .filter(|(_, e)| e.node_name().as_deref() == Some(name.as_str()))
             .map(|(i, _)| i)
             .collect();
-        let distinct: BTreeSet<&Gid> = participants.iter().collect();
-        let with_endpoints: BTreeSet<Gid> = endpoints
-            .iter()
-            .map(|&i| input.endpoints[i].participant)
-            .collect();
+        let distinct: BTreeSet<Gid> = participants.iter().copied().collect();
         findings.push(Finding {
             kind: Kind::DuplicateNodeName,
             subject: name.clone(),
@@ -691,21 +689,18 @@ fn duplicate_node_names(input: &Input, all: bool, findings: &mut Vec<Finding>) {
                 plural(distinct.len(), "participant")
             ),
             why: vec![
-                "rcl warns of it (\"Publisher already registered for provided node name\"): the \
-                 nodes share one logger, `ros2 node info` and `ros2 param` reach only one of them"
+                "nodes are addressed by name: their parameter and type description services \
+                 share one name (a call reaches both servers), `ros2 node info` and `ros2 param` \
+                 cannot tell which is meant, and their /rosout logs carry the same name"
                     .to_owned(),
             ],
             endpoints,
-            participants: distinct
-                .into_iter()
-                .filter(|p| !with_endpoints.contains(p))
-                .copied()
-                .collect(),
+            participants: distinct.into_iter().collect(),
             fix: format!(
                 "give each node its own name, e.g. `--ros-args -r __node:=<new name>` or another \
                  namespace (`-r __ns:=/<namespace>`) for all but one {name}"
             ),
-            detail: Detail::None,
+            detail: Detail::PerParticipant,
         });
     }
 }
@@ -847,9 +842,18 @@ fn endpoint_line(e: &Endpoint, detail: Detail) -> String {
             };
             line.push_str(&format!("\n        type {} hash {hash}", e.type_name));
         }
-        Detail::None => {}
+        Detail::None | Detail::PerParticipant => {}
     }
     line
+}
+
+/// The vendor of participant `gid`, if known.
+fn participant_vendor(input: &Input, gid: Gid) -> Option<VendorId> {
+    input
+        .participants
+        .iter()
+        .find(|p| p.gid == gid)
+        .and_then(|p| p.vendor)
 }
 
 /// The text output: one block a finding, then the summary line.
@@ -857,17 +861,31 @@ fn render(input: &Input, findings: &[Finding], all: bool) -> String {
     let mut out = String::new();
     for (n, f) in findings.iter().enumerate() {
         out.push_str(&format!("[{}] {}: {}\n", n + 1, f.kind.json(), f.summary));
-        for &i in &f.endpoints {
-            out.push_str(&endpoint_line(&input.endpoints[i], f.detail));
-            out.push('\n');
-        }
-        for p in &f.participants {
-            let vendor = input
-                .participants
-                .iter()
-                .find(|q| q.gid == *p)
-                .and_then(|q| q.vendor);
-            out.push_str(&format!("    - participant {p}  {}\n", vendor_text(vendor)));
+        if f.detail == Detail::PerParticipant {
+            for p in &f.participants {
+                let n = f
+                    .endpoints
+                    .iter()
+                    .filter(|&&i| input.endpoints[i].participant == *p)
+                    .count();
+                out.push_str(&format!(
+                    "    - {} in participant {p}  {}  {}\n",
+                    f.subject,
+                    vendor_text(participant_vendor(input, *p)),
+                    plural(n, "endpoint")
+                ));
+            }
+        } else {
+            for &i in &f.endpoints {
+                out.push_str(&endpoint_line(&input.endpoints[i], f.detail));
+                out.push('\n');
+            }
+            for p in &f.participants {
+                out.push_str(&format!(
+                    "    - participant {p}  {}\n",
+                    vendor_text(participant_vendor(input, *p))
+                ));
+            }
         }
         for why in &f.why {
             out.push_str(&format!("    why: {why}\n"));
@@ -946,7 +964,7 @@ fn to_json(input: &Input, findings: &[Finding], domain_id: u16) -> Value {
                 "summary": f.summary,
                 "endpoints": f.endpoints.iter().map(|&i| endpoint_json(&input.endpoints[i])).collect::<Vec<_>>(),
                 "participants": f.participants.iter().map(|p| {
-                    let vendor = input.participants.iter().find(|q| q.gid == *p).and_then(|q| q.vendor);
+                    let vendor = participant_vendor(input, *p);
                     json!({"gid": p.to_string(), "vendor": vendor.map(|v| vendor_text(Some(v)))})
                 }).collect::<Vec<_>>(),
                 "why": f.why,
@@ -1200,6 +1218,7 @@ mod tests {
         );
         assert_eq!(findings[0].subject, "/twin");
         assert_eq!(findings[0].endpoints, [3]);
+        assert_eq!(findings[0].participants.len(), 2);
         assert_eq!(findings[1].endpoints, [4]);
         assert_eq!(findings[2].participants.len(), 1);
         assert_eq!(findings[3].subject, "/nobody");
