@@ -244,6 +244,11 @@ fn qos_document(qos: &Qos) -> QosJson {
     }
 }
 
+/// A QoS object, as the endpoint documents show it.
+pub fn qos_json(qos: &Qos) -> Value {
+    to_json(qos_document(qos))
+}
+
 fn type_hash_text(hash: &TypeHash) -> Option<String> {
     hash.is_set().then(|| hash.to_string())
 }

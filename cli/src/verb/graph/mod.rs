@@ -1,8 +1,10 @@
 //! `horus-ros graph`: the whole graph in one document, or (`--watch`) a live, timestamped diff
-//! of the nodes and endpoints appearing and vanishing. Formats: `docs/cli-json.md`.
+//! of the nodes and endpoints appearing and vanishing; `graph check`: what makes the graph fail
+//! silently. Formats: `docs/cli-json.md`.
 //!
-//! [`document`] builds the one-shot document, [`watch`] the live diff.
+//! [`document`] builds the one-shot document, [`watch`] the live diff, [`check`] the findings.
 
+mod check;
 mod document;
 mod watch;
 
@@ -27,7 +29,11 @@ timestamped line per change, until Ctrl+C (or SIGTERM), exit status 0:
   2026-11-22T01:23:45.679Z + publisher /ns/chatter [std_msgs/msg/String] gid 01.0f.…
   2026-11-22T01:23:47.012Z - service server /add_two_ints [example_interfaces/srv/AddTwoInts] request reader gid 01.0f.…
 With --json, one JSON object per line instead.")]
+#[command(args_conflicts_with_subcommands = true)]
 pub struct GraphArgs {
+    /// `graph check`.
+    #[command(subcommand)]
+    pub command: Option<GraphCommand>,
     /// Print a live, timestamped diff of nodes and endpoints appearing and vanishing until Ctrl+C.
     #[arg(long)]
     pub watch: bool,
@@ -36,8 +42,20 @@ pub struct GraphArgs {
     pub all: bool,
 }
 
+/// The subcommands of `graph`.
+#[derive(Debug, clap::Subcommand)]
+pub enum GraphCommand {
+    /// Find what makes the graph fail silently (QoS and type mismatches, service conventions
+    /// that cannot talk, duplicate node names, endpoints of no node, clients with no server);
+    /// exit status 1 when anything is found.
+    Check(check::CheckArgs),
+}
+
 /// Runs `graph`.
 pub fn run(global: &Global, args: &GraphArgs) -> Result<(), CliError> {
+    if let Some(GraphCommand::Check(check_args)) = &args.command {
+        return check::run(global, check_args);
+    }
     if args.watch {
         return watch(global, args);
     }
