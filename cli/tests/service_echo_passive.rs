@@ -243,7 +243,7 @@ fn passive_echo_pairs_an_rclpy_services_calls_without_introspection() {
         }
     }
     println!(
-        "clients counted by rclpy while the echo ran: {:?}",
+        "servers/clients counted by rclpy while the echo ran: {:?}",
         during
             .iter()
             .map(|r| r["clients"].clone())

@@ -540,7 +540,7 @@ impl Printer<'_> {
             return false;
         }
         self.printed += 1;
-        !self.options.count.is_some_and(|n| self.printed >= n)
+        self.options.count.is_none_or(|n| self.printed < n)
     }
 
     fn yaml(&self, r: &Record<'_>) -> PyValue {
