@@ -159,6 +159,16 @@ impl Registration {
         Self { node, side, gid }
     }
 
+    /// Records `endpoint` as `node`'s without listing it under any node in
+    /// `ros_discovery_info` (see [`Node::create_raw_reader_unlisted`]); dropping it withdraws
+    /// it from the context's own feed.
+    pub(crate) fn unlisted(node: &Node, side: EndpointSide, endpoint: DiscoveredEndpoint) -> Self {
+        let node = Arc::clone(node.inner());
+        let gid = endpoint.gid;
+        node.context.inner().add_unlisted_endpoint(endpoint);
+        Self { node, side, gid }
+    }
+
     /// The endpoint's GID.
     pub(crate) fn gid(&self) -> Gid {
         self.gid

@@ -1,7 +1,8 @@
 //! Raw endpoints: readers and writers of pre-serialized CDR bodies with sample identities, for the
 //! services layer (request/reply correlation) and anything that encodes its own payloads.
 //!
-//! Each endpoint is listed under its node in `ros_discovery_info` like any other; a reader can be
+//! Each endpoint is listed under its node in `ros_discovery_info` like any other (a reader made
+//! with [`Node::create_raw_reader_unlisted`] under none); a reader can be
 //! waited on without polling. Which endpoints are matched is reported by the discovery feed
 //! ([`DiscoveryEvent::Matched`](crate::DiscoveryEvent::Matched)): rustdds' per-endpoint status
 //! channels hold only 4 events and drop the rest.
@@ -109,6 +110,22 @@ fn dds_error<'a>(
 impl Node {
     /// Creates a raw writer on an already-mangled DDS topic.
     pub fn create_raw_writer(&self, spec: &RawEndpointSpec) -> Result<RawWriter, EndpointError> {
+        self.raw_writer(spec, true)
+    }
+
+    /// Creates a raw writer that no node lists in `ros_discovery_info`, as
+    /// [`create_raw_reader_unlisted`](Self::create_raw_reader_unlisted) does a reader: e.g. the
+    /// reply writer, never written, that balances a passive echo's request reader (rmw_fastrtps
+    /// clients take a service for available only while they see as many request readers as
+    /// reply writers). DDS discovery still announces it.
+    pub fn create_raw_writer_unlisted(
+        &self,
+        spec: &RawEndpointSpec,
+    ) -> Result<RawWriter, EndpointError> {
+        self.raw_writer(spec, false)
+    }
+
+    fn raw_writer(&self, spec: &RawEndpointSpec, listed: bool) -> Result<RawWriter, EndpointError> {
         let dds_qos =
             spec.qos
                 .to_dds(EndpointKind::Writer)
@@ -122,11 +139,12 @@ impl Node {
             .participant
             .create_writer(spec, &dds_qos)
             .map_err(dds_error("writer", spec))?;
-        let registration = Registration::new(
-            self,
-            EndpointSide::Writer,
-            describe(self, spec, gid, EndpointKind::Writer),
-        );
+        let endpoint = describe(self, spec, gid, EndpointKind::Writer);
+        let registration = if listed {
+            Registration::new(self, EndpointSide::Writer, endpoint)
+        } else {
+            Registration::unlisted(self, EndpointSide::Writer, endpoint)
+        };
         Ok(RawWriter {
             registration,
             topic: spec.dds_topic_name.clone(),
@@ -137,6 +155,24 @@ impl Node {
     /// Creates a raw reader on an already-mangled DDS topic.
     pub fn create_raw_reader(&self, spec: &RawEndpointSpec) -> Result<RawReader, EndpointError> {
         self.raw_reader(spec, None)
+    }
+
+    /// Creates a raw reader that no node lists in `ros_discovery_info`: an observer, such as
+    /// a passive service echo's readers on a service's `rq/…Request` and `rr/…Reply` topics,
+    /// that node-based views (`ros2 node info`, a node's clients and servers, the pairing of a
+    /// node's request and reply endpoints into servers and clients) must not show as the
+    /// node's.
+    ///
+    /// DDS discovery (SEDP) still announces the reader — no DDS reader is matched otherwise —
+    /// so graphs still see it as a reader of no node (rmw_dds_common names its node
+    /// `_NODE_NAME_UNKNOWN_`), and counts by topic alone include it: rmw_fastrtps and
+    /// rmw_cyclonedds `rmw_count_clients` count every reader on `rr/<service>Reply`.
+    /// This context's own discovery feed reports it as well, with no node.
+    pub fn create_raw_reader_unlisted(
+        &self,
+        spec: &RawEndpointSpec,
+    ) -> Result<RawReader, EndpointError> {
+        self.raw_reader_listed(spec, None, false)
     }
 
     /// Creates the reply reader of a service client that writes rmw_cyclonedds' request
@@ -159,6 +195,15 @@ impl Node {
         spec: &RawEndpointSpec,
         responses_of: Option<u64>,
     ) -> Result<RawReader, EndpointError> {
+        self.raw_reader_listed(spec, responses_of, true)
+    }
+
+    fn raw_reader_listed(
+        &self,
+        spec: &RawEndpointSpec,
+        responses_of: Option<u64>,
+        listed: bool,
+    ) -> Result<RawReader, EndpointError> {
         let dds_qos =
             spec.qos
                 .to_dds(EndpointKind::Reader)
@@ -173,11 +218,12 @@ impl Node {
             .create_reader(spec, &dds_qos, responses_of)
             .map_err(dds_error("reader", spec))?;
         let waker = RawReaderWaker(reader.waker());
-        let registration = Registration::new(
-            self,
-            EndpointSide::Reader,
-            describe(self, spec, gid, EndpointKind::Reader),
-        );
+        let endpoint = describe(self, spec, gid, EndpointKind::Reader);
+        let registration = if listed {
+            Registration::new(self, EndpointSide::Reader, endpoint)
+        } else {
+            Registration::unlisted(self, EndpointSide::Reader, endpoint)
+        };
         Ok(RawReader {
             registration,
             topic: spec.dds_topic_name.clone(),

@@ -5,7 +5,7 @@ mod common;
 use std::time::{Duration, Instant};
 
 use common::{await_matches, spec};
-use horus_ros_rmw::{Context, DdsError, SampleError, SampleId};
+use horus_ros_rmw::{Context, DdsError, DiscoveryEvent, SampleError, SampleId};
 
 const DOMAIN: u32 = 38;
 
@@ -79,5 +79,62 @@ fn raw_samples_carry_identity_and_related_identity() {
             assert_eq!(sample.id.sequence_number, SampleId::UNKNOWN_SEQUENCE_NUMBER);
         }
         assert_eq!(got[0].related, None);
+    }
+}
+
+#[test]
+fn an_unlisted_reader_is_discovered_and_matched_but_listed_under_no_node() {
+    let context = Context::builder()
+        .domain_id(DOMAIN + 1)
+        .build()
+        .expect("context");
+    let mut feed = context.discovery_feed().expect("feed");
+    let node = context.create_node("observer", "/").expect("node");
+    let writer = node
+        .create_raw_writer(&spec("rq/observedRequest"))
+        .expect("writer");
+    let mut reader = node
+        .create_raw_reader_unlisted(&spec("rq/observedRequest"))
+        .expect("unlisted reader");
+    let mut discovered = false;
+    let mut listings = Vec::new();
+    let mut matched = std::collections::HashSet::new();
+    let deadline = Instant::now() + common::LIMIT;
+    while !(discovered && matched.len() == 2 && !listings.is_empty()) {
+        let left = deadline.saturating_duration_since(Instant::now());
+        assert!(!left.is_zero(), "not discovered and matched in time");
+        match feed.next_timeout(left) {
+            Some(DiscoveryEvent::EndpointDiscovered(e)) if e.gid == reader.gid() => {
+                discovered = true;
+            }
+            Some(DiscoveryEvent::ParticipantEntities(m)) => listings.push(m),
+            Some(DiscoveryEvent::Matched { local, remote }) => {
+                matched.insert((local, remote));
+            }
+            _ => {}
+        }
+    }
+    // Every ros_discovery_info message lists the writer at most, never the reader.
+    let last = listings.last().expect("a listing");
+    let ours = last
+        .node_entities_info_seq
+        .iter()
+        .find(|n| n.node_name == "observer")
+        .expect("the node is listed");
+    assert_eq!(ours.writer_gid_seq, vec![writer.gid()]);
+    for m in &listings {
+        for n in &m.node_entities_info_seq {
+            assert!(!n.reader_gid_seq.contains(&reader.gid()), "{m:?}");
+        }
+    }
+    writer.write(vec![1, 0, 0, 0], None, None).expect("write");
+    let deadline = Instant::now() + common::LIMIT;
+    loop {
+        if let Some(s) = reader.take().expect("take") {
+            assert_eq!(s.body, vec![1, 0, 0, 0]);
+            break;
+        }
+        assert!(Instant::now() < deadline, "the sample did not arrive");
+        reader.wait(Duration::from_millis(100));
     }
 }

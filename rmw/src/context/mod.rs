@@ -451,6 +451,14 @@ impl ContextInner {
         }
     }
 
+    /// Records a new endpoint that no node lists: reported to this context's own feed (so
+    /// its graph sees what peers see through SEDP), never put in `ros_discovery_info`.
+    pub(crate) fn add_unlisted_endpoint(&self, endpoint: DiscoveredEndpoint) {
+        let mut local = self.local();
+        local.endpoints.insert(endpoint.gid, endpoint.clone());
+        local.report(DiscoveryEvent::EndpointDiscovered(endpoint));
+    }
+
     /// Withdraws an endpoint from its node and announces it.
     pub(crate) fn remove_endpoint(&self, key: NodeKey, side: EndpointSide, gid: Gid) {
         let mut local = self.local();

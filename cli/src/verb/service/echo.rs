@@ -13,6 +13,11 @@
 //! Types compiled into horus-ros-msgs are described from their definitions; any other type by
 //! its server's node through `~/get_type_description` (see `service call`), and its `_Event`
 //! message is derived from the request and response as rosidl does.
+//!
+//! `--passive` (our own, [`passive`]) reads the service's request and reply topics instead, and
+//! needs no introspection.
+
+mod passive;
 
 use std::io::Write;
 use std::sync::Arc;
@@ -69,6 +74,24 @@ pub struct EchoArgs {
     /// Print collections in the block style (not available with csv format).
     #[arg(long)]
     pub flow_style: bool,
+    /// Read the service's request and reply topics instead of its event topic: print requests
+    /// and replies, paired, with the time between them, whether or not introspection is on
+    /// (no server or client is created).
+    #[arg(long)]
+    pub passive: bool,
+    /// With --passive: how long a request waits for its reply before it is printed unpaired,
+    /// in seconds.
+    #[arg(
+        long,
+        default_value_t = 10.0,
+        value_name = "SECS",
+        requires = "passive"
+    )]
+    pub reply_timeout: f64,
+    /// With --passive: how many requests (and replies) wait to be paired at most; beyond that
+    /// the oldest is dropped and counted.
+    #[arg(long, default_value_t = 1024, value_name = "N", requires = "passive")]
+    pub max_outstanding: usize,
     /// Exit after this many events (for tests).
     #[arg(long, hide = true, value_name = "N")]
     pub count: Option<u64>,
@@ -108,6 +131,39 @@ pub fn run(global: &Global, args: &EchoArgs) -> Result<(), CliError> {
         Some(t) => t,
         None => type_from_graph(&session, &args.service_name, &service)?,
     };
+    let options = ConvertOptions {
+        truncate_length: (!args.full_length).then_some(args.truncate_length),
+        no_arr: args.no_arr,
+        no_str: args.no_str,
+    };
+    if args.passive {
+        if args.csv {
+            return Err(CliError::new("--csv is not available with --passive"));
+        }
+        let reply_timeout = Duration::try_from_secs_f64(args.reply_timeout)
+            .ok()
+            .filter(|d| !d.is_zero())
+            .ok_or_else(|| {
+                CliError::new(format!(
+                    "--reply-timeout must be a positive number of seconds, not {}",
+                    args.reply_timeout
+                ))
+            })?;
+        let info = service_type_info(&session, &service, &service_type)?;
+        return passive::run(
+            &session,
+            &service,
+            &info,
+            passive::PassiveOptions {
+                json: global.json,
+                flow_style: args.flow_style,
+                convert: options,
+                reply_timeout,
+                max_outstanding: args.max_outstanding,
+                count: args.count,
+            },
+        );
+    }
     let event = event_type(&session, &service, &service_type)?;
 
     // ros2cli appends the postfix to the name as given.
@@ -125,11 +181,6 @@ pub fn run(global: &Global, args: &EchoArgs) -> Result<(), CliError> {
     };
     let mut reader = session.node.create_raw_reader(&spec)?;
 
-    let options = ConvertOptions {
-        truncate_length: (!args.full_length).then_some(args.truncate_length),
-        no_arr: args.no_arr,
-        no_str: args.no_str,
-    };
     let stdout = std::io::stdout();
     // Until the warning is printed, the graph wakes the reader when the event topic has no
     // publishers left; watching from before the first check, so no change falls in between.
@@ -247,15 +298,13 @@ fn type_from_graph(
     }
 }
 
-/// The `_Event` message of `service_type`: compiled in, else derived from the request and
-/// response its server's node describes.
-fn event_type(
+/// `service_type`: compiled in, else as its server's node describes it.
+fn service_type_info(
     session: &Session,
     service: &ServiceName,
     service_type: &str,
-) -> Result<EventType, CliError> {
-    let name = format!("{service_type}{EVENT_SUFFIX}");
-    let info = match ServiceType::compiled(service_type) {
+) -> Result<ServiceType, CliError> {
+    match ServiceType::compiled(service_type) {
         Some(info) => Ok(info),
         None => describe::fetch(
             &session.node,
@@ -269,7 +318,18 @@ fn event_type(
         CliError::new(format!(
             "Could not load the type for the passed service: {e}"
         ))
-    })?;
+    })
+}
+
+/// The `_Event` message of `service_type`: compiled in, else derived from the request and
+/// response its server's node describes.
+fn event_type(
+    session: &Session,
+    service: &ServiceName,
+    service_type: &str,
+) -> Result<EventType, CliError> {
+    let name = format!("{service_type}{EVENT_SUFFIX}");
+    let info = service_type_info(session, service, service_type)?;
     let description = service_event_description(
         service_type,
         info.request_description(),

@@ -25,7 +25,8 @@ pub enum ServiceCommand {
     Info(info::InfoArgs),
     /// Call a service.
     Call(call::CallArgs),
-    /// Echo a service: print the events of servers and clients with introspection on.
+    /// Echo a service: print the events of servers and clients with introspection on (with
+    /// --passive: its requests and replies, paired, without introspection).
     Echo(echo::EchoArgs),
     /// Measure a live server: round trip p50/p99/max and calls/s, with one or more clients.
     Bench(bench::BenchArgs),
