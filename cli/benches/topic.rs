@@ -30,7 +30,9 @@
 //!    1 / rate each (ros2topic's rate is 1 / mean interval over the window), which stays below
 //!    the default window of 10000 at the default settings.
 //!
-//! `HORUS_ROS_BENCH_TOPIC_ONLY=echo|hz|image` runs one part. Joins DDS domains (180 to 182, and
+//! Cyclone DDS runs with `CYCLONEDDS_URI`, else loopback with a 4 MB socket receive buffer (see
+//! [`CYCLONE_CONFIG`]: without it no image arrives). `HORUS_ROS_BENCH_TOPIC_ONLY=echo|hz|image`
+//! runs one part. Joins DDS domains (180 to 182, and
 //! 190 to 192 for the second backend), so it must run inside the private network namespace:
 //!
 //! ```text
@@ -60,7 +62,7 @@ use horus_ros_rmw::{Backend, Context, Node, BACKEND_ENV};
 
 mod common;
 
-use common::{env_number, interfaces_up, ms, CYCLONE_LOOPBACK};
+use common::{env_number, interfaces_up, ms};
 
 /// The first domain of the first backend; the next backend's are 10 higher.
 const DOMAIN: u32 = 180;
@@ -73,8 +75,20 @@ const IMAGE_WIDTH: u32 = 1920;
 const IMAGE_HEIGHT: u32 = 1080;
 /// How long the rclpy peer, a helper or the CLI may take to start on a loaded machine.
 const START_LIMIT: Duration = Duration::from_secs(60);
+/// How long a subscriber may take to its first message (plain) or first report (hz).
+const FIRST_LIMIT: Duration = Duration::from_secs(20);
 /// How long one `topic echo --once` may take.
 const ECHO_LIMIT: Duration = Duration::from_secs(30);
+
+/// The Cyclone DDS configuration used when `CYCLONEDDS_URI` is unset: the benches' loopback one
+/// (common::CYCLONE_LOOPBACK) with a 4 MB socket receive buffer. With Cyclone's default buffer
+/// no 6.2 MB image reaches a best-effort (`sensor_data`) reader on loopback, the plain
+/// subscriber's nor `topic hz`'s (nothing in 20 s, measured here): the burst of a sample's
+/// fragments overflows it, and best effort repairs nothing.
+const CYCLONE_CONFIG: &str = "<CycloneDDS><Domain Id=\"any\"><General><Interfaces>\
+    <NetworkInterface name=\"lo\" multicast=\"true\"/></Interfaces>\
+    <AllowMulticast>true</AllowMulticast></General><Internal>\
+    <SocketReceiveBufferSize min=\"4MB\"/></Internal></Domain></CycloneDDS>";
 
 /// Set in the environment of the bench's own child processes: `publish`, `first` or `count`.
 const ROLE_ENV: &str = "HORUS_ROS_BENCH_TOPIC_ROLE";
@@ -567,8 +581,8 @@ fn plain_count(
     let spawned = Instant::now();
     let mut p = Piped::spawn(helper("count", backend, domain, topic, kind, 0.0))
         .map_err(|e| format!("could not start the plain subscriber: {e}"))?;
-    if p.line_where(START_LIMIT, |l| l == "first").is_none() {
-        return Err("the plain subscriber received nothing".to_owned());
+    if p.line_where(FIRST_LIMIT, |l| l == "first").is_none() {
+        return Err(format!("received nothing in {} s", FIRST_LIMIT.as_secs()));
     }
     let started = spawned.elapsed();
     let pub_pid = publisher.p.pid();
@@ -659,7 +673,8 @@ fn hz_run(
         let window: u64 = stats.rsplit("window: ").next()?.trim().parse().ok()?;
         Some(Report { at, rate, window })
     };
-    let first = next_report(&p, START_LIMIT).ok_or("topic hz reported nothing")?;
+    let first = next_report(&p, FIRST_LIMIT)
+        .ok_or_else(|| format!("reported nothing in {} s", FIRST_LIMIT.as_secs()))?;
     let started = spawned.elapsed();
     let m1 = CpuMark::of(p.pid());
     let deadline = Instant::now() + secs;
@@ -701,11 +716,12 @@ fn hz_run(
     })
 }
 
-/// What part 2 measured for one topic.
+/// What part 2 measured for one topic (each subscriber's figures, or why there are none).
 struct HzFigures {
-    plain: Measured,
-    hz: Measured,
-    publisher_cpu: f64,
+    plain: Result<Measured, String>,
+    hz: Result<Measured, String>,
+    /// The publisher's CPU % of a core while the plain subscriber counted.
+    publisher_cpu: Option<f64>,
     skipped: Option<u64>,
 }
 
@@ -718,8 +734,14 @@ fn hz_part(
 ) -> Result<HzFigures, String> {
     let secs = Duration::from_secs(env_number("HORUS_ROS_BENCH_HZ_SECS", 8));
     let mut publisher = PublisherChild::start(backend, domain, topic, kind, rate)?;
-    let (plain, publisher_cpu) = plain_count(backend, domain, topic, kind, secs, &mut publisher)?;
-    let hz = hz_run(backend, domain, topic, secs, plain.latency, &mut publisher)?;
+    let (plain, publisher_cpu) =
+        match plain_count(backend, domain, topic, kind, secs, &mut publisher) {
+            Ok((m, cpu)) => (Ok(m), Some(cpu)),
+            Err(e) => (Err(e), None),
+        };
+    // Without the plain subscriber's latency, hz's span is taken as is.
+    let latency = plain.as_ref().map_or(0, |m| m.latency);
+    let hz = hz_run(backend, domain, topic, secs, latency, &mut publisher);
     let skipped = publisher.stop();
     Ok(HzFigures {
         plain,
@@ -752,21 +774,28 @@ fn print_hz(title: &str, f: &HzFigures) {
             m.started.as_secs_f64(),
         );
     };
-    line("plain subscriber", &f.plain);
-    line("topic hz", &f.hz);
+    for (name, m) in [("plain subscriber", &f.plain), ("topic hz", &f.hz)] {
+        match m {
+            Ok(m) => line(name, m),
+            Err(e) => println!("    {name:<16} not measured: {e}"),
+        }
+    }
+    let (Ok(plain), Ok(hz)) = (&f.plain, &f.hz) else {
+        return;
+    };
     println!(
         "    topic hz / plain subscriber: rate ratio {}, cpu {}; publisher's own cpu {:.1} % of a \
          core, deadlines missed {}; latency {:.2} ms",
         ratio(
-            f.hz.rate / f.hz.published.rate,
-            f.plain.rate / f.plain.published.rate
+            hz.rate / hz.published.rate,
+            plain.rate / plain.published.rate
         ),
-        ratio(f.hz.cpu, f.plain.cpu),
-        f.publisher_cpu,
+        ratio(hz.cpu, plain.cpu),
+        f.publisher_cpu.unwrap_or(0.0),
         f.skipped.map_or("?".to_owned(), |s| s.to_string()),
-        f.plain.latency as f64 * 1e-6,
+        plain.latency as f64 * 1e-6,
     );
-    let reports: Vec<String> = f.hz.reports.iter().map(|r| format!("{r:.3}")).collect();
+    let reports: Vec<String> = hz.reports.iter().map(|r| format!("{r:.3}")).collect();
     println!("    topic hz reports: {}", reports.join(" "));
 }
 
@@ -1039,7 +1068,7 @@ fn main() -> ExitCode {
         return ExitCode::from(2);
     }
     if std::env::var_os("CYCLONEDDS_URI").is_none() {
-        std::env::set_var("CYCLONEDDS_URI", CYCLONE_LOOPBACK);
+        std::env::set_var("CYCLONEDDS_URI", CYCLONE_CONFIG);
     }
     // Daemons started by the bench become this process's children: reaped, killed by pid.
     if let Err(e) = nix::sys::prctl::set_child_subreaper(true) {
@@ -1116,7 +1145,10 @@ fn main() -> ExitCode {
                 continue;
             }
             match hz_part(backend, domain + 1 + j as u32, topic, kind, rate) {
-                Ok(f) => print_hz(&title, &f),
+                Ok(f) => {
+                    failed |= f.plain.is_err() || f.hz.is_err();
+                    print_hz(&title, &f);
+                }
                 Err(e) => {
                     println!("  {title}: not measured: {e}");
                     failed = true;
