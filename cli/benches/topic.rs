@@ -19,7 +19,7 @@
 //!    absolute deadlines; it keeps the publish time of every message. Its own achieved rate over
 //!    the span measured is the baseline of the rates. For each: first a plain subscriber program
 //!    on our rmw (raw samples, never decoded, `sensor_data` QoS, as hz subscribes) for
-//!    `HORUS_ROS_BENCH_HZ_SECS` (default 8), then `horus-ros topic hz` for as long. Printed: the
+//!    `HORUS_ROS_BENCH_HZ_SECS` (default 6), then `horus-ros topic hz` for as long. Printed: the
 //!    publisher's rate over the span each one measured (its first to last message received), each
 //!    one's rate and its ratio to the publisher's, messages counted against those published in
 //!    that span, and the CPU time of each process (utime + stime from `/proc/<pid>/stat`, in
@@ -40,9 +40,9 @@
 //! scripts/isolated cargo bench -p horus-ros-cli --bench topic
 //! ```
 //!
-//! Needs the test venv's rclpy (`HORUS_ROS_INTEROP_PYTHON`, else `target/interop-venv`) for part
-//! 1. Every daemon it starts is stopped, and killed by its pid if it does not stop (the bench
-//! reaps orphans, so the daemons are its children).
+//! Part 1 needs the test venv's rclpy (`HORUS_ROS_INTEROP_PYTHON`, else `target/interop-venv`).
+//! Every daemon it starts is stopped, and killed by its pid if it does not stop (the bench reaps
+//! orphans, so the daemons are its children).
 
 use std::io::{BufRead, BufReader, Write};
 use std::path::PathBuf;
@@ -732,7 +732,7 @@ fn hz_part(
     kind: &str,
     rate: f64,
 ) -> Result<HzFigures, String> {
-    let secs = Duration::from_secs(env_number("HORUS_ROS_BENCH_HZ_SECS", 8));
+    let secs = Duration::from_secs(env_number("HORUS_ROS_BENCH_HZ_SECS", 6));
     let mut publisher = PublisherChild::start(backend, domain, topic, kind, rate)?;
     let (plain, publisher_cpu) =
         match plain_count(backend, domain, topic, kind, secs, &mut publisher) {
