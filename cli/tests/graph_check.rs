@@ -9,7 +9,7 @@
 
 mod common;
 
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use common::Peer;
 use horus_ros_msgs::builtin_interfaces::msg::Time;
@@ -20,8 +20,6 @@ use horus_ros_rmw::{Backend, Context, RawEndpointSpec};
 use horus_ros_services::prelude::*;
 use serde_json::Value;
 
-/// The longest wait for a finding to show.
-const WAIT: Duration = Duration::from_secs(25);
 /// `--spin-time` given to the CLI (it stops earlier once the graph is complete and quiet).
 const SPIN_TIME: &str = "2";
 
@@ -49,37 +47,45 @@ fn check(domain: u32, args: &[&str]) -> common::Run {
     common::horus(domain, &all)
 }
 
-/// Runs `graph check --json` until a finding of `kind` about `subject` shows (at most
-/// [`WAIT`]); asserts exit status 1 and returns the finding.
-fn expect_finding(domain: u32, kind: &str, subject: &str) -> Value {
-    let deadline = Instant::now() + WAIT;
-    loop {
-        let run = check(domain, &["--json"]);
-        let doc: Value = serde_json::from_str(&run.stdout)
-            .unwrap_or_else(|e| panic!("graph check --json printed invalid JSON ({e}): {run:?}"));
-        let found = doc["findings"]
-            .as_array()
-            .unwrap_or_else(|| panic!("no findings list: {doc}"))
-            .iter()
-            .find(|f| f["kind"] == kind && f["subject"] == subject)
-            .cloned();
-        if let Some(finding) = found {
-            assert_eq!(run.code, Some(1), "exit status with findings: {run:?}");
-            for key in ["summary", "fix"] {
-                assert!(
-                    finding[key].as_str().is_some_and(|s| !s.is_empty()),
-                    "{key}: {finding}"
-                );
-            }
-            return finding;
-        }
+/// Runs `graph check --json` once (it answers on the settled graph: every endpoint discovered
+/// and listed by its node) and returns its document and run; asserts exit status 1.
+fn findings(domain: u32) -> (Value, common::Run) {
+    let run = check(domain, &["--json"]);
+    let doc: Value = serde_json::from_str(&run.stdout)
+        .unwrap_or_else(|e| panic!("graph check --json printed invalid JSON ({e}): {run:?}"));
+    assert_eq!(run.code, Some(1), "exit status with findings: {run:?}");
+    (doc, run)
+}
+
+/// The finding of `kind` about `subject` in a `graph check --json` document (asserted there,
+/// with its summary and fix).
+fn finding_in(doc: &Value, run: &common::Run, kind: &str, subject: &str) -> Value {
+    let finding = doc["findings"]
+        .as_array()
+        .unwrap_or_else(|| panic!("no findings list: {doc}"))
+        .iter()
+        .find(|f| f["kind"] == kind && f["subject"] == subject)
+        .cloned()
+        .unwrap_or_else(|| {
+            panic!(
+                "no {kind} finding about {subject}: {doc:#}\nstderr: {}",
+                run.stderr
+            )
+        });
+    for key in ["summary", "fix"] {
         assert!(
-            Instant::now() < deadline,
-            "no {kind} finding about {subject} within {WAIT:?}: {doc:#}\nstderr: {}",
-            run.stderr
+            finding[key].as_str().is_some_and(|s| !s.is_empty()),
+            "{key}: {finding}"
         );
-        std::thread::sleep(Duration::from_millis(200));
     }
+    finding
+}
+
+/// Runs `graph check --json` once; asserts exit status 1 and a finding of `kind` about
+/// `subject`, and returns it.
+fn expect_finding(domain: u32, kind: &str, subject: &str) -> Value {
+    let (doc, run) = findings(domain);
+    finding_in(&doc, &run, kind, subject)
 }
 
 /// The GIDs of a finding's endpoints.
@@ -153,8 +159,9 @@ fn qos_incompatibilities_are_found_with_the_change_to_make() {
         publishers.push(publisher);
         subscriptions.push(subscription);
     }
+    let (doc, run) = findings(DOMAIN);
     for ((topic, _, _, reason, fix), (publisher, subscription)) in cases.iter().zip(&keep) {
-        let finding = expect_finding(DOMAIN, "qos_incompatible", &format!("/qos/{topic}"));
+        let finding = finding_in(&doc, &run, "qos_incompatible", &format!("/qos/{topic}"));
         assert_eq!(why(&finding), [*reason], "{finding:#}");
         assert_eq!(finding["fix"], *fix, "{finding:#}");
         assert_eq!(

@@ -14,7 +14,7 @@ use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
 use common::{cli_peer_script, Peer};
-use serde_json::Value;
+use serde_json::{json, Value};
 
 const WAIT: Duration = Duration::from_secs(20);
 /// rclpy takes a second or two to start.
@@ -58,6 +58,25 @@ impl Echo {
         Self { child, lines }
     }
 
+    /// The lines up to the end of the next record (`---`).
+    fn record(&mut self) -> String {
+        let deadline = Instant::now() + WAIT;
+        let mut out = String::new();
+        loop {
+            let left = deadline.saturating_duration_since(Instant::now());
+            match self.lines.recv_timeout(left) {
+                Ok(line) => {
+                    out.push_str(&line);
+                    out.push('\n');
+                    if line == "---" {
+                        return out;
+                    }
+                }
+                Err(e) => panic!("no record from service echo --passive ({e}):\n{out}"),
+            }
+        }
+    }
+
     /// Everything up to the end of output (the process exits after `--count` records).
     fn rest(&mut self) -> String {
         let deadline = Instant::now() + WAIT;
@@ -92,7 +111,8 @@ fn rclpy_pair(domain: u32, service: &str) -> Peer {
     Peer::start_path(&cli_peer_script("jazzy_set_bool.py"), &args, RCLPY_START)
 }
 
-/// An rclpy node reporting its graph API's view of `service` every 0.1 s.
+/// An rclpy node reporting its graph API's view of `service`: at start, each time its graph
+/// changes, and on request ([`reports_until_now`]).
 fn rclpy_watch(domain: u32, service: &str) -> Peer {
     let d = domain.to_string();
     let args = [d.as_str(), "watcher", service, "60"];
@@ -103,25 +123,44 @@ fn rclpy_watch(domain: u32, service: &str) -> Peer {
     )
 }
 
-/// The watcher's next report.
-fn report(watch: &mut Peer) -> Value {
-    let line = watch.lines(1, WAIT).remove(0);
-    serde_json::from_str(&line).unwrap_or_else(|e| panic!("watcher printed {line:?}: {e}"))
+/// The watcher's next report, if one comes by `deadline`.
+fn report_by(watch: &mut Peer, deadline: Instant) -> Option<Value> {
+    let line = watch.line_by(deadline)?;
+    Some(serde_json::from_str(&line).unwrap_or_else(|e| panic!("watcher printed {line:?}: {e}")))
 }
 
-/// Waits until the watcher sees one server and one client of the rclpy node; returns that
-/// report.
+/// Waits until the watcher sees the rclpy node's server and client of `/flip` (its reports come
+/// as rclpy's graph changes, at most [`WAIT`]); returns that report.
 fn settled(watch: &mut Peer) -> Value {
     let deadline = Instant::now() + WAIT;
+    let mut last = Value::Null;
     loop {
-        let r = report(watch);
-        if r["services"] == 1 && r["clients"] == 1 && r["by_node"].get("/flipper").is_some() {
+        let Some(r) = report_by(watch, deadline) else {
+            panic!("the rclpy pair was not seen within {WAIT:?}; last report: {last}");
+        };
+        let pair = json!({"servers": ["/flip"], "clients": ["/flip"]});
+        if r["services"] == 1 && r["clients"] == 1 && r["by_node"]["/flipper"] == pair {
             return r;
         }
-        assert!(
-            Instant::now() < deadline,
-            "the rclpy pair was not seen: {r}"
-        );
+        last = r;
+    }
+}
+
+/// Asks the watcher for a report now (tagged `request`) and returns every report it printed
+/// since the last one read, up to that answer: the view after each graph change meanwhile, and
+/// the view now.
+fn reports_until_now(watch: &mut Peer, request: &str) -> Vec<Value> {
+    watch.send(request);
+    let deadline = Instant::now() + WAIT;
+    let mut got = Vec::new();
+    loop {
+        let r = report_by(watch, deadline)
+            .unwrap_or_else(|| panic!("the watcher did not answer {request:?} within {WAIT:?}"));
+        let answer = r["request"] == request;
+        got.push(r);
+        if answer {
+            return got;
+        }
     }
 }
 
@@ -149,13 +188,13 @@ fn passive_echo_pairs_an_rclpy_services_calls_without_introspection() {
         &[],
         &["/flip", "--count", "6", "--reply-timeout", "1"],
     );
-    // What rclpy sees while the echo runs (it runs for a second or more: six calls at 5/s).
-    let mut during = Vec::new();
-    let started = Instant::now();
-    while started.elapsed() < Duration::from_millis(1500) {
-        during.push(report(&mut watch));
-    }
-    let out = echo.rest();
+    // What rclpy sees while the echo runs (it runs for a second or more: six calls at 5/s): its
+    // view once the first record is printed (the echo's endpoints are up), and after each graph
+    // change until the echo has ended.
+    let mut out = echo.record();
+    let mut during = reports_until_now(&mut watch, "echo running");
+    out.push_str(&echo.rest());
+    during.extend(reports_until_now(&mut watch, "echo ended"));
     let recs = records(&out);
     assert_eq!(recs.len(), 6, "six records:\n{out}");
 

@@ -11,7 +11,8 @@ mod common;
 use std::io::Write;
 use std::path::PathBuf;
 use std::process::{Child, Command, Stdio};
-use std::time::Duration;
+use std::sync::mpsc;
+use std::time::{Duration, Instant};
 
 use common::{cli_peer_script, expect, expect_json, horus, Peer, Run};
 use serde_json::{json, Value};
@@ -86,14 +87,86 @@ fn start_pub_with(domain: u32, args: &[&str], stdin: Option<&str>, installed: bo
 
 /// Waits for a started `topic pub` to end.
 fn finish(mut child: Child) -> Run {
+    finish_child(&mut child)
+}
+
+/// [`finish`], the child borrowed (what was taken of its output is not in the run).
+fn finish_child(child: &mut Child) -> Run {
     let pid = child.id();
-    let out = horus_ros_test_support::wait_with_output(&mut child, common::RUN_LIMIT)
+    let out = horus_ros_test_support::wait_with_output(child, common::RUN_LIMIT)
         .expect("horus-ros output");
     Run {
         code: out.code(),
         stdout: out.stdout,
         stderr: out.stderr,
         pid,
+    }
+}
+
+/// A started `topic pub` whose stdout is read line by line as it is printed.
+struct Waiting {
+    child: Child,
+    /// What it printed so far, each line with its newline.
+    stdout: String,
+    lines: mpsc::Receiver<String>,
+}
+
+impl Waiting {
+    /// Reads `child`'s stdout until pub.py's `Waiting for at least N matching
+    /// subscription(s)...` line (at most [`RECEIVE`]): it then waits for subscriptions.
+    fn until_waiting(mut child: Child, wanted: u32) -> Self {
+        let stdout = child.stdout.take().expect("piped stdout");
+        let mut this = Self {
+            child,
+            stdout: String::new(),
+            lines: horus_ros_test_support::line_reader(stdout),
+        };
+        let waiting = format!("Waiting for at least {wanted} matching subscription(s)...");
+        let deadline = Instant::now() + RECEIVE;
+        loop {
+            let left = deadline.saturating_duration_since(Instant::now());
+            let line = this.lines.recv_timeout(left).unwrap_or_else(|e| {
+                panic!(
+                    "topic pub did not print {waiting:?} ({e}):\n{}",
+                    this.stdout
+                )
+            });
+            this.stdout.push_str(&line);
+            this.stdout.push('\n');
+            if line == waiting {
+                return this;
+            }
+        }
+    }
+
+    /// Waits for the `topic pub` to end; its whole stdout.
+    fn finish(&mut self) -> Run {
+        let mut run = finish_child(&mut self.child);
+        // The pipe closed with the process: the rest of the lines are there.
+        let deadline = Instant::now() + RECEIVE;
+        loop {
+            let left = deadline.saturating_duration_since(Instant::now());
+            match self.lines.recv_timeout(left) {
+                Ok(line) => {
+                    self.stdout.push_str(&line);
+                    self.stdout.push('\n');
+                }
+                Err(mpsc::RecvTimeoutError::Disconnected) => break,
+                Err(mpsc::RecvTimeoutError::Timeout) => {
+                    panic!("topic pub's stdout did not close:\n{}", self.stdout)
+                }
+            }
+        }
+        run.stdout = std::mem::take(&mut self.stdout);
+        run
+    }
+}
+
+impl Drop for Waiting {
+    fn drop(&mut self) {
+        // Ended already when finished; else (a failed test) stopped here.
+        let _ = self.child.kill();
+        let _ = self.child.wait();
     }
 }
 
@@ -305,10 +378,11 @@ fn pub_waits_for_a_subscription_that_comes_later() {
         ],
         None,
     );
-    std::thread::sleep(Duration::from_secs(2));
+    // Once it says it waits (pub.py's line, on stdout without --json), the subscriber starts.
+    let mut waiting = Waiting::until_waiting(child, 1);
     let mut peer = subscriber(domain, "late_listener", "/later", "std_msgs/msg/String");
     let got = received(&mut peer, 4);
-    let run = finish(child);
+    let run = waiting.finish();
     assert_eq!(run.code, Some(0), "{run:?}");
     let (rest, waited) = without_waiting(&run.stdout, 1);
     assert!(waited >= 1, "{}", run.stdout);

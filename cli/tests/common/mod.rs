@@ -55,7 +55,7 @@ pub fn cyclone_config() -> String {
 /// is a pipe held open while it runs; killed when dropped.
 pub struct Peer {
     child: Child,
-    _stdin: Option<std::process::ChildStdin>,
+    stdin: Option<std::process::ChildStdin>,
     /// The peer's first line, parsed.
     pub created: Value,
     lines: mpsc::Receiver<String>,
@@ -103,7 +103,7 @@ impl Peer {
             .unwrap_or_else(|e| panic!("{script} printed {line:?}: {e}"));
         Self {
             child,
-            _stdin: stdin,
+            stdin,
             created,
             lines: rx,
         }
@@ -118,6 +118,21 @@ impl Peer {
                     .unwrap_or_else(|_| panic!("peer line {i} of {n} did not come"))
             })
             .collect()
+    }
+
+    /// The next line the peer prints, if one comes by `deadline`.
+    pub fn line_by(&mut self, deadline: Instant) -> Option<String> {
+        let left = deadline.saturating_duration_since(Instant::now());
+        self.lines.recv_timeout(left).ok()
+    }
+
+    /// Writes `line` and a newline to the peer's stdin (a request, for the peers that take them).
+    pub fn send(&mut self, line: &str) {
+        use std::io::Write;
+        let stdin = self.stdin.as_mut().expect("the peer's stdin");
+        writeln!(stdin, "{line}")
+            .and_then(|()| stdin.flush())
+            .expect("write to the peer's stdin");
     }
 
     /// A string field of the start line, by JSON pointer (e.g. `/server/request_reader`).
