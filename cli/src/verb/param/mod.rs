@@ -122,16 +122,21 @@ pub fn open_node(global: &Global, args: &NodeArgs) -> Result<(Session, String), 
     let session = Session::open(global)?;
     let deadline = Instant::now() + Duration::from_secs(args.timeout);
     loop {
+        let seen = session.graph.generation();
         if node_names(&session, args.include_hidden_nodes)
             .iter()
             .any(|(_, _, full)| *full == node)
         {
             return Ok((session, node));
         }
-        if Instant::now() >= deadline {
+        let now = Instant::now();
+        if now >= deadline {
             return Err(CliError::new("Node not found"));
         }
-        std::thread::sleep(Duration::from_millis(100));
+        // Woken by the next graph change (a node appearing is one), not by polling.
+        session
+            .graph
+            .wait_for_graph_change_since(seen, deadline - now);
     }
 }
 

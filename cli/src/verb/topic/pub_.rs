@@ -21,9 +21,10 @@
 //! subscriptions, so a wrong value fails at once.
 
 use std::io::Read;
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::Arc;
+use std::sync::{Arc, Condvar, Mutex, MutexGuard};
 use std::time::{Duration, Instant, SystemTime};
+
+use horus_ros_graph::{GraphView, GraphWatcher};
 
 use horus_ros_rmw::names::TopicName;
 use horus_ros_rmw::raw::{RawEndpointSpec, RawWriter};
@@ -37,7 +38,8 @@ use crate::{CliError, Global};
 use serde_json::json;
 
 /// ros2cli's `DEFAULT_WAIT_TIME`: how often the subscription count is checked.
-const WAIT_STEP: Duration = Duration::from_millis(100);
+/// How often pub.py repeats its "Waiting for …" line (every tenth 0.1 s check).
+const WAIT_LOG_PERIOD: Duration = Duration::from_secs(1);
 
 /// Arguments of `topic pub`.
 #[derive(Debug, clap::Args)]
@@ -168,7 +170,10 @@ pub fn run(global: &Global, args: &PubArgs) -> Result<(), CliError> {
              --wait-matching-subscriptions, --once or --times",
         ));
     }
-    let stop = interrupt_flag();
+    let stop = Wakeup::new();
+    interrupt_on_signal(&stop);
+    let watcher: Arc<dyn GraphWatcher> = stop.clone();
+    session.graph.watch(Arc::downgrade(&watcher));
     let publisher = Publisher {
         session: &session,
         writer: &writer,
@@ -217,7 +222,7 @@ pub fn run(global: &Global, args: &PubArgs) -> Result<(), CliError> {
         // missed ticks skipped (rcl `rcl_timer_call`).
         let mut next = Instant::now() + period;
         while times == 0 || count < times {
-            if !sleep_until(next, &stop) {
+            if !stop.sleep_until(next) {
                 publisher.linger(keep_alive);
                 return Err(interrupted());
             }
@@ -268,14 +273,74 @@ fn resolve_qos(
     qos.resolve_best_available_for_publisher(&subscriptions)
 }
 
-/// Set once SIGINT or SIGTERM arrives (the loop then ends quietly, as ros2cli does on
-/// `KeyboardInterrupt`).
-fn interrupt_flag() -> Arc<AtomicBool> {
-    let stop = Arc::new(AtomicBool::new(false));
-    let flag = Arc::clone(&stop);
-    // Without the handler a signal ends the process at once, which is still an end.
-    let _ = ctrlc::set_handler(move || flag.store(true, Ordering::SeqCst));
-    stop
+/// What ends this verb's waits: SIGINT or SIGTERM (the loop then ends quietly, as ros2cli does
+/// on `KeyboardInterrupt`), and, for the wait for subscriptions, every graph change.
+struct Wakeup {
+    /// Whether a signal came, and how many graph changes were seen.
+    state: Mutex<(bool, u64)>,
+    changed: Condvar,
+}
+
+impl Wakeup {
+    fn new() -> Arc<Self> {
+        Arc::new(Self {
+            state: Mutex::new((false, 0)),
+            changed: Condvar::new(),
+        })
+    }
+
+    fn lock(&self) -> MutexGuard<'_, (bool, u64)> {
+        self.state.lock().unwrap_or_else(|p| p.into_inner())
+    }
+
+    fn stop(&self) {
+        self.lock().0 = true;
+        self.changed.notify_all();
+    }
+
+    /// The graph changes seen so far (read before looking at the graph).
+    fn changes(&self) -> u64 {
+        self.lock().1
+    }
+
+    /// Waits until `deadline`, a signal, or (with `changes`) a graph change after that many;
+    /// returns whether no signal came.
+    fn wait(&self, deadline: Instant, changes: Option<u64>) -> bool {
+        let mut state = self.lock();
+        loop {
+            if state.0 {
+                return false;
+            }
+            let now = Instant::now();
+            if now >= deadline || changes.is_some_and(|seen| state.1 != seen) {
+                return true;
+            }
+            state = self
+                .changed
+                .wait_timeout(state, deadline - now)
+                .map(|(s, _)| s)
+                .unwrap_or_else(|p| p.into_inner().0);
+        }
+    }
+
+    /// Sleeps until `deadline`, woken early by a signal; returns whether none came.
+    fn sleep_until(&self, deadline: Instant) -> bool {
+        self.wait(deadline, None)
+    }
+}
+
+impl GraphWatcher for Wakeup {
+    fn graph_changed(&self, _graph: &GraphView<'_>) {
+        self.lock().1 += 1;
+        self.changed.notify_all();
+    }
+}
+
+/// Stops `wakeup` on SIGINT or SIGTERM. Without the handler a signal ends the process at once,
+/// which is still an end.
+fn interrupt_on_signal(wakeup: &Arc<Wakeup>) {
+    let wakeup = Arc::clone(wakeup);
+    let _ = ctrlc::set_handler(move || wakeup.stop());
 }
 
 /// ros2cli's exit on an interrupt: status `signal.SIGINT` (2), nothing printed.
@@ -286,27 +351,12 @@ fn interrupted() -> CliError {
     }
 }
 
-/// Sleeps until `deadline`, waking early when `stop` is set; returns whether it was not.
-fn sleep_until(deadline: Instant, stop: &AtomicBool) -> bool {
-    const SLICE: Duration = Duration::from_millis(50);
-    loop {
-        if stop.load(Ordering::SeqCst) {
-            return false;
-        }
-        let now = Instant::now();
-        if now >= deadline {
-            return true;
-        }
-        std::thread::sleep((deadline - now).min(SLICE));
-    }
-}
-
 /// The writer on the graph.
 struct Publisher<'a> {
     session: &'a Session,
     writer: &'a RawWriter,
     topic: &'a str,
-    stop: &'a AtomicBool,
+    stop: &'a Wakeup,
 }
 
 impl Publisher<'_> {
@@ -324,8 +374,9 @@ impl Publisher<'_> {
             .count()
     }
 
-    /// pub.py's wait: the count checked every 100 ms, a line printed every second, ros2cli's
-    /// error (its spelling kept) once `max_wait` has passed. `Ok(false)` when interrupted.
+    /// pub.py's wait: the count checked (here at every graph change, where pub.py looks every
+    /// 100 ms), a line printed every second, ros2cli's error (its spelling kept) once `max_wait`
+    /// has passed. `Ok(false)` when interrupted.
     /// With `json`, the waiting line goes to stderr, leaving stdout to the JSON lines.
     fn wait_for_subscriptions(
         &self,
@@ -334,33 +385,38 @@ impl Publisher<'_> {
         json: bool,
     ) -> Result<bool, CliError> {
         let wanted_count = usize::try_from(wanted).unwrap_or(usize::MAX);
-        let mut since_last_log = 0;
-        let mut waited = 0.0;
-        while self.subscription_count() < wanted_count {
-            if since_last_log == 0 {
+        let started = Instant::now();
+        let give_up = max_wait.map(|m| started + Duration::from_secs_f64(m.max(0.0)));
+        let mut next_log = started;
+        loop {
+            let changes = self.stop.changes();
+            if self.subscription_count() >= wanted_count {
+                return Ok(true);
+            }
+            let now = Instant::now();
+            if now >= next_log {
                 let line = format!("Waiting for at least {wanted} matching subscription(s)...");
                 if json {
                     eprintln!("{line}");
                 } else {
                     println!("{line}");
                 }
+                next_log = now + WAIT_LOG_PERIOD;
             }
-            if let Some(max) = max_wait {
-                if max <= waited {
-                    return Err(CliError::new(format!(
-                        "Timed out waiting for subscribers: Expected {wanted} subcribers but \
-                         only got {} subscribers",
-                        self.subscription_count()
-                    )));
-                }
+            if give_up.is_some_and(|g| now >= g) {
+                return Err(CliError::new(format!(
+                    "Timed out waiting for subscribers: Expected {wanted} subcribers but \
+                     only got {} subscribers",
+                    self.subscription_count()
+                )));
             }
-            since_last_log = (since_last_log + 1) % 10;
-            if !sleep_until(Instant::now() + WAIT_STEP, self.stop) {
+            // Woken by the graph's next change (a match is one), the next log line, the
+            // limit, or a signal: no polling.
+            let until = give_up.map_or(next_log, |g| g.min(next_log));
+            if !self.stop.wait(until, Some(changes)) {
                 return Ok(false);
             }
-            waited += WAIT_STEP.as_secs_f64();
         }
-        Ok(true)
     }
 
     /// ros2cli's `time.sleep(keep_alive)` after the last message; the matched reliable readers'
@@ -368,6 +424,6 @@ impl Publisher<'_> {
     fn linger(&self, keep_alive: Duration) {
         let end = Instant::now() + keep_alive;
         self.writer.wait_for_acknowledgments(keep_alive);
-        sleep_until(end, self.stop);
+        self.stop.sleep_until(end);
     }
 }

@@ -274,7 +274,8 @@ pub fn graph_type(
 }
 
 /// ros2topic `get_msg_class(…, blocking=True)`: the topic's type, printing ros2cli's warning
-/// once and looking again every 0.1 s while the topic is not there.
+/// once and looking again at every graph change while the topic is not there (ros2cli looks
+/// every 0.1 s).
 pub fn wait_for_type(
     session: &Session,
     given: &str,
@@ -285,10 +286,13 @@ pub fn wait_for_type(
     }
     println!("WARNING: topic [{given}] does not appear to be published yet");
     loop {
-        std::thread::sleep(Duration::from_millis(100));
+        let seen = session.graph.generation();
         if let Some(t) = graph_type(session, given, topic)? {
             return Ok(t);
         }
+        session
+            .graph
+            .wait_for_graph_change_since(seen, Duration::from_secs(3600));
     }
 }
 
