@@ -186,9 +186,9 @@ fn passive_echo_pairs_an_rclpy_services_calls_without_introspection() {
     let mut echo = Echo::start(
         domain,
         &[],
-        &["/flip", "--count", "6", "--reply-timeout", "1"],
+        &["/flip", "--count", "15", "--reply-timeout", "1"],
     );
-    // What rclpy sees while the echo runs (it runs for a second or more: six calls at 5/s): its
+    // What rclpy sees while the echo runs (it runs for three seconds or more: 15 calls at 5/s): its
     // view once the first record is printed (the echo's endpoints are up), and after each graph
     // change until the echo has ended.
     let mut out = echo.record();
@@ -196,13 +196,27 @@ fn passive_echo_pairs_an_rclpy_services_calls_without_introspection() {
     out.push_str(&echo.rest());
     during.extend(reports_until_now(&mut watch, "echo ended"));
     let recs = records(&out);
-    assert_eq!(recs.len(), 6, "six records:\n{out}");
+    assert_eq!(recs.len(), 15, "15 records:\n{out}");
 
     if pairs_fast_rtps() {
         let paired: Vec<&String> = recs
             .iter()
             .filter(|r| top(r, "status") == Some("paired"))
             .collect();
+        // The server's reply writer sends only to the readers it has matched when it writes
+        // (VOLATILE): until it has matched ours (its discovery of our reader, which we cannot
+        // observe), replies pass us by. So the first calls may go unpaired, and from the first
+        // paired one on every call is paired.
+        let first = recs
+            .iter()
+            .position(|r| top(r, "status") == Some("paired"))
+            .unwrap_or_else(|| panic!("no call paired:\n{out}"));
+        assert!(
+            recs[first..]
+                .iter()
+                .all(|r| top(r, "status") == Some("paired")),
+            "every call paired once the first was:\n{out}"
+        );
         assert!(paired.len() >= 4, "most calls paired:\n{out}");
         let mut seqs = Vec::new();
         for r in &paired {
