@@ -84,57 +84,79 @@ fn raw_samples_carry_identity_and_related_identity() {
 
 #[test]
 fn an_unlisted_reader_is_discovered_and_matched_but_listed_under_no_node() {
-    let context = Context::builder()
-        .domain_id(DOMAIN + 1)
-        .build()
-        .expect("context");
-    let mut feed = context.discovery_feed().expect("feed");
-    let node = context.create_node("observer", "/").expect("node");
-    let writer = node
-        .create_raw_writer(&spec("rq/observedRequest"))
-        .expect("writer");
-    let mut reader = node
+    let context = |name: &str| {
+        let context = Context::builder()
+            .domain_id(DOMAIN + 1)
+            .build()
+            .expect("context");
+        let node = context.create_node(name, "/").expect("node");
+        (context, node)
+    };
+    let (observer_context, observer) = context("observer");
+    let mut feed = observer_context.discovery_feed().expect("feed");
+    let mut reader = observer
         .create_raw_reader_unlisted(&spec("rq/observedRequest"))
         .expect("unlisted reader");
+    let (writer_context, writer_node) = context("writer");
+    let mut writer_feed = writer_context.discovery_feed().expect("feed");
+    let writer = writer_node
+        .create_raw_writer(&spec("rq/observedRequest"))
+        .expect("writer");
     let mut discovered = false;
+    let mut matched = false;
     let mut listings = Vec::new();
-    let mut matched = std::collections::HashSet::new();
     let deadline = Instant::now() + common::LIMIT;
-    while !(discovered && matched.len() == 2 && !listings.is_empty()) {
+    while !(discovered && matched && !listings.is_empty()) {
         let left = deadline.saturating_duration_since(Instant::now());
         assert!(!left.is_zero(), "not discovered and matched in time");
         match feed.next_timeout(left) {
             Some(DiscoveryEvent::EndpointDiscovered(e)) if e.gid == reader.gid() => {
                 discovered = true;
             }
-            Some(DiscoveryEvent::ParticipantEntities(m)) => listings.push(m),
-            Some(DiscoveryEvent::Matched { local, remote }) => {
-                matched.insert((local, remote));
+            Some(DiscoveryEvent::ParticipantEntities(m)) if m.gid == observer_context.gid() => {
+                listings.push(m)
+            }
+            Some(DiscoveryEvent::Matched { local, remote })
+                if local == reader.gid() && remote == writer.gid() =>
+            {
+                matched = true;
             }
             _ => {}
         }
     }
-    // Every ros_discovery_info message lists the writer at most, never the reader.
-    let last = listings.last().expect("a listing");
-    let ours = last
-        .node_entities_info_seq
-        .iter()
-        .find(|n| n.node_name == "observer")
-        .expect("the node is listed");
-    assert_eq!(ours.writer_gid_seq, vec![writer.gid()]);
+    // Every ros_discovery_info message of the observer lists its node, never the reader.
     for m in &listings {
-        for n in &m.node_entities_info_seq {
-            assert!(!n.reader_gid_seq.contains(&reader.gid()), "{m:?}");
+        let ours = m
+            .node_entities_info_seq
+            .iter()
+            .find(|n| n.node_name == "observer")
+            .expect("the node is listed");
+        assert!(ours.reader_gid_seq.is_empty(), "{m:?}");
+        assert!(ours.writer_gid_seq.is_empty(), "{m:?}");
+    }
+    // The writer sends only to the readers it has matched (VOLATILE): wait for its side too.
+    let deadline = Instant::now() + common::LIMIT;
+    loop {
+        let left = deadline.saturating_duration_since(Instant::now());
+        assert!(
+            !left.is_zero(),
+            "the writer did not match the reader in time"
+        );
+        if let Some(DiscoveryEvent::Matched { local, remote }) = writer_feed.next_timeout(left) {
+            if local == writer.gid() && remote == reader.gid() {
+                break;
+            }
         }
     }
     writer.write(vec![1, 0, 0, 0], None, None).expect("write");
     let deadline = Instant::now() + common::LIMIT;
-    loop {
+    let sample = loop {
         if let Some(s) = reader.take().expect("take") {
-            assert_eq!(s.body, vec![1, 0, 0, 0]);
-            break;
+            break s;
         }
-        assert!(Instant::now() < deadline, "the sample did not arrive");
-        reader.wait(Duration::from_millis(100));
-    }
+        let left = deadline.saturating_duration_since(Instant::now());
+        assert!(!left.is_zero(), "the sample did not arrive");
+        reader.wait(left);
+    };
+    assert_eq!(sample.body, vec![1, 0, 0, 0]);
 }
