@@ -1,4 +1,4 @@
-"""An rclpy node (the ROS 2 Jazzy wheels) for tests/rclpy.rs: takes one message of a topic and
+"""An rclpy node (the ROS 2 Jazzy wheels) for tests/jazzy.rs: takes one message of a topic and
 makes one service call, printing what it got as JSON lines:
 
   {"ready": true} once its subscription and client exist;
@@ -9,7 +9,7 @@ Messages are printed field by field: numbers, strings, lists (arrays and sequenc
 its number, a nested message as an object; a message with no field as rosidl's placeholder
 member {"structure_needs_at_least_one_member": 0}, as the Rust types have it.
 
-usage: rclpy_test_msgs.py SPEC_JSON with SPEC {"domain", "topic", "topic_type", "service",
+usage: jazzy_test_msgs.py SPEC_JSON with SPEC {"domain", "topic", "topic_type", "service",
 "service_type", "request", "wait_s", "timeout_s"}. It exits when both are done (or wait_s has
 passed); status 0 iff it heard a message and got a reply.
 """

@@ -4,7 +4,7 @@
 //!   types (`horus_demo_msgs`, generated from `interfaces/`): the telemetry and SetMode answers
 //!   arrive with the values sent, and a value over a bound is refused at encode with the typed
 //!   `CdrError::BoundExceeded`, never a panic;
-//! - an rclpy node (the Jazzy wheels, `tests/peers/rclpy_test_msgs.py`) hears the
+//! - an rclpy node (the Jazzy wheels, `tests/peers/jazzy_test_msgs.py`) hears the
 //!   `test_msgs/msg/Arrays` that `test_msgs_node` publishes and calls its
 //!   `test_msgs/srv/BasicTypes`, with generated test_msgs types on our side: what rclpy prints is
 //!   what we sent. rclpy's service client (rmw_fastrtps) needs `related_sample_identity`, which
@@ -269,7 +269,7 @@ fn rclpy_hears_and_calls_test_msgs_node() {
         "service": "/basic_types", "service_type": "test_msgs/srv/BasicTypes",
         "request": request, "wait_s": 40, "timeout_s": if refusing { 3 } else { 10 },
     });
-    let script = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/peers/rclpy_test_msgs.py");
+    let script = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/peers/jazzy_test_msgs.py");
     let peer = Command::new(horus_ros_test_support::jazzy::python())
         .arg(script)
         .arg(spec.to_string())
