@@ -13,6 +13,7 @@
 //! change notification and service readiness. [`GraphSnapshot`] carries a cache's content to
 //! another process, which rebuilds an equal cache from it.
 
+mod action_query;
 mod cache;
 mod endpoint;
 mod endpoint_query;
@@ -30,6 +31,10 @@ mod subscription;
 #[cfg(test)]
 mod tests;
 
+pub use action_query::{
+    filter_action_names, ActionEndpoints, ActionUser, ACTION_FEEDBACK_SUFFIX,
+    ACTION_FEEDBACK_TYPE_SUFFIX,
+};
 pub use cache::{GraphCache, ParticipantKind, Unsettled};
 pub use endpoint::{participant_gid_from_prefix, EndpointEntry, GuidPrefix};
 pub use endpoint_role::{EndpointRole, RosEndpoint};

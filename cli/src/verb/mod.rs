@@ -1,5 +1,6 @@
 //! One module per verb, as ros2cli keeps one file per verb.
 
+pub mod action;
 pub mod completions;
 pub mod daemon;
 pub mod demo;

@@ -104,33 +104,6 @@ pub fn find_types(names_and_types: &NamesAndTypes, name: &str) -> Option<Vec<Str
         .map(|types| types.iter().cloned().collect())
 }
 
-/// rcl_action `_filter_action_names` (rolling/jazzy `graph.c`): from a node's topic names and
-/// types, the actions — names containing `/_action/feedback`, shortened by that suffix's
-/// length, with types shortened by `_FeedbackMessage`'s length when they contain it.
-pub fn filter_action_names(topics: &NamesAndTypes) -> NamesAndTypes {
-    const NAME_ID: &str = "/_action/feedback";
-    const TYPE_ID: &str = "_FeedbackMessage";
-    fn cut(s: &str, len: usize) -> String {
-        let end = s.len().saturating_sub(len);
-        s.get(..end).unwrap_or(s).to_owned()
-    }
-    let mut out = NamesAndTypes::new();
-    for (name, types) in topics {
-        if !name.contains(NAME_ID) {
-            continue;
-        }
-        let entry = out.entry(cut(name, NAME_ID.len())).or_default();
-        for ty in types {
-            if ty.contains(TYPE_ID) {
-                entry.insert(cut(ty, TYPE_ID.len()));
-            } else {
-                entry.insert(ty.clone());
-            }
-        }
-    }
-    out
-}
-
 /// Prints a JSON document on stdout.
 pub fn print_json(value: &Value) -> Result<(), CliError> {
     let text = serde_json::to_string_pretty(value)
@@ -305,24 +278,5 @@ mod tests {
         assert_eq!(type_str(&["a/srv/A", "b/srv/B"]), "['a/srv/A', 'b/srv/B']");
         assert_eq!(type_str::<&str>(&[]), "[]");
         assert_eq!(type_str(&["it's", "x"]), "[\"it's\", 'x']");
-    }
-
-    #[test]
-    fn actions_from_feedback_topics() {
-        let mut topics = NamesAndTypes::new();
-        topics.insert(
-            "/fib/_action/feedback".to_owned(),
-            ["pkg/action/Fibonacci_FeedbackMessage".to_owned()].into(),
-        );
-        topics.insert(
-            "/chatter".to_owned(),
-            ["std_msgs/msg/String".to_owned()].into(),
-        );
-        let actions = filter_action_names(&topics);
-        assert_eq!(actions.len(), 1);
-        assert_eq!(
-            actions["/fib"].iter().collect::<Vec<_>>(),
-            vec!["pkg/action/Fibonacci"]
-        );
     }
 }

@@ -70,8 +70,11 @@ impl GraphDoc {
                 let subscribers =
                     get(cache.subscription_names_and_types_by_node(&n.name, &n.namespace));
                 NodeDoc {
-                    action_servers: visible(names::filter_action_names(&publishers), all),
-                    action_clients: visible(names::filter_action_names(&subscribers), all),
+                    action_servers: visible(horus_ros_graph::filter_action_names(&publishers), all),
+                    action_clients: visible(
+                        horus_ros_graph::filter_action_names(&subscribers),
+                        all,
+                    ),
                     service_servers: visible(
                         get(cache.service_names_and_types_by_node(&n.name, &n.namespace)),
                         all,

@@ -94,8 +94,8 @@ fn read(
         let publishers = cache.publisher_names_and_types_by_node(&name, &namespace)?;
         let subscribers = cache.subscription_names_and_types_by_node(&name, &namespace)?;
         Ok(NodeDetails {
-            action_servers: visible(names::filter_action_names(&publishers)),
-            action_clients: visible(names::filter_action_names(&subscribers)),
+            action_servers: visible(horus_ros_graph::filter_action_names(&publishers)),
+            action_clients: visible(horus_ros_graph::filter_action_names(&subscribers)),
             service_servers: visible(cache.service_names_and_types_by_node(&name, &namespace)?),
             service_clients: visible(cache.client_names_and_types_by_node(&name, &namespace)?),
             subscribers: visible(subscribers),
