@@ -1,0 +1,3 @@
+//! horus-ros actions.
+
+pub mod interfaces;
