@@ -9,7 +9,10 @@ use horus_ros_codegen::Builder;
 #[test]
 fn compiled_fibonacci_actions_are_the_generators_output() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let out = std::env::temp_dir().join(format!("horus-ros-actions-interfaces-{}", std::process::id()));
+    let out = std::env::temp_dir().join(format!(
+        "horus-ros-actions-interfaces-{}",
+        std::process::id()
+    ));
     let generated = Builder::new()
         .ament_prefix_path(false)
         .comments(false)

@@ -128,11 +128,12 @@ fn cached_hash(key: &str, compute: impl FnOnce() -> TypeHash) -> TypeHash {
 /// message rcl_action carries them in (rosidl_parser `definition.py` `Action`).
 pub trait Action: Send + Sync + 'static {
     /// `pkg/action/Name_Goal`.
-    type Goal: Message;
-    /// `pkg/action/Name_Result`.
-    type Result: Message;
+    type Goal: Message + Default;
+    /// `pkg/action/Name_Result` (a default one is what a server answers for a goal it does not
+    /// know, or that ended without a result).
+    type Result: Message + Default;
     /// `pkg/action/Name_Feedback`.
-    type Feedback: Message;
+    type Feedback: Message + Default;
     /// `pkg/action/Name_SendGoal`: request `goal_id`, `goal`; response `accepted`, `stamp`.
     type SendGoal: Service;
     /// `pkg/action/Name_GetResult`: request `goal_id`; response `status`, `result`.
@@ -190,8 +191,10 @@ pub trait Action: Send + Sync + 'static {
     fn goal_request_goal_id(request: &<Self::SendGoal as Service>::Request) -> [u8; 16];
 
     /// A `SendGoal` response: `accepted`, `stamp` (`(sec, nanosec)`).
-    fn create_goal_response(accepted: bool, stamp: (i32, u32))
-        -> <Self::SendGoal as Service>::Response;
+    fn create_goal_response(
+        accepted: bool,
+        stamp: (i32, u32),
+    ) -> <Self::SendGoal as Service>::Response;
 
     /// The `accepted` of a `SendGoal` response.
     fn goal_response_accepted(response: &<Self::SendGoal as Service>::Response) -> bool;
@@ -200,8 +203,10 @@ pub trait Action: Send + Sync + 'static {
     fn goal_response_stamp(response: &<Self::SendGoal as Service>::Response) -> (i32, u32);
 
     /// A `FeedbackMessage`: `goal_id`, `feedback`.
-    fn create_feedback_message(goal_id: [u8; 16], feedback: Self::Feedback)
-        -> Self::FeedbackMessage;
+    fn create_feedback_message(
+        goal_id: [u8; 16],
+        feedback: Self::Feedback,
+    ) -> Self::FeedbackMessage;
 
     /// The `goal_id` and `feedback` of a `FeedbackMessage`.
     fn split_feedback_message(message: Self::FeedbackMessage) -> ([u8; 16], Self::Feedback);
@@ -222,5 +227,7 @@ pub trait Action: Send + Sync + 'static {
     ) -> <Self::GetResult as Service>::Response;
 
     /// The `status` and `result` of a `GetResult` response.
-    fn split_result_response(response: <Self::GetResult as Service>::Response) -> (i8, Self::Result);
+    fn split_result_response(
+        response: <Self::GetResult as Service>::Response,
+    ) -> (i8, Self::Result);
 }
