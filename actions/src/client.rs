@@ -406,8 +406,9 @@ impl<A: Action> Shared<A> {
                 stamp,
             },
         };
-        let response = lock(&self.cancel_goal).call_async(request, timeout).wait();
-        cancel_outcome(response)
+        // The client's lock is held while the call starts only, not while it is waited on.
+        let pending = lock(&self.cancel_goal).call_async(request, timeout);
+        cancel_outcome(pending.wait())
     }
 }
 
