@@ -250,3 +250,32 @@ fn hundred_goals_in_flight() {
         assert_eq!(result.sequence, fibonacci(i as i32 % 10 + 1));
     }
 }
+
+#[test]
+fn pending_operations_are_futures() {
+    let n = node("local_async");
+    let (builder, gate) = server_builder(true);
+    let gate = gate.expect("gated");
+    let _server = builder.node(&n).name("/local_async").build().expect("server");
+    let client = client(&n, "/local_async");
+    let runtime = tokio::runtime::Builder::new_multi_thread()
+        .enable_all()
+        .build()
+        .expect("runtime");
+    runtime.block_on(async {
+        let goal = client
+            .send_goal_pending(FibonacciGoal { order: 4 }, WAIT)
+            .await
+            .expect("accepted");
+        // Not yet answerable: the goal waits for its steps.
+        let mut result = goal.get_result_pending(WAIT);
+        assert!(result.try_take().is_none());
+        for _ in 0..3 {
+            gate.send(()).expect("step");
+        }
+        let (state, r) = result.await.expect("result");
+        assert_eq!((state, r.sequence), (GoalState::Succeeded, fibonacci(4)));
+        let cancel = goal.cancel_pending(WAIT).await;
+        assert_eq!(cancel, Err(CancelError::GoalTerminated));
+    });
+}
