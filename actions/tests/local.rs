@@ -256,7 +256,11 @@ fn pending_operations_are_futures() {
     let n = node("local_async");
     let (builder, gate) = server_builder(true);
     let gate = gate.expect("gated");
-    let _server = builder.node(&n).name("/local_async").build().expect("server");
+    let _server = builder
+        .node(&n)
+        .name("/local_async")
+        .build()
+        .expect("server");
     let client = client(&n, "/local_async");
     let runtime = tokio::runtime::Builder::new_multi_thread()
         .enable_all()
