@@ -114,7 +114,7 @@ impl<A: Action> ActionClientBuilder<A> {
             changed: Condvar::new(),
             feedback_capacity: self.feedback_capacity,
             stop: AtomicBool::new(false),
-            _graph: graph,
+            graph,
         });
         shared.check_server();
         let mut client = ActionClient {
@@ -224,13 +224,23 @@ impl<A: Action> ActionClient<A> {
     }
 
     /// Waits until [`is_server_ready`](Self::is_server_ready), at most `timeout`; woken by graph
-    /// changes (rclpy `wait_for_server`).
+    /// changes (matches included), never polled (rclpy `wait_for_server`). Goals can be sent
+    /// from other threads meanwhile.
     pub fn wait_for_server(&self, timeout: Duration) -> bool {
         let deadline = Instant::now() + timeout;
-        let left = || deadline.saturating_duration_since(Instant::now());
-        lock(&self.shared.send_goal).wait_for_service(left())
-            && lock(&self.shared.cancel_goal).wait_for_service(left())
-            && lock(&self.shared.get_result).wait_for_service(left())
+        let graph = &self.shared.graph;
+        loop {
+            // The generation is read before looking: no change can fall in between.
+            let seen = graph.generation();
+            if self.is_server_ready() {
+                return true;
+            }
+            let left = deadline.saturating_duration_since(Instant::now());
+            if left.is_zero() {
+                return false;
+            }
+            graph.wait_for_graph_change_since(seen, left);
+        }
     }
 
     /// Sends `goal` and waits for the server's answer, at most `timeout`: the handle of the
@@ -310,7 +320,7 @@ struct Shared<A: Action> {
     changed: Condvar,
     feedback_capacity: usize,
     stop: AtomicBool,
-    _graph: Arc<Graph>,
+    graph: Arc<Graph>,
 }
 
 impl<A: Action> Shared<A> {

@@ -241,8 +241,9 @@ pub(crate) fn default_action_name<A: Action>() -> String {
 
 /// An action server: accepts goals, executes them, answers cancel and result requests, and
 /// publishes feedback and the goals' status, as rcl_action's server does. Dropping it stops
-/// its thread and withdraws its entities; executions still running finish on their threads
-/// (their results can no longer be asked for).
+/// its thread and withdraws the goal and cancel services at once; executions still running
+/// finish on their threads, and the feedback and status publishers and the result service
+/// (answering the results they end with) go when the last of them has.
 #[must_use = "an action server exists only while it is held"]
 pub struct ActionServer<A: Action> {
     shared: Arc<Shared<A>>,
