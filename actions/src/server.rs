@@ -224,19 +224,9 @@ impl<A: Action> ActionServerBuilder<A> {
 /// The default action name: the action type's name in snake case, absolute
 /// (`test_msgs/action/Fibonacci` → `/fibonacci`), as services name themselves.
 pub(crate) fn default_action_name<A: Action>() -> String {
-    let base = A::TYPE_NAME.rsplit('/').next().unwrap_or(A::TYPE_NAME);
-    let mut out = String::from("/");
-    for (i, c) in base.chars().enumerate() {
-        if c.is_ascii_uppercase() {
-            if i > 0 {
-                out.push('_');
-            }
-            out.push(c.to_ascii_lowercase());
-        } else {
-            out.push(c);
-        }
-    }
-    out
+    use heck::ToSnakeCase as _;
+    let short = A::TYPE_NAME.rsplit('/').next().unwrap_or(A::TYPE_NAME);
+    format!("/{}", short.to_snake_case())
 }
 
 /// An action server: accepts goals, executes them, answers cancel and result requests, and
@@ -831,5 +821,115 @@ impl<A: Action> Drop for ServerGoalHandle<A> {
         let _ = self
             .shared
             .transition(self.id, GoalEvent::Abort, Some(A::Result::default()));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::interfaces::test_msgs::action::{Fibonacci, FibonacciGoal};
+
+    fn goal(byte: u8, sec: i32, state: GoalState) -> Goal<Fibonacci> {
+        Goal {
+            id: GoalId([byte; 16]),
+            stamp: Time { sec, nanosec: 0 },
+            goal: FibonacciGoal {
+                order: i32::from(byte),
+            },
+            state,
+            result: None,
+            waiting: Vec::new(),
+            expires: None,
+        }
+    }
+
+    fn request(byte: u8, sec: i32) -> GoalInfo {
+        GoalInfo {
+            goal_id: UUID { uuid: [byte; 16] },
+            stamp: Time { sec, nanosec: 0 },
+        }
+    }
+
+    fn cancel(goals: &mut [Goal<Fibonacci>], byte: u8, sec: i32) -> (i8, Vec<u8>) {
+        let (code, found) = process_cancel_request(goals, &request(byte, sec));
+        (code, found.iter().map(|(id, ..)| id.0[0]).collect())
+    }
+
+    /// Goals 1 (t=10, executing), 2 (t=20, accepted), 3 (t=30, succeeded), 4 (t=40, canceling).
+    fn goals() -> Vec<Goal<Fibonacci>> {
+        vec![
+            goal(1, 10, GoalState::Executing),
+            goal(2, 20, GoalState::Accepted),
+            goal(3, 30, GoalState::Succeeded),
+            goal(4, 40, GoalState::Canceling),
+        ]
+    }
+
+    #[test]
+    fn cancel_by_id_only() {
+        let mut g = goals();
+        assert_eq!(
+            cancel(&mut g, 2, 0),
+            (CancelGoalResponse::ERROR_NONE, vec![2])
+        );
+        assert_eq!(
+            cancel(&mut g, 3, 0),
+            (CancelGoalResponse::ERROR_GOAL_TERMINATED, vec![])
+        );
+        // CANCELING is not cancelable: rcl_action calls it terminated too.
+        assert_eq!(
+            cancel(&mut g, 4, 0),
+            (CancelGoalResponse::ERROR_GOAL_TERMINATED, vec![])
+        );
+        assert_eq!(
+            cancel(&mut g, 9, 0),
+            (CancelGoalResponse::ERROR_UNKNOWN_GOAL_ID, vec![])
+        );
+    }
+
+    #[test]
+    fn cancel_all_with_zero_id_and_stamp() {
+        let mut g = goals();
+        assert_eq!(
+            cancel(&mut g, 0, 0),
+            (CancelGoalResponse::ERROR_NONE, vec![1, 2])
+        );
+    }
+
+    #[test]
+    fn cancel_by_time_takes_goals_at_or_before_the_stamp() {
+        let mut g = goals();
+        assert_eq!(
+            cancel(&mut g, 0, 10),
+            (CancelGoalResponse::ERROR_NONE, vec![1])
+        );
+        assert_eq!(
+            cancel(&mut g, 0, 25),
+            (CancelGoalResponse::ERROR_NONE, vec![1, 2])
+        );
+        assert_eq!(
+            cancel(&mut g, 0, 5),
+            (CancelGoalResponse::ERROR_NONE, vec![])
+        );
+    }
+
+    #[test]
+    fn cancel_by_id_and_time_takes_both() {
+        let mut g = goals();
+        // Goal 2 by its id, goal 1 by time.
+        assert_eq!(
+            cancel(&mut g, 2, 10),
+            (CancelGoalResponse::ERROR_NONE, vec![1, 2])
+        );
+        // An unknown id with a stamp is no error: the stamp's goals.
+        assert_eq!(
+            cancel(&mut g, 9, 10),
+            (CancelGoalResponse::ERROR_NONE, vec![1])
+        );
+    }
+
+    #[test]
+    fn default_action_names_are_snake_case() {
+        assert_eq!(default_action_name::<Fibonacci>(), "/fibonacci");
     }
 }

@@ -201,7 +201,7 @@ fn our_client_drives_rclpy_server_reject_and_cancel() {
     assert_eq!(state, GoalState::Canceled);
     assert!(result.sequence.len() < 21, "{:?}", result.sequence);
     assert_eq!(result.sequence[..], fibonacci(20)[..result.sequence.len()]);
-    // Unknown goal: rclpy answers STATUS_UNKNOWN.
+    // The server goes on serving after a cancel.
     let other = client
         .send_goal(FibonacciGoal { order: 1 }, WAIT)
         .expect("accepted");
