@@ -123,15 +123,12 @@ fn our_client(node: &Node, action: &str) -> ActionClient<Fibonacci> {
 
 /// On the Cyclone backend: the rclpy server shows up, and a goal is refused at once.
 fn check_refusal(client: &ActionClient<Fibonacci>) {
-    let deadline = Instant::now() + WAIT;
     let graph = horus_ros_graph::Graph::of(client.node().context()).expect("graph");
-    while !client.server_available() {
-        assert!(
-            Instant::now() < deadline,
-            "the rclpy action server never showed up"
-        );
-        graph.wait_for_graph_change(Duration::from_secs(1));
-    }
+    let send_goal = format!("{}/_action/send_goal", client.action_name());
+    assert!(
+        graph.wait_until(WAIT, |c| c.service_is_available(&send_goal)),
+        "the rclpy action server never showed up"
+    );
     // A pending call keeps waiting for a usable server until its timeout, then says why none is.
     let err = client
         .send_goal(FibonacciGoal { order: 3 }, Duration::from_secs(3))
