@@ -114,7 +114,7 @@ impl<A: Action> ActionClientBuilder<A> {
             changed: Condvar::new(),
             feedback_capacity: self.feedback_capacity,
             stop: AtomicBool::new(false),
-            graph,
+            _graph: graph,
         });
         shared.check_server();
         let mut client = ActionClient {
@@ -224,23 +224,33 @@ impl<A: Action> ActionClient<A> {
     }
 
     /// Waits until [`is_server_ready`](Self::is_server_ready), at most `timeout`; woken by graph
-    /// changes (matches included), never polled (rclpy `wait_for_server`). Goals can be sent
-    /// from other threads meanwhile.
+    /// changes, never polled (rclpy `wait_for_server`): the services' `wait_for_service` of each
+    /// of the three services in turn (an rmw_cyclonedds server still settling included). Goals
+    /// sent from other threads meanwhile wait for it.
     pub fn wait_for_server(&self, timeout: Duration) -> bool {
         let deadline = Instant::now() + timeout;
-        let graph = &self.shared.graph;
-        loop {
-            // The generation is read before looking: no change can fall in between.
-            let seen = graph.generation();
-            if self.is_server_ready() {
-                return true;
-            }
-            let left = deadline.saturating_duration_since(Instant::now());
-            if left.is_zero() {
-                return false;
-            }
-            graph.wait_for_graph_change_since(seen, left);
+        let left = || deadline.saturating_duration_since(Instant::now());
+        lock(&self.shared.send_goal).wait_for_service(left())
+            && lock(&self.shared.cancel_goal).wait_for_service(left())
+            && lock(&self.shared.get_result).wait_for_service(left())
+    }
+
+    /// [`wait_for_server`](Self::wait_for_server) as a future (feature `tokio`: the services'
+    /// `wait_for_service_async`, woken by graph changes); no lock is held while it waits.
+    #[cfg(feature = "tokio")]
+    pub async fn wait_for_server_async(&self, timeout: Duration) -> bool {
+        let deadline = Instant::now() + timeout;
+        let left = || deadline.saturating_duration_since(Instant::now());
+        let send_goal = lock(&self.shared.send_goal).wait_for_service_async(left());
+        if !send_goal.await {
+            return false;
         }
+        let cancel_goal = lock(&self.shared.cancel_goal).wait_for_service_async(left());
+        if !cancel_goal.await {
+            return false;
+        }
+        let get_result = lock(&self.shared.get_result).wait_for_service_async(left());
+        get_result.await
     }
 
     /// Sends `goal` and waits for the server's answer, at most `timeout`: the handle of the
@@ -320,7 +330,7 @@ struct Shared<A: Action> {
     changed: Condvar,
     feedback_capacity: usize,
     stop: AtomicBool,
-    graph: Arc<Graph>,
+    _graph: Arc<Graph>,
 }
 
 impl<A: Action> Shared<A> {

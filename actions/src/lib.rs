@@ -66,7 +66,7 @@
 //! [`ActionClient::send_goal_pending`], [`ClientGoalHandle::get_result_pending`] and
 //! [`ClientGoalHandle::cancel_pending`] return pending operations to check from a loop (a HORUS
 //! node's `tick()`: `try_take`), to wait on, or to `.await` on any executor (they are
-//! `Future`s).
+//! `Future`s). Feature `tokio`: `ActionClient::wait_for_server_async` too.
 
 mod client;
 mod common;

@@ -274,12 +274,17 @@ fn pending_operations_are_futures() {
         .name("/local_async")
         .build()
         .expect("server");
-    let client = client(&n, "/local_async");
+    let client = ActionClient::<Fibonacci>::builder()
+        .node(&n)
+        .name("/local_async")
+        .build()
+        .expect("client");
     let runtime = tokio::runtime::Builder::new_multi_thread()
         .enable_all()
         .build()
         .expect("runtime");
     runtime.block_on(async {
+        assert!(client.wait_for_server_async(WAIT).await, "no server");
         let goal = client
             .send_goal_pending(FibonacciGoal { order: 4 }, WAIT)
             .await
