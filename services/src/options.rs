@@ -49,6 +49,29 @@ impl Default for EndpointOptions {
     }
 }
 
+impl EndpointOptions {
+    /// The node set with [`EndpointBuilder::node`], if any (layers built on services, such as
+    /// actions, create their own topics on it).
+    pub fn configured_node(&self) -> Option<&Node> {
+        self.node.as_ref()
+    }
+
+    /// The name set with [`EndpointBuilder::name`], if any.
+    pub fn configured_name(&self) -> Option<&str> {
+        self.name.as_deref()
+    }
+
+    /// The QoS of the request and reply topics.
+    pub fn configured_qos(&self) -> &Qos {
+        &self.qos
+    }
+
+    /// The wire convention set with [`EndpointBuilder::wire_flavour`], if any.
+    pub fn configured_wire_flavour(&self) -> Option<WireFlavour> {
+        self.wire_flavour
+    }
+}
+
 impl EndpointBuilder for EndpointOptions {
     fn options_mut(&mut self) -> &mut EndpointOptions {
         self
