@@ -87,6 +87,12 @@ pub mod ros {
     };
 }
 
+/// ROS 2 actions (`horus-ros-actions`): servers and clients as rcl_action draws them; from a
+/// node's `tick`, [`current::action_server`] and [`current::action_client`].
+pub mod actions {
+    pub use horus_ros_actions::*;
+}
+
 /// Everything a robot program needs, in one import.
 pub mod prelude {
     pub use crate::{

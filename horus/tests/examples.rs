@@ -239,6 +239,25 @@ fn a_node_serves_and_calls_add_two_ints_from_tick() {
 }
 
 #[test]
+fn a_node_serves_and_sends_fibonacci_goals_from_tick() {
+    let node = Running::start("fibonacci_node", 187, &["--count", "2"], &[]);
+    let lines = node.wait_success();
+    let results = lines
+        .iter()
+        .filter(|l| l.contains("Result: [0, 1, 1, 2, 3, 5] (Succeeded)"))
+        .count();
+    assert_eq!(results, 2, "{lines:#?}");
+    assert!(
+        lines.iter().any(|l| l.contains("Goal accepted :)")),
+        "{lines:#?}"
+    );
+    assert!(
+        lines.iter().any(|l| l.contains("Executing goal...")),
+        "{lines:#?}"
+    );
+}
+
+#[test]
 fn malformed_ros_args_stop_the_program_with_rcls_message() {
     let out = Command::new(example("talker"))
         .args(["--ros-args", "-r", "foo:="])

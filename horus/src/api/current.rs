@@ -1,5 +1,5 @@
 //! What a node can reach from its own `init`, `tick` and `shutdown`: its ROS node, its
-//! parameters, and services served or called without blocking the tick.
+//! parameters, and services and actions served or called without blocking the tick.
 //!
 //! ```no_run
 //! use horus::prelude::*;
@@ -27,6 +27,10 @@ use std::collections::VecDeque;
 use std::sync::{Arc, Mutex, MutexGuard};
 use std::time::Duration;
 
+use horus_ros_actions::{
+    Action, ActionClient, ActionServer, ActionSetupError, CancelResponse, GoalResponse,
+    ServerGoalHandle,
+};
 use horus_ros_msgs::rcl_interfaces::msg::{ParameterType, ParameterValue};
 use horus_ros_msgs::Service;
 use horus_ros_rmw::Node as RosNode;
@@ -48,6 +52,15 @@ pub enum CurrentNodeError {
     /// The service server or client could not be created (the cause is the error's source).
     #[error("could not create the service server or client: {0}")]
     Setup(Arc<SetupError>),
+    /// The action server or client could not be created.
+    #[error("could not create the action server or client: {0}")]
+    ActionSetup(Arc<ActionSetupError>),
+}
+
+impl From<ActionSetupError> for CurrentNodeError {
+    fn from(error: ActionSetupError) -> Self {
+        Self::ActionSetup(Arc::new(error))
+    }
 }
 
 impl From<SetupError> for CurrentNodeError {
@@ -266,5 +279,76 @@ impl<S: Service> PendingRequest<S> {
     /// Sends the response (dropped if the request has timed out meanwhile).
     pub fn respond(self, response: S::Response) {
         let _ = self.reply.send(response);
+    }
+}
+
+/// A non-blocking client of action `name` (relative names resolve under the current node):
+/// `send_goal_pending` in one tick and `PendingGoal::try_take` in the next ones, then the goal
+/// handle's `try_recv_feedback` and `get_result_pending` — no call blocks the tick.
+pub fn action_client<A: Action>(name: &str) -> Result<ActionClient<A>, CurrentNodeError> {
+    let node = ros_node()?;
+    Ok(ActionClient::<A>::builder()
+        .node(&node)
+        .name(name)
+        .build()?)
+}
+
+/// The most goals of one [`GoalQueue`] waiting for a tick to take them; beyond, new goals are
+/// rejected (the client learns it at once).
+pub const ACTION_MAX_WAITING: usize = 64;
+
+/// Serves action `name` under the current node, its goals executed from `tick` (see
+/// [`GoalQueue`]): every goal is accepted while fewer than [`ACTION_MAX_WAITING`] wait to be
+/// taken, and every cancel request is accepted (the tick sees it as
+/// [`ServerGoalHandle::is_cancel_requested`] and ends the goal with `canceled`).
+pub fn action_server<A: Action>(name: &str) -> Result<GoalQueue<A>, CurrentNodeError> {
+    let node = ros_node()?;
+    let goals: WaitingGoals<A> = Arc::new(Mutex::new(VecDeque::new()));
+    let (for_goal, for_execute) = (Arc::clone(&goals), Arc::clone(&goals));
+    let server = ActionServer::<A>::builder()
+        .node(&node)
+        .name(name)
+        .on_goal(move |_id, _goal| {
+            if lock(&for_goal).len() < ACTION_MAX_WAITING {
+                GoalResponse::Accept
+            } else {
+                GoalResponse::Reject
+            }
+        })
+        .on_cancel(|_| CancelResponse::Accept)
+        // The execution only hands the goal over: the handle keeps the goal active until the
+        // node ends it (a handle dropped while active aborts its goal).
+        .execute(move |handle| lock(&for_execute).push_back(handle))
+        .build()?;
+    Ok(GoalQueue {
+        _server: server,
+        goals,
+    })
+}
+
+/// The goals of a [`GoalQueue`] waiting for a tick, oldest first.
+type WaitingGoals<A> = Arc<Mutex<VecDeque<ServerGoalHandle<A>>>>;
+
+/// An action served from `tick`: the server's threads hand each accepted goal over and never
+/// wait for the node; `tick` takes goals with [`try_recv`](Self::try_recv) (never blocks), keeps
+/// their handles, publishes feedback and ends each goal (`succeed`, `abort`, `canceled`) in the
+/// ticks it takes.
+pub struct GoalQueue<A: Action> {
+    _server: ActionServer<A>,
+    goals: WaitingGoals<A>,
+}
+
+impl<A: Action> std::fmt::Debug for GoalQueue<A> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("GoalQueue")
+            .field("action", &A::TYPE_NAME)
+            .finish()
+    }
+}
+
+impl<A: Action> GoalQueue<A> {
+    /// The next accepted goal, if any.
+    pub fn try_recv(&self) -> Option<ServerGoalHandle<A>> {
+        lock(&self.goals).pop_front()
     }
 }
