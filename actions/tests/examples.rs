@@ -10,7 +10,16 @@ use std::time::Duration;
 const LIMIT: Duration = Duration::from_secs(90);
 
 fn run(name: &str, args: &[&str], domain: u32) -> (Output, String) {
-    let child = Command::new(horus_ros_test_support::built_example(name))
+    run_on(name, args, domain, None)
+}
+
+/// [`run`] on `backend` (`HORUS_ROS_BACKEND`), or the test's own when `None`.
+fn run_on(name: &str, args: &[&str], domain: u32, backend: Option<&str>) -> (Output, String) {
+    let mut command = Command::new(horus_ros_test_support::built_example(name));
+    if let Some(backend) = backend {
+        command.env("HORUS_ROS_BACKEND", backend);
+    }
+    let child = command
         .args(args)
         .env("ROS_DOMAIN_ID", domain.to_string())
         .stdout(Stdio::piped())
@@ -66,5 +75,35 @@ fn the_tutorial_client_gets_its_result_from_the_tutorial_server() {
         "[fibonacci_action_server]: Returning result: [0, 1, 1, 2, 3, 5, 8, 13, 21, 34, 55]",
     ] {
         assert!(text.contains(line), "server did not print {line:?}: {text}");
+    }
+}
+
+/// The server and the client on different backends, each way: the server answers the client
+/// in the client's convention (rmw_cyclonedds' request header for a Cyclone DDS client,
+/// `related_sample_identity` for a rustdds one), and the feedback and status topics cross.
+#[test]
+fn the_tutorial_programs_talk_across_backends() {
+    for (domain, server_backend, client_backend) in
+        [(132, "rustdds", "cyclone"), (133, "cyclone", "rustdds")]
+    {
+        let server = std::thread::spawn(move || {
+            run_on(
+                "fibonacci_action_server",
+                &["--period-ms", "50", "--count", "1"],
+                domain,
+                Some(server_backend),
+            )
+        });
+        let (_, text) = run_on("fibonacci_action_client", &[], domain, Some(client_backend));
+        let result = "[fibonacci_action_client]: Result: [0, 1, 1, 2, 3, 5, 8, 13, 21, 34, 55]";
+        assert!(
+            text.contains(result),
+            "{client_backend} client of a {server_backend} server: {text}"
+        );
+        let (_, text) = server.join().expect("server thread");
+        assert!(
+            text.contains("[fibonacci_action_server]: Returning result"),
+            "{server_backend} server: {text}"
+        );
     }
 }
