@@ -107,9 +107,9 @@ impl<A: Action> ActionClientBuilder<A> {
         let shared = Arc::new(Shared {
             action,
             node,
-            send_goal: Mutex::new(send_goal),
-            cancel_goal: Mutex::new(cancel_goal),
-            get_result: Mutex::new(get_result),
+            send_goal,
+            cancel_goal,
+            get_result,
             goals: Mutex::new(HashMap::new()),
             changed: Condvar::new(),
             feedback_capacity: self.feedback_capacity,
@@ -213,9 +213,9 @@ impl<A: Action> ActionClient<A> {
     /// Whether an action server can be called now: its three services are ready (known and
     /// matched both ways; rcl `rcl_action_server_is_available`, rclpy `server_is_ready`).
     pub fn is_server_ready(&self) -> bool {
-        lock(&self.shared.send_goal).is_server_ready()
-            && lock(&self.shared.cancel_goal).is_server_ready()
-            && lock(&self.shared.get_result).is_server_ready()
+        self.shared.send_goal.is_server_ready()
+            && self.shared.cancel_goal.is_server_ready()
+            && self.shared.get_result.is_server_ready()
     }
 
     /// The same as [`is_server_ready`](Self::is_server_ready) (rclcpp's name).
@@ -226,30 +226,30 @@ impl<A: Action> ActionClient<A> {
     /// Waits until [`is_server_ready`](Self::is_server_ready), at most `timeout`; woken by graph
     /// changes, never polled (rclpy `wait_for_server`): the services' `wait_for_service` of each
     /// of the three services in turn (an rmw_cyclonedds server still settling included). Goals
-    /// sent from other threads meanwhile wait for it.
+    /// may be sent from other threads meanwhile.
     pub fn wait_for_server(&self, timeout: Duration) -> bool {
         let deadline = Instant::now() + timeout;
         let left = || deadline.saturating_duration_since(Instant::now());
-        lock(&self.shared.send_goal).wait_for_service(left())
-            && lock(&self.shared.cancel_goal).wait_for_service(left())
-            && lock(&self.shared.get_result).wait_for_service(left())
+        self.shared.send_goal.wait_for_service(left())
+            && self.shared.cancel_goal.wait_for_service(left())
+            && self.shared.get_result.wait_for_service(left())
     }
 
     /// [`wait_for_server`](Self::wait_for_server) as a future (feature `tokio`: the services'
-    /// `wait_for_service_async`, woken by graph changes); no lock is held while it waits.
+    /// `wait_for_service_async`, woken by graph changes).
     #[cfg(feature = "tokio")]
     pub async fn wait_for_server_async(&self, timeout: Duration) -> bool {
         let deadline = Instant::now() + timeout;
         let left = || deadline.saturating_duration_since(Instant::now());
-        let send_goal = lock(&self.shared.send_goal).wait_for_service_async(left());
+        let send_goal = self.shared.send_goal.wait_for_service_async(left());
         if !send_goal.await {
             return false;
         }
-        let cancel_goal = lock(&self.shared.cancel_goal).wait_for_service_async(left());
+        let cancel_goal = self.shared.cancel_goal.wait_for_service_async(left());
         if !cancel_goal.await {
             return false;
         }
-        let get_result = lock(&self.shared.get_result).wait_for_service_async(left());
+        let get_result = self.shared.get_result.wait_for_service_async(left());
         get_result.await
     }
 
@@ -269,8 +269,10 @@ impl<A: Action> ActionClient<A> {
         let id = GoalId::random();
         // Registered before the request leaves: feedback may come before the response.
         lock(&self.shared.goals).insert(id, GoalSlot::new());
-        let response =
-            lock(&self.shared.send_goal).call_async(A::create_goal_request(id.0, goal), timeout);
+        let response = self
+            .shared
+            .send_goal
+            .call_async(A::create_goal_request(id.0, goal), timeout);
         PendingGoal {
             shared: Arc::clone(&self.shared),
             id,
@@ -322,9 +324,9 @@ impl<A: Action> GoalSlot<A> {
 struct Shared<A: Action> {
     action: String,
     node: Node,
-    send_goal: Mutex<AsyncServiceClient<A::SendGoal>>,
-    cancel_goal: Mutex<AsyncServiceClient<CancelGoal>>,
-    get_result: Mutex<AsyncServiceClient<A::GetResult>>,
+    send_goal: AsyncServiceClient<A::SendGoal>,
+    cancel_goal: AsyncServiceClient<CancelGoal>,
+    get_result: AsyncServiceClient<A::GetResult>,
     goals: Mutex<HashMap<GoalId, GoalSlot<A>>>,
     /// Notified on feedback, status and server changes.
     changed: Condvar,
@@ -335,14 +337,14 @@ struct Shared<A: Action> {
 
 impl<A: Action> Shared<A> {
     fn server_available(&self) -> bool {
-        lock(&self.send_goal).server_available()
-            && lock(&self.cancel_goal).server_available()
-            && lock(&self.get_result).server_available()
+        self.send_goal.server_available()
+            && self.cancel_goal.server_available()
+            && self.get_result.server_available()
     }
 
     /// Tells every goal whether the server is there.
     fn check_server(&self) {
-        let gone = !lock(&self.get_result).server_available();
+        let gone = !self.get_result.server_available();
         let mut goals = lock(&self.goals);
         let mut changed = false;
         for slot in goals.values_mut() {
@@ -427,7 +429,7 @@ impl<A: Action> Shared<A> {
             },
         };
         // The client's lock is held while the call starts only, not while it is waited on.
-        let pending = lock(&self.cancel_goal).call_async(request, timeout);
+        let pending = self.cancel_goal.call_async(request, timeout);
         cancel_outcome(pending.wait())
     }
 }
@@ -698,8 +700,10 @@ impl<A: Action> ClientGoalHandle<A> {
     /// Asks for the goal's result without blocking: a [`PendingResult`] to check, wait on or
     /// `.await`.
     pub fn get_result_pending(&self, timeout: Duration) -> PendingResult<A> {
-        let response =
-            lock(&self.shared.get_result).call_async(A::create_result_request(self.id.0), timeout);
+        let response = self
+            .shared
+            .get_result
+            .call_async(A::create_result_request(self.id.0), timeout);
         PendingResult {
             response: Some(response),
             _action: PhantomData,
@@ -721,7 +725,7 @@ impl<A: Action> ClientGoalHandle<A> {
             },
         };
         PendingCancel {
-            response: Some(lock(&self.shared.cancel_goal).call_async(request, timeout)),
+            response: Some(self.shared.cancel_goal.call_async(request, timeout)),
         }
     }
 }

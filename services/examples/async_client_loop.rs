@@ -41,7 +41,7 @@ fn main() -> Result<()> {
         })
         .build()?;
 
-    let mut client = AsyncServiceClient::<AddTwoInts>::builder()
+    let client = AsyncServiceClient::<AddTwoInts>::builder()
         .node(&node)
         .name("slow_add")
         .build()?;

@@ -106,7 +106,7 @@ async fn pending_responses_are_awaited_on_tokio_and_a_sync_server_answers_awaite
     // The client in a participant of its own: rustdds 0.15.1 can leave a burst of requests
     // between a writer and a reader of one participant undelivered under load (seen in this
     // test: the server got 64 of the 100 and never the rest), which no call of ours can repair.
-    let mut client = AsyncServiceClient::<AddTwoInts>::builder()
+    let client = AsyncServiceClient::<AddTwoInts>::builder()
         .node(&node(201, "pending_client"))
         .name("/pending")
         .build()
@@ -314,7 +314,7 @@ async fn a_dropped_call_is_withdrawn_and_leaves_nothing_behind() {
     assert_eq!(server.in_flight(), 1);
 
     // Dropped by tokio::time::timeout: a PendingResponse this time.
-    let mut pending_client = AsyncServiceClient::<AddTwoInts>::builder()
+    let pending_client = AsyncServiceClient::<AddTwoInts>::builder()
         .node(&n)
         .name("/cancel")
         .build()

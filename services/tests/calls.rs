@@ -441,7 +441,7 @@ fn a_caller_with_a_slow_reply_neither_holds_up_nor_strands_the_other_clients_of_
 fn async_calls_can_be_checked_waited_and_awaited() {
     let n = node(88, "asyncer");
     let _server = adder(&n, "/async_add");
-    let mut c = AsyncServiceClient::<AddTwoInts>::builder()
+    let c = AsyncServiceClient::<AddTwoInts>::builder()
         .node(&n)
         .name("/async_add")
         .build()
@@ -468,7 +468,7 @@ fn async_calls_can_be_checked_waited_and_awaited() {
     for (i, p) in many.into_iter().enumerate() {
         assert_eq!(block_on(p), Ok(AddTwoIntsResponse { sum: 2 * i as i64 }));
     }
-    let mut missing = AsyncServiceClient::<AddTwoInts>::builder()
+    let missing = AsyncServiceClient::<AddTwoInts>::builder()
         .node(&n)
         .name("/missing")
         .build()
@@ -510,7 +510,7 @@ fn one_set_of_endpoint_options_serves_every_builder() {
         .options(options.clone())
         .build()
         .expect("client");
-    let mut pending_client: AsyncServiceClient<AddTwoInts> =
+    let pending_client: AsyncServiceClient<AddTwoInts> =
         AsyncServiceClient::<AddTwoInts>::builder()
             .options(options.clone())
             .build()

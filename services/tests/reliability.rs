@@ -381,7 +381,7 @@ fn an_async_call_ends_with_server_gone_too() {
         .name("/leaving_async")
         .build()
         .expect("server");
-    let mut c = AsyncServiceClient::<AddTwoInts>::builder()
+    let c = AsyncServiceClient::<AddTwoInts>::builder()
         .node(&node(124, "abandoned_async"))
         .name("/leaving_async")
         .build()

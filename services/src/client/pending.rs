@@ -94,7 +94,7 @@ impl<S: Service> AsyncServiceClient<S> {
 
     /// Starts a call (never blocks). If no server is usable yet, the request is sent as soon as
     /// one is, within `timeout`.
-    pub fn call_async(&mut self, request: S::Request, timeout: Duration) -> PendingResponse<S> {
+    pub fn call_async(&self, request: S::Request, timeout: Duration) -> PendingResponse<S> {
         let mut pending = PendingResponse {
             core: Arc::clone(&self.core),
             deadline: Instant::now() + timeout,
