@@ -35,6 +35,9 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 //!
+//! Action types come from `.action` files (the interface generator, horus-ros-codegen) or from
+//! Rust ([`action!`]), the same on the wire and in their hashes.
+//!
 //! # Entities
 //!
 //! An action `/a` is three services and two topics, named as rcl_action's `names.c` names them
@@ -69,6 +72,8 @@
 //! `Future`s). Feature `tokio`: `ActionClient::wait_for_server_async` too.
 
 mod client;
+#[macro_use]
+mod macros;
 mod common;
 mod error;
 pub mod goal_state;
@@ -103,4 +108,10 @@ pub mod prelude {
     };
     pub use horus_ros_rmw::{Context, Node};
     pub use std::time::Duration;
+}
+
+#[doc(hidden)]
+pub mod __private {
+    pub use horus_ros_services::__private::{horus_ros_msgs, names, pastey};
+    pub use horus_ros_services::service;
 }
