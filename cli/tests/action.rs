@@ -51,13 +51,19 @@ struct SendGoal {
 }
 
 impl SendGoal {
+    /// To an rclpy server: rclpy's services speak rmw_fastrtps' request/reply convention,
+    /// which only the rustdds backend speaks (a Cyclone DDS context reports the server
+    /// unusable), so the goals go out on rustdds whatever HORUS_ROS_BACKEND says.
     fn start(domain: u32, args: &[&str], installed: bool) -> Self {
+        Self::start_on(domain, args, installed, &["--backend", "rustdds"])
+    }
+
+    /// [`start`](Self::start) with these global options (none: the test's backend).
+    fn start_on(domain: u32, args: &[&str], installed: bool, global: &[&str]) -> Self {
         let mut command = Command::new(env!("CARGO_BIN_EXE_horus-ros"));
-        // rclpy's services speak rmw_fastrtps' request/reply convention, which only the
-        // rustdds backend speaks (a Cyclone DDS context reports the server unusable), so the
-        // goals go out on rustdds whatever HORUS_ROS_BACKEND says.
         command
-            .args(["--backend", "rustdds", "--domain-id"])
+            .args(global)
+            .arg("--domain-id")
             .arg(domain.to_string())
             .args(["action", "send_goal"])
             .args(args)
@@ -347,4 +353,55 @@ fn an_interrupt_cancels_the_goal() {
         .expect("the server reports the cancel");
     let canceled: Value = serde_json::from_str(&line).expect("JSON");
     assert_eq!(canceled["canceled"], true);
+}
+
+#[test]
+fn send_goal_to_a_horus_ros_server_on_this_backend() {
+    // Our own action server, on the backend the suite runs (HORUS_ROS_BACKEND), so the CLI's
+    // goal crosses in that backend's service convention (rmw_cyclonedds' on Cyclone DDS).
+    use horus_ros_actions::interfaces::test_msgs::action::{
+        Fibonacci, FibonacciFeedback, FibonacciResult,
+    };
+    use horus_ros_actions::prelude::*;
+
+    let domain = 206;
+    let context = horus_ros_rmw::Context::builder()
+        .domain_id(domain)
+        .build()
+        .expect("context");
+    let node = context
+        .create_node("fibonacci_action_server", "/")
+        .expect("node");
+    let _server = ActionServer::<Fibonacci>::builder()
+        .node(&node)
+        .name("/fibonacci")
+        .execute(|handle| {
+            let order = usize::try_from(handle.goal().order).unwrap_or(0);
+            let mut sequence = vec![0, 1];
+            for i in 1..order {
+                sequence.push(sequence[i] + sequence[i - 1]);
+                let _ = handle.publish_feedback(FibonacciFeedback {
+                    sequence: sequence.clone(),
+                });
+            }
+            let _ = handle.succeed(FibonacciResult { sequence });
+        })
+        .build()
+        .expect("action server");
+    let mut send = SendGoal::start_on(
+        domain,
+        &["/fibonacci", "test_msgs/action/Fibonacci", "{order: 4}"],
+        true,
+        &[],
+    );
+    goal_sent(&mut send, 4);
+    let run = send.finish();
+    assert!(
+        run.stdout.ends_with(&format!(
+            "Result:\n    {}\nGoal finished with status: SUCCEEDED\n",
+            sequence_yaml(&fibonacci(4))
+        )),
+        "{run:?}"
+    );
+    assert_eq!(run.code, Some(0), "{run:?}");
 }
