@@ -201,77 +201,7 @@ macro_rules! action {
             const TYPE_NAME: &'static str =
                 ::core::concat!(::core::stringify!($pkg), "/action/", ::core::stringify!($name));
 
-            fn create_goal_request(goal_id: [u8; 16], goal: $goal) -> $send_goal_req {
-                $send_goal_req {
-                    goal_id: $crate::__private::horus_ros_msgs::unique_identifier_msgs::msg::UUID {
-                        uuid: goal_id,
-                    },
-                    goal,
-                }
-            }
-
-            fn split_goal_request(request: $send_goal_req) -> ([u8; 16], $goal) {
-                (request.goal_id.uuid, request.goal)
-            }
-
-            fn goal_request_goal_id(request: &$send_goal_req) -> [u8; 16] {
-                request.goal_id.uuid
-            }
-
-            fn create_goal_response(accepted: bool, stamp: (i32, u32)) -> $send_goal_resp {
-                $send_goal_resp {
-                    accepted,
-                    stamp: $crate::__private::horus_ros_msgs::builtin_interfaces::msg::Time {
-                        sec: stamp.0,
-                        nanosec: stamp.1,
-                    },
-                }
-            }
-
-            fn goal_response_accepted(response: &$send_goal_resp) -> bool {
-                response.accepted
-            }
-
-            fn goal_response_stamp(response: &$send_goal_resp) -> (i32, u32) {
-                (response.stamp.sec, response.stamp.nanosec)
-            }
-
-            fn create_feedback_message(goal_id: [u8; 16], feedback: $feedback) -> $feedback_message {
-                $feedback_message {
-                    goal_id: $crate::__private::horus_ros_msgs::unique_identifier_msgs::msg::UUID {
-                        uuid: goal_id,
-                    },
-                    feedback,
-                }
-            }
-
-            fn split_feedback_message(message: $feedback_message) -> ([u8; 16], $feedback) {
-                (message.goal_id.uuid, message.feedback)
-            }
-
-            fn feedback_message_goal_id(message: &$feedback_message) -> [u8; 16] {
-                message.goal_id.uuid
-            }
-
-            fn create_result_request(goal_id: [u8; 16]) -> $get_result_req {
-                $get_result_req {
-                    goal_id: $crate::__private::horus_ros_msgs::unique_identifier_msgs::msg::UUID {
-                        uuid: goal_id,
-                    },
-                }
-            }
-
-            fn result_request_goal_id(request: &$get_result_req) -> [u8; 16] {
-                request.goal_id.uuid
-            }
-
-            fn create_result_response(status: i8, result: $result) -> $get_result_resp {
-                $get_result_resp { status, result }
-            }
-
-            fn split_result_response(response: $get_result_resp) -> (i8, $result) {
-                (response.status, response.result)
-            }
+            $crate::__private::horus_ros_msgs::action_accessors!();
         }
     };
 

@@ -444,73 +444,7 @@ pub mod action {
         type GetResult = FibonacciGetResult;
         type FeedbackMessage = FibonacciFeedbackMessage;
         const TYPE_NAME: &'static str = "test_msgs/action/Fibonacci";
-
-        fn create_goal_request(goal_id: [u8; 16], goal: Self::Goal) -> <Self::SendGoal as ::horus_ros_msgs::Service>::Request {
-            let mut request = <<Self::SendGoal as ::horus_ros_msgs::Service>::Request as ::core::default::Default>::default();
-            request.goal_id.uuid = goal_id;
-            request.goal = goal;
-            request
-        }
-
-        fn split_goal_request(request: <Self::SendGoal as ::horus_ros_msgs::Service>::Request) -> ([u8; 16], Self::Goal) {
-            (request.goal_id.uuid, request.goal)
-        }
-
-        fn goal_request_goal_id(request: &<Self::SendGoal as ::horus_ros_msgs::Service>::Request) -> [u8; 16] {
-            request.goal_id.uuid
-        }
-
-        fn create_goal_response(accepted: bool, stamp: (i32, u32)) -> <Self::SendGoal as ::horus_ros_msgs::Service>::Response {
-            let mut response = <<Self::SendGoal as ::horus_ros_msgs::Service>::Response as ::core::default::Default>::default();
-            response.accepted = accepted;
-            response.stamp.sec = stamp.0;
-            response.stamp.nanosec = stamp.1;
-            response
-        }
-
-        fn goal_response_accepted(response: &<Self::SendGoal as ::horus_ros_msgs::Service>::Response) -> bool {
-            response.accepted
-        }
-
-        fn goal_response_stamp(response: &<Self::SendGoal as ::horus_ros_msgs::Service>::Response) -> (i32, u32) {
-            (response.stamp.sec, response.stamp.nanosec)
-        }
-
-        fn create_feedback_message(goal_id: [u8; 16], feedback: Self::Feedback) -> Self::FeedbackMessage {
-            let mut message = <Self::FeedbackMessage as ::core::default::Default>::default();
-            message.goal_id.uuid = goal_id;
-            message.feedback = feedback;
-            message
-        }
-
-        fn split_feedback_message(message: Self::FeedbackMessage) -> ([u8; 16], Self::Feedback) {
-            (message.goal_id.uuid, message.feedback)
-        }
-
-        fn feedback_message_goal_id(message: &Self::FeedbackMessage) -> [u8; 16] {
-            message.goal_id.uuid
-        }
-
-        fn create_result_request(goal_id: [u8; 16]) -> <Self::GetResult as ::horus_ros_msgs::Service>::Request {
-            let mut request = <<Self::GetResult as ::horus_ros_msgs::Service>::Request as ::core::default::Default>::default();
-            request.goal_id.uuid = goal_id;
-            request
-        }
-
-        fn result_request_goal_id(request: &<Self::GetResult as ::horus_ros_msgs::Service>::Request) -> [u8; 16] {
-            request.goal_id.uuid
-        }
-
-        fn create_result_response(status: i8, result: Self::Result) -> <Self::GetResult as ::horus_ros_msgs::Service>::Response {
-            let mut response = <<Self::GetResult as ::horus_ros_msgs::Service>::Response as ::core::default::Default>::default();
-            response.status = status;
-            response.result = result;
-            response
-        }
-
-        fn split_result_response(response: <Self::GetResult as ::horus_ros_msgs::Service>::Response) -> (i8, Self::Result) {
-            (response.status, response.result)
-        }
+        ::horus_ros_msgs::action_accessors!();
     }
 }
 
