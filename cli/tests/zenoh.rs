@@ -205,6 +205,22 @@ fn an_rmw_zenoh_peer_through_our_router() {
     assert!(info.contains("Node name: talker"), "{info}");
     assert!(info.contains(&format!("GID: {pub_gid}")), "{info}");
     assert!(info.contains("History (Depth): KEEP_LAST (10)"), "{info}");
+    let services = horus(port, domain, &["service", "list", "-t"]);
+    assert!(
+        services
+            .lines()
+            .any(|l| l == "/add_two_ints [example_interfaces/srv/AddTwoInts]"),
+        "{services}"
+    );
+    let service = horus(port, domain, &["service", "info", "-v", "/add_two_ints"]);
+    assert!(service.contains("Services count: 1"), "{service}");
+    assert!(
+        service.contains(&format!(
+            " - Request Reader : {}",
+            dotted(field(&created, "srv_gid"))
+        )),
+        "the server's request side has the GID rmw_zenoh computes: {service}"
+    );
     let node_info = horus(port, domain, &["node", "info", "/talker"]);
     assert!(
         node_info.contains("/chatter: std_msgs/msg/String"),

@@ -9,6 +9,7 @@ rmw_zenoh_cpp's liveliness_utils.cpp, rmw_publisher_data.cpp, attachment_helpers
 - a publisher on /chatter (MP, entity 10 as in rclpy): every 100 ms a sample on
   <domain>/chatter/<type>/<hash>, CDR with the 00 01 00 00 header, and the 33-byte attachment
   (seq from 1, source timestamp ns, 0x10, GID = XXH3-128 of the MP token, low64 LE then high64 LE);
+- a service server token for /add_two_ints (SS, entity 12; no queryable yet);
 - a subscription on /back (MS, entity 11): each sample received is printed as a JSON line, with
   whether its attachment GID is the XXH3-128 of a publisher token of /back seen in the graph.
 
@@ -27,6 +28,8 @@ import zenoh
 
 STRING_TYPE = "std_msgs::msg::dds_::String_"
 STRING_HASH = "RIHS01_df668c740482bbd48fb39d76a70dfd4bd59db1288021743503259e948f6b1a18"
+SRV_TYPE = "example_interfaces::srv::dds_::AddTwoInts_"
+SRV_HASH = "RIHS01_e118de6bf5eeb66a2491b5bda11202e7b68f198d6f67922cf30364858239c81a"
 QOS = "::,10:,:,:,,"  # RELIABLE, VOLATILE, KEEP_LAST 10: rclpy's default, as qos_to_keyexpr writes it
 
 
@@ -53,6 +56,8 @@ def main():
     node_token = f"{prefix}/0/NN/%/%/talker"
     pub_token = f"{prefix}/10/MP/%/%/talker/%chatter/{STRING_TYPE}/{STRING_HASH}/{QOS}"
     sub_token = f"{prefix}/11/MS/%/%/talker/%back/{STRING_TYPE}/{STRING_HASH}/{QOS}"
+    # A server's token only (the graph's view of a service; its queryable is milestone 2's).
+    srv_token = f"{prefix}/12/SS/%/%/talker/%add_two_ints/{SRV_TYPE}/{SRV_HASH}/{QOS}"
     gid = gid_of(pub_token)
 
     # The graph, as rmw_zenoh's graph cache learns it: tokens with history.
@@ -97,7 +102,7 @@ def main():
 
     back_key = f"{domain}/back/{STRING_TYPE}/{STRING_HASH}"
     sub = session.declare_subscriber(back_key, on_back)
-    tokens = [session.liveliness().declare_token(k) for k in (node_token, pub_token, sub_token)]
+    tokens = [session.liveliness().declare_token(k) for k in (node_token, pub_token, sub_token, srv_token)]
     pub = session.declare_publisher(f"{domain}/chatter/{STRING_TYPE}/{STRING_HASH}")
     print(
         json.dumps(
@@ -107,6 +112,8 @@ def main():
                 "pub_token": pub_token,
                 "sub_token": sub_token,
                 "pub_gid": gid.hex(),
+                "srv_token": srv_token,
+                "srv_gid": gid_of(srv_token).hex(),
             }
         ),
         flush=True,
