@@ -7,6 +7,7 @@
 //! One test in this binary: the sessions read `ZENOH_CONFIG_OVERRIDE` from the process's
 //! environment, set once before any context. Run inside `scripts/isolated`.
 
+#[allow(dead_code)]
 mod common;
 
 use std::time::Instant;
@@ -21,15 +22,35 @@ use zenoh::Wait;
 const PORT: u16 = 17560;
 const DOMAIN: u32 = 61;
 
-/// The next event satisfying `want`, within [`LIMIT`].
-fn next_where(feed: &mut DiscoveryFeed, what: &str, mut want: impl FnMut(&DiscoveryEvent) -> bool) -> DiscoveryEvent {
-    let deadline = Instant::now() + LIMIT;
-    loop {
-        let left = deadline.saturating_duration_since(Instant::now());
-        assert!(!left.is_zero(), "no {what} within {LIMIT:?}");
-        if let Some(event) = feed.next_timeout(left) {
-            if want(&event) {
-                return event;
+/// The events a feed reported, kept so that a wait for one finds it among those already seen.
+struct Events {
+    feed: DiscoveryFeed,
+    seen: Vec<DiscoveryEvent>,
+}
+
+impl Events {
+    /// The first event (seen or still to come) satisfying `want`, within [`LIMIT`].
+    fn find(
+        &mut self,
+        what: &str,
+        mut want: impl FnMut(&DiscoveryEvent) -> bool,
+    ) -> DiscoveryEvent {
+        if let Some(e) = self.seen.iter().find(|e| want(e)) {
+            return e.clone();
+        }
+        let deadline = Instant::now() + LIMIT;
+        loop {
+            let left = deadline.saturating_duration_since(Instant::now());
+            assert!(
+                !left.is_zero(),
+                "no {what} within {LIMIT:?}: {:#?}",
+                self.seen
+            );
+            if let Some(event) = self.feed.next_timeout(left) {
+                self.seen.push(event.clone());
+                if want(&event) {
+                    return event;
+                }
             }
         }
     }
@@ -56,12 +77,17 @@ fn two_contexts_through_a_router() {
         .expect("router");
     std::env::set_var(
         config::CONFIG_OVERRIDE_ENV,
-        format!(r#"connect/endpoints=["tcp/127.0.0.1:{PORT}"];listen/endpoints=["tcp/127.0.0.1:0"]"#),
+        format!(
+            r#"connect/endpoints=["tcp/127.0.0.1:{PORT}"];listen/endpoints=["tcp/127.0.0.1:0"]"#
+        ),
     );
 
     let listener = context();
     assert_eq!(listener.rmw_implementation(), "rmw_zenoh_cpp");
-    let mut feed = listener.discovery_feed().expect("feed");
+    let mut feed = Events {
+        feed: listener.discovery_feed().expect("feed"),
+        seen: Vec::new(),
+    };
     let sub_node = listener.create_node("listener", "/").expect("node");
     let mut reader = sub_node
         .create_raw_reader(&spec("rt/zenoh_test"))
@@ -77,26 +103,27 @@ fn two_contexts_through_a_router() {
 
     // The talker's session is a participant; its writer an endpoint with the writer's GID (the
     // XXH3-128 of its MP token); its node lists it.
-    let participant = match next_where(&mut feed, "talker participant", |e| {
-        matches!(e, DiscoveryEvent::ParticipantDiscovered(p) if p.gid != listener.gid())
-    }) {
+    let participant = match feed.find(
+        "talker participant",
+        |e| matches!(e, DiscoveryEvent::ParticipantDiscovered(p) if p.gid != listener.gid()),
+    ) {
         DiscoveryEvent::ParticipantDiscovered(p) => p,
         _ => unreachable!(),
     };
     assert_eq!(participant.gid, talker.gid());
     assert_eq!(participant.vendor_id, VendorId::ZENOH);
-    next_where(&mut feed, "the talker's writer", |e| {
+    feed.find("the talker's writer", |e| {
         matches!(e, DiscoveryEvent::EndpointDiscovered(d)
             if d.gid == writer.gid() && d.participant_gid == talker.gid()
                 && d.dds_topic_name == "rt/zenoh_test")
     });
-    next_where(&mut feed, "the talker's node listing its writer", |e| {
+    feed.find("the talker's node listing its writer", |e| {
         matches!(e, DiscoveryEvent::ParticipantEntities(info)
             if info.gid == talker.gid() && info.node_entities_info_seq.iter().any(|n|
                 n.node_name == "talker" && n.node_namespace == "/ns"
                     && n.writer_gid_seq == vec![writer.gid()]))
     });
-    next_where(&mut feed, "our reader matched with the writer", |e| {
+    feed.find("our reader matched with the writer", |e| {
         *e == DiscoveryEvent::Matched {
             local: reader.gid(),
             remote: writer.gid(),
@@ -107,18 +134,11 @@ fn two_contexts_through_a_router() {
     let body = vec![1, 0, 0, 0, 2, 0, 0, 0];
     let sent = writer.write(body.clone(), None, None).expect("write");
     assert_eq!(sent.sequence_number, 1, "rmw_zenoh numbers from 1");
+    // The set was marked when the sample came, whether before or during this wait.
     let mut ready = Vec::new();
-    let deadline = Instant::now() + LIMIT;
-    let sample = loop {
-        if let Some(sample) = reader.take().expect("take") {
-            break sample;
-        }
-        let left = deadline.saturating_duration_since(Instant::now());
-        assert!(!left.is_zero(), "the sample did not come");
-        ready.clear();
-        set.wait(left, &mut ready);
-    };
+    assert!(set.wait(LIMIT, &mut ready), "the wait set was not woken");
     assert_eq!(ready, vec![7]);
+    let sample = reader.take().expect("take").expect("the sample");
     assert_eq!(sample.body, body);
     assert_eq!(sample.id, sent);
     assert_eq!(sample.id.writer, writer.gid());
@@ -126,13 +146,14 @@ fn two_contexts_through_a_router() {
     // The writer's end, then the context's.
     let writer_gid = writer.gid();
     drop(writer);
-    next_where(&mut feed, "the writer's loss", |e| {
-        matches!(e, DiscoveryEvent::EndpointLost { gid, .. } if *gid == writer_gid)
-    });
+    feed.find(
+        "the writer's loss",
+        |e| matches!(e, DiscoveryEvent::EndpointLost { gid, .. } if *gid == writer_gid),
+    );
     let talker_gid: Gid = talker.gid();
     drop(node);
     drop(talker);
-    next_where(&mut feed, "the talker's loss", |e| {
+    feed.find("the talker's loss", |e| {
         *e == DiscoveryEvent::ParticipantLost { gid: talker_gid }
     });
     drop(feed);

@@ -18,6 +18,7 @@ Prints one JSON line when its tokens are declared: zid, the tokens and the publi
 """
 
 import json
+import queue
 import struct
 import sys
 import threading
@@ -62,43 +63,54 @@ def main():
 
     # The graph, as rmw_zenoh's graph cache learns it: tokens with history.
     graph = set()
-    lock = threading.Lock()
+    changed = threading.Condition()
 
     def on_token(sample):
-        with lock:
+        with changed:
             if sample.kind == zenoh.SampleKind.PUT:
                 graph.add(str(sample.key_expr))
             else:
                 graph.discard(str(sample.key_expr))
+            changed.notify_all()
 
     tokens_sub = session.liveliness().declare_subscriber(
         f"@ros2_lv/{domain}/**", on_token, history=True
     )
 
+    def back_publishers():
+        return [t for t in graph if "/MP/" in t and "/%back/" in t and f"/{zid}/" not in t]
+
+    # Samples are judged on a thread of their own: a sample may come (peer to peer) before its
+    # publisher's token (through the router), so the check waits for the token, bounded.
+    received = queue.Queue()
+
+    def judge():
+        while True:
+            sample = received.get()
+            if sample is None:
+                return
+            key, payload, attachment = sample
+            out = {"key": key, "payload": payload.hex(), "attachment": attachment.hex()}
+            if len(payload) >= 8:
+                (n,) = struct.unpack_from("<I", payload, 4)
+                out["data"] = payload[8 : 8 + n - 1].decode(errors="replace")
+            if len(attachment) == 33:
+                seq, ts = struct.unpack_from("<qq", attachment)
+                out["seq"], out["timestamp"] = seq, ts
+                out["gid"] = attachment[17:].hex()
+                match = lambda: any(gid_of(t) == attachment[17:] for t in back_publishers())
+                with changed:
+                    changed.wait_for(match, timeout=10)
+                    out["publisher_tokens"] = back_publishers()
+                    out["gid_is_token_hash"] = match()
+            print(json.dumps(out), flush=True)
+
+    judge_thread = threading.Thread(target=judge, daemon=True)
+    judge_thread.start()
+
     def on_back(sample):
         attachment = sample.attachment.to_bytes() if sample.attachment is not None else b""
-        payload = sample.payload.to_bytes()
-        out = {
-            "key": str(sample.key_expr),
-            "payload": payload.hex(),
-            "attachment": attachment.hex(),
-        }
-        if len(payload) >= 8:
-            (n,) = struct.unpack_from("<I", payload, 4)
-            out["data"] = payload[8 : 8 + n - 1].decode(errors="replace")
-        if len(attachment) == 33:
-            seq, ts = struct.unpack_from("<qq", attachment)
-            out["seq"], out["timestamp"] = seq, ts
-            out["gid"] = attachment[17:].hex()
-            with lock:
-                publishers = [
-                    t
-                    for t in graph
-                    if "/MP/" in t and "/%back/" in t and f"/{zid}/" not in t
-                ]
-            out["publisher_tokens"] = publishers
-            out["gid_is_token_hash"] = any(gid_of(t) == attachment[17:] for t in publishers)
-        print(json.dumps(out), flush=True)
+        received.put((str(sample.key_expr), sample.payload.to_bytes(), attachment))
 
     back_key = f"{domain}/back/{STRING_TYPE}/{STRING_HASH}"
     sub = session.declare_subscriber(back_key, on_back)

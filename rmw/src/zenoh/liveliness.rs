@@ -171,7 +171,7 @@ impl Token {
             Some(TopicInfo {
                 name: demangle(parts[9]),
                 type_name: parts[10].to_owned(),
-                type_hash: TypeHash::parse(parts[11]).map_err(|_| TokenError::TypeHash)?,
+                type_hash: parse_type_hash(parts[11])?,
                 qos: keyexpr_to_qos(parts[12]).ok_or(TokenError::Qos)?,
             })
         };
@@ -196,6 +196,15 @@ impl Token {
     pub(crate) fn gid(&self) -> Gid {
         gid_of_key(&self.key())
     }
+}
+
+/// `RIHS01_<64 hex>`, or the unset hash as it prints (`RIHS00_` and 64 zeros: an endpoint whose
+/// type has no hash, which a horus-ros raw endpoint may announce).
+fn parse_type_hash(s: &str) -> Result<TypeHash, TokenError> {
+    if s == TypeHash::ZERO.to_string() {
+        return Ok(TypeHash::ZERO);
+    }
+    TypeHash::parse(s).map_err(|_| TokenError::TypeHash)
 }
 
 /// XXH3-128 (seed 0) of `key`: `low64` little-endian, then `high64` little-endian
@@ -473,6 +482,12 @@ mod tests {
         ] {
             assert_eq!(Token::parse(key), Err(want), "{key}");
         }
+        let unset = TALKER_MP.replace(
+            "RIHS01_df668c740482bbd48fb39d76a70dfd4bd59db1288021743503259e948f6b1a18",
+            &TypeHash::ZERO.to_string(),
+        );
+        let token = Token::parse(&unset).expect("the unset hash is read");
+        assert_eq!(token.key(), unset);
         let bad_qos = TALKER_MP.replace("::,10:,:,:,,", "::,10:,:,:,");
         assert_eq!(Token::parse(&bad_qos), Err(TokenError::Qos));
     }
