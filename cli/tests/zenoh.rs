@@ -302,3 +302,19 @@ fn our_pub_and_sub_across_two_processes() {
     let echo = horus(port, domain, &["topic", "echo", "/numbers", "--once"]);
     assert_eq!(echo, "data: 42\n---\n");
 }
+
+/// The router stops on SIGINT and on SIGTERM, with status 0 (as rmw_zenohd on Ctrl+C).
+#[test]
+fn the_router_stops_on_sigint_and_sigterm() {
+    use nix::sys::signal::{kill, Signal};
+    use nix::unistd::Pid;
+    for (port, signal) in [(17449, Signal::SIGINT), (17450, Signal::SIGTERM)] {
+        let mut router = router(port);
+        let pid = Pid::from_raw(i32::try_from(router.child.id()).expect("pid"));
+        kill(pid, signal).expect("signal the router");
+        let status = horus_ros_test_support::wait_exit(&mut router.child, LIMIT)
+            .expect("wait")
+            .unwrap_or_else(|| panic!("the router did not stop on {signal}"));
+        assert!(status.success(), "{signal}: {status}");
+    }
+}

@@ -303,10 +303,11 @@ pub(crate) fn qos_to_keyexpr(qos: &Qos) -> String {
             v.to_string()
         }
     };
-    let depth = match qos.history {
-        HistoryPolicy::KeepAll => String::new(),
-        _ if qos.depth == 0 || qos.depth == DEFAULT_DEPTH => String::new(),
-        _ => qos.depth.to_string(),
+    // The system-default depth (0) is rmw_zenoh's default, 42 (`QoS::best_available_qos`).
+    let depth = if qos.depth == 0 || qos.depth == DEFAULT_DEPTH {
+        String::new()
+    } else {
+        qos.depth.to_string()
     };
     let (dl_s, dl_ns) = duration_parts(qos.deadline);
     let (ls_s, ls_ns) = duration_parts(qos.lifespan);
@@ -457,7 +458,11 @@ mod tests {
         be.reliability = ReliabilityPolicy::BestEffort;
         be.deadline = QosDuration::Finite(std::time::Duration::from_millis(1500));
         let s = qos_to_keyexpr(&be);
-        assert_eq!(s, "2::2,:1,500000000:,:,,");
+        assert_eq!(s, "2::2,10:1,500000000:,:,,");
+        assert_eq!(
+            qos_to_keyexpr(&Qos::default_profile().keep_last(0)),
+            "::,:,:,:,,"
+        );
         let back = keyexpr_to_qos(&s).expect("parses");
         assert_eq!(back.reliability, ReliabilityPolicy::BestEffort);
         assert_eq!(back.history, HistoryPolicy::KeepAll);
