@@ -13,6 +13,7 @@ mod common;
 use std::time::Instant;
 
 use common::{spec, LIMIT};
+use horus_ros_rmw::qos::{DurabilityPolicy, Qos};
 use horus_ros_rmw::zenoh::config::{self, ConfigKind};
 use horus_ros_rmw::{
     Backend, Context, DiscoveryEvent, DiscoveryFeed, Gid, SignalHandlerOptions, VendorId, WaitSet,
@@ -142,6 +143,34 @@ fn two_contexts_through_a_router() {
     assert_eq!(sample.body, body);
     assert_eq!(sample.id, sent);
     assert_eq!(sample.id.writer, writer.gid());
+
+    // TRANSIENT_LOCAL (zenoh-ext's advanced publisher and subscriber, as rmw_zenoh's): a
+    // subscription created after three samples were written gets the last `depth` (2) of them.
+    let mut latched = spec("rt/zenoh_latched");
+    latched.qos = Qos::default_profile().keep_last(2);
+    latched.qos.durability = DurabilityPolicy::TransientLocal;
+    let latched_writer = node.create_raw_writer(&latched).expect("latched writer");
+    for n in 1u8..=3 {
+        latched_writer
+            .write(vec![n, 0, 0, 0], None, None)
+            .expect("write");
+    }
+    let mut late = sub_node.create_raw_reader(&latched).expect("late reader");
+    let mut got = Vec::new();
+    let deadline = Instant::now() + LIMIT;
+    while got.len() < 2 {
+        match late.take().expect("take") {
+            Some(sample) => got.push(sample.body[0]),
+            None => {
+                let left = deadline.saturating_duration_since(Instant::now());
+                assert!(!left.is_zero(), "the history did not come: {got:?}");
+                late.wait(left);
+            }
+        }
+    }
+    assert_eq!(got, vec![2, 3]);
+    drop(late);
+    drop(latched_writer);
 
     // The writer's end, then the context's.
     let writer_gid = writer.gid();

@@ -41,9 +41,18 @@ pub(crate) fn zenoh_error(
     make(boxed(ZenohError(e.to_string())))
 }
 
+/// A Zenoh publisher: a plain one (VOLATILE) or zenoh-ext's advanced one (TRANSIENT_LOCAL,
+/// with the cache late joiners query), as rmw_zenoh declares them (`rmw_publisher_data.cpp`).
+pub(crate) enum Publication {
+    /// A plain publisher.
+    Plain(Publisher<'static>),
+    /// An advanced publisher with a cache of the last `depth` samples.
+    Advanced(zenoh_ext::AdvancedPublisher<'static>),
+}
+
 /// A publisher: the Zenoh publisher, its token and its sequence numbers.
 pub(crate) struct ZenohWriter {
-    pub(crate) publisher: Publisher<'static>,
+    pub(crate) publisher: Publication,
     pub(crate) token: Option<LivelinessToken>,
     pub(crate) gid: Gid,
     pub(crate) sequence_number: AtomicI64,
@@ -75,11 +84,12 @@ impl WriterBackend for ZenohWriter {
         let mut payload = Vec::with_capacity(4 + body.len());
         payload.extend_from_slice(&CDR_LE_HEADER);
         payload.extend_from_slice(&body);
-        self.publisher
-            .put(payload)
-            .attachment(attachment.to_bytes().to_vec())
-            .wait()
-            .map_err(|e| zenoh_error(DdsError::Write, e))?;
+        let attachment = attachment.to_bytes().to_vec();
+        match &self.publisher {
+            Publication::Plain(p) => p.put(payload).attachment(attachment).wait(),
+            Publication::Advanced(p) => p.put(payload).attachment(attachment).wait(),
+        }
+        .map_err(|e| zenoh_error(DdsError::Write, e))?;
         Ok(SampleId {
             writer: self.gid,
             sequence_number,
@@ -175,10 +185,22 @@ impl ReaderQueue {
     }
 }
 
+/// A Zenoh subscriber: a plain one (VOLATILE) or zenoh-ext's advanced one (TRANSIENT_LOCAL:
+/// it queries the caches of the publishers it detects), as rmw_zenoh declares them
+/// (`rmw_subscription_data.cpp`).
+// Held only: dropping one undeclares it.
+#[allow(dead_code)]
+pub(crate) enum Subscription {
+    /// A plain subscriber.
+    Plain(Subscriber<()>),
+    /// An advanced subscriber.
+    Advanced(zenoh_ext::AdvancedSubscriber<()>),
+}
+
 /// A subscription: the Zenoh subscriber feeding the queue, and its token.
 pub(crate) struct ZenohReader {
     pub(crate) token: Option<LivelinessToken>,
-    pub(crate) subscriber: Option<Subscriber<()>>,
+    pub(crate) subscriber: Option<Subscription>,
     pub(crate) queue: Arc<ReaderQueue>,
     pub(crate) gid: Gid,
     pub(crate) graph: Arc<Graph>,

@@ -8,7 +8,8 @@
 //! - `liveliness`: the `@ros2_lv/…` tokens, their QoS chunk and the GIDs (XXH3-128 of the key).
 //! - `keyexpr`: data keys `<domain>/<name>/<type>/<hash>`.
 //! - `attachment`: the 33-byte attachment of every sample.
-//! - `endpoints`: publishers and subscriptions; `feed`: the graph from tokens, as the
+//! - `endpoints`: publishers and subscriptions (TRANSIENT_LOCAL ones on zenoh-ext's advanced
+//!   publisher and subscriber, as rmw_zenoh's); `feed`: the graph from tokens, as the
 //!   DDS-shaped [`DiscoveryEvent`](crate::DiscoveryEvent)s; `wait_set`: waiting.
 //!
 //! One Zenoh session per context (rmw_zenoh's `rmw_context_impl_s`); nodes and entities are
@@ -42,12 +43,30 @@ use crate::contract::{
 };
 use crate::dds_error::DdsError;
 use crate::discovery::VendorId;
-use crate::qos::{DdsQos, EndpointKind, HistoryPolicy, ReliabilityPolicy};
+use crate::qos::{DdsQos, DurabilityPolicy, EndpointKind, HistoryPolicy, Qos, ReliabilityPolicy};
 use crate::Gid;
-use endpoints::{zenoh_error, ReaderQueue, ZenohReader, ZenohWriter};
+use endpoints::{zenoh_error, Publication, ReaderQueue, Subscription, ZenohReader, ZenohWriter};
 use feed::Graph;
 use liveliness::{EntityKind, Token, TopicInfo, ADMIN_SPACE, DEFAULT_DEPTH};
 use wait_set::{lock, WaitSet};
+use zenoh_ext::{
+    AdvancedPublisherBuilderExt, AdvancedSubscriberBuilderExt, CacheConfig, HistoryConfig,
+    MissDetectionConfig, RecoveryConfig,
+};
+
+/// The period of a RELIABLE TRANSIENT_LOCAL publisher's sporadic heartbeats (zenoh-ext's
+/// sample-miss detection, which rmw_zenoh turns on; the wire facts do not give the period).
+const HEARTBEAT_PERIOD: Duration = Duration::from_millis(500);
+
+/// How many samples an endpoint keeps: its KEEP_LAST depth (rmw_zenoh's 42 for the system
+/// default), at most [`endpoints::MAX_SAMPLES`] for KEEP_ALL.
+fn history_depth(qos: &Qos) -> usize {
+    match (qos.history, qos.depth) {
+        (HistoryPolicy::KeepAll, _) => endpoints::MAX_SAMPLES,
+        (_, 0) => DEFAULT_DEPTH,
+        (_, d) => d.min(endpoints::MAX_SAMPLES),
+    }
+}
 
 /// The Zenoh backend: a Zenoh session per context.
 #[derive(Debug, Default)]
@@ -270,14 +289,28 @@ impl ZenohParticipant {
             (_, HistoryPolicy::KeepAll) => CongestionControl::Block,
             _ => CongestionControl::Drop,
         };
-        let publisher = self
+        let builder = self
             .session
             .declare_publisher(key)
             .congestion_control(congestion)
             .priority(Priority::Data)
-            .express(false)
-            .wait()
-            .map_err(|e| zenoh_error(DdsError::Create, e))?;
+            .express(false);
+        let publisher = if spec.qos.durability == DurabilityPolicy::TransientLocal {
+            // rmw_publisher_data.cpp: a cache of `depth` samples that late joiners query, the
+            // publisher announced for them to detect, and sporadic heartbeats when RELIABLE.
+            let mut advanced = builder
+                .cache(CacheConfig::default().max_samples(history_depth(&spec.qos)))
+                .publisher_detection();
+            if spec.qos.reliability != ReliabilityPolicy::BestEffort {
+                advanced = advanced.sample_miss_detection(
+                    MissDetectionConfig::default().sporadic_heartbeat(HEARTBEAT_PERIOD),
+                );
+            }
+            advanced.wait().map(Publication::Advanced)
+        } else {
+            builder.wait().map(Publication::Plain)
+        }
+        .map_err(|e| zenoh_error(DdsError::Create, e))?;
         self.graph.add_local(
             gid,
             EndpointKind::Writer,
@@ -306,20 +339,25 @@ impl ZenohParticipant {
             return Err(DdsError::ParticipantDeleted);
         }
         let (key, token, gid) = self.endpoint_identity(owner, spec, EntityKind::Subscription);
-        let depth = match (spec.qos.history, spec.qos.depth) {
-            (HistoryPolicy::KeepAll, _) => endpoints::MAX_SAMPLES,
-            (_, 0) => DEFAULT_DEPTH,
-            (_, d) => d,
-        };
-        let queue = ReaderQueue::new(depth, &spec.dds_topic_name);
-        let subscriber = {
+        let queue = ReaderQueue::new(history_depth(&spec.qos), &spec.dds_topic_name);
+        let builder = {
             let queue = Arc::clone(&queue);
             self.session
                 .declare_subscriber(key)
                 .callback(move |sample| queue.receive(&sample))
-                .wait()
-                .map_err(|e| zenoh_error(DdsError::Create, e))?
         };
+        let subscriber = if spec.qos.durability == DurabilityPolicy::TransientLocal {
+            // rmw_subscription_data.cpp: the history of the publishers it detects (late
+            // joiners), and recovery of missed samples from their heartbeats when RELIABLE.
+            let mut advanced = builder.history(HistoryConfig::default().detect_late_publishers());
+            if spec.qos.reliability != ReliabilityPolicy::BestEffort {
+                advanced = advanced.recovery(RecoveryConfig::default().heartbeat());
+            }
+            advanced.wait().map(Subscription::Advanced)
+        } else {
+            builder.wait().map(Subscription::Plain)
+        }
+        .map_err(|e| zenoh_error(DdsError::Create, e))?;
         self.graph.add_local(
             gid,
             EndpointKind::Reader,
