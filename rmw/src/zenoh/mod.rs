@@ -15,7 +15,9 @@
 //! One Zenoh session per context (rmw_zenoh's `rmw_context_impl_s`); nodes and entities are
 //! numbered by one per-context counter, the node first (rmw_zenoh's `get_next_entity_id`).
 //! Services are not yet queryables (milestone 2): their DDS request/reply endpoints travel
-//! between horus-ros processes on keys of their own, without tokens.
+//! between horus-ros processes on keys of their own, without tokens. `ROS_AUTOMATIC_DISCOVERY_RANGE`
+//! and `ROS_STATIC_PEERS` are not used, as rmw_zenoh 0.2.10 does not use them
+//! (ros2/rmw_zenoh#241): the Zenoh configuration decides whom a session reaches.
 
 pub mod config;
 
@@ -33,7 +35,7 @@ use std::time::Duration;
 
 use horus_ros_msgs::rmw_dds_common::ParticipantEntitiesInfo;
 use zenoh::liveliness::LivelinessToken;
-use zenoh::qos::{CongestionControl, Priority};
+use zenoh::qos::{CongestionControl, Priority, Reliability};
 use zenoh::Wait;
 
 use crate::contract::{
@@ -294,7 +296,12 @@ impl ZenohParticipant {
             .declare_publisher(key)
             .congestion_control(congestion)
             .priority(Priority::Data)
-            .express(false);
+            .express(false)
+            // rmw_publisher_data.cpp: BEST_EFFORT is Zenoh's best-effort reliability.
+            .reliability(match spec.qos.reliability {
+                ReliabilityPolicy::BestEffort => Reliability::BestEffort,
+                _ => Reliability::Reliable,
+            });
         let publisher = if spec.qos.durability == DurabilityPolicy::TransientLocal {
             // rmw_publisher_data.cpp: a cache of `depth` samples that late joiners query, the
             // publisher announced for them to detect, and sporadic heartbeats when RELIABLE.
