@@ -232,7 +232,7 @@ fn an_rmw_zenoh_peer_through_our_router() {
     assert!(echo.starts_with("data: 'Hello World: "), "{echo}");
 
     // Ours reach its subscriber, with rmw_zenoh's key, payload and attachment.
-    let _publisher = Proc::spawn(
+    let publisher = Proc::spawn(
         horus_command(
             port,
             domain,
@@ -267,6 +267,31 @@ fn an_rmw_zenoh_peer_through_our_router() {
         sample["gid_is_token_hash"],
         Value::Bool(true),
         "the attachment's GID is the XXH3-128 of our MP token: {sample}"
+    );
+    // Our MP token, chunk by chunk (rmw_zenoh's liveliness_utils.cpp layout).
+    let tokens = sample["publisher_tokens"].as_array().expect("tokens");
+    assert_eq!(tokens.len(), 1, "{sample}");
+    let token = tokens[0].as_str().expect("a token");
+    let chunks: Vec<&str> = token.split('/').collect();
+    assert_eq!(chunks.len(), 13, "{token}");
+    assert_eq!(&chunks[..2], ["@ros2_lv", "0"], "{token}");
+    assert!(
+        chunks[3].parse::<u64>().is_ok() && chunks[4].parse::<u64>().is_ok(),
+        "{token}"
+    );
+    let node = format!("_horus_ros_{}", publisher.child.id());
+    assert_eq!(
+        &chunks[5..12],
+        [
+            "MP",
+            "%",
+            "%",
+            node.as_str(),
+            "%back",
+            "std_msgs::msg::dds_::String_",
+            "RIHS01_df668c740482bbd48fb39d76a70dfd4bd59db1288021743503259e948f6b1a18"
+        ],
+        "{token}"
     );
 
     // Killed (no goodbye): its tokens go, and the graph drops it.
