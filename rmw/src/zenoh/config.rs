@@ -39,6 +39,9 @@ const COMMON: &[(&str, &str)] = &[
     ("transport/link/tx/batch_size", "65535"),
     ("transport/link/tx/sequence_number_resolution", r#""32bit""#),
     ("transport/shared_memory/enabled", "false"),
+    ("adminspace/enabled", "true"),
+    ("adminspace/permissions/read", "true"),
+    ("adminspace/permissions/write", "false"),
 ];
 
 /// The session's own keys (`DEFAULT_RMW_ZENOH_SESSION_CONFIG.json5`).
@@ -73,9 +76,6 @@ const ROUTER: &[(&str, &str)] = &[
         "scouting/gossip/autoconnect",
         r#"{ router: [], peer: ["router", "peer"] }"#,
     ),
-    ("adminspace/enabled", "true"),
-    ("adminspace/permissions/read", "true"),
-    ("adminspace/permissions/write", "false"),
 ];
 
 /// Why a Zenoh configuration could not be made.
