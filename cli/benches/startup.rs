@@ -513,6 +513,11 @@ fn main() -> ExitCode {
     let mut failed = false;
     let mut goal_lines = Vec::new();
     for (i, backend) in Backend::ALL.into_iter().enumerate() {
+        if backend == Backend::Zenoh {
+            // Needs a router, and its services are not queryables yet (issue 29, milestone 2).
+            println!("backend {backend}: not measured yet");
+            continue;
+        }
         let domain = DOMAIN + i as u32;
         if !backend.is_available() {
             println!("backend {backend}: not built in (feature `cyclone`), not measured");

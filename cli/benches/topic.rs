@@ -1081,6 +1081,11 @@ fn main() -> ExitCode {
     let hz_rate = env_number("HORUS_ROS_BENCH_HZ_RATE", 1000) as f64;
     let mut failed = false;
     for (i, backend) in Backend::ALL.into_iter().enumerate() {
+        if backend == Backend::Zenoh {
+            // Needs a router, and its services are not queryables yet (issue 29, milestone 2).
+            println!("backend {backend}: not measured yet");
+            continue;
+        }
         if chosen.as_deref().is_some_and(|c| c != backend.name()) {
             continue;
         }

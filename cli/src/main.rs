@@ -90,7 +90,8 @@ pub struct Global {
     /// Without this option, HORUS_ROS_BACKEND chooses; when that is unset or empty too,
     /// RMW_IMPLEMENTATION does, as it does for rcl: rmw_cyclonedds_cpp means cyclone;
     /// rmw_fastrtps_cpp, rmw_fastrtps_dynamic_cpp, unset or empty (Jazzy's default is
-    /// rmw_fastrtps_cpp) mean rustdds; any other rmw implementation is an error.
+    /// rmw_fastrtps_cpp) mean rustdds; rmw_zenoh_cpp means zenoh; any other rmw implementation
+    /// is an error.
     #[arg(
         long,
         global = true,
@@ -160,6 +161,9 @@ pub enum BackendArg {
     /// and serves rmw_cyclonedds services only.
     #[value(alias = "cyclonedds")]
     Cyclone,
+    /// Zenoh, as rmw_zenoh_cpp (liveliness tokens, ZENOH_SESSION_CONFIG_URI,
+    /// ZENOH_CONFIG_OVERRIDE); needs a router (`horus-ros router`); topics only so far.
+    Zenoh,
 }
 
 impl From<BackendArg> for horus_ros_rmw::Backend {
@@ -167,6 +171,7 @@ impl From<BackendArg> for horus_ros_rmw::Backend {
         match b {
             BackendArg::Rustdds => Self::RustDds,
             BackendArg::Cyclone => Self::Cyclone,
+            BackendArg::Zenoh => Self::Zenoh,
         }
     }
 }
@@ -201,6 +206,9 @@ enum Command {
     Demo(verb::demo::DemoArgs),
     /// Print a shell completion script.
     Completions(verb::completions::CompletionsArgs),
+    /// Run a Zenoh router, as rmw_zenoh's `rmw_zenohd` (for the zenoh backend).
+    #[cfg(feature = "zenoh")]
+    Router(verb::router::RouterArgs),
 }
 
 /// Set when stdout turned out to be a closed pipe.
@@ -225,8 +233,8 @@ fn quiet_on_closed_stdout() {
     }));
 }
 
-/// The log filter: `RUST_LOG` (default `warn`), with rustdds' own lines off unless `RUST_LOG`
-/// names it. rustdds 0.15 logs internal queue overflows as errors whenever a peer with more than
+/// The log filter: `RUST_LOG` (default `warn`), with rustdds' own lines (and zenoh's admin
+/// space's) off unless `RUST_LOG` names it. rustdds 0.15 logs internal queue overflows as errors whenever a peer with more than
 /// four endpoints leaves (`Cannot remove Reader GUID … TrySendError::Full`), which says nothing
 /// to a CLI user and would mix into every answer's stderr.
 fn log_filter() -> tracing_subscriber::EnvFilter {
@@ -241,8 +249,16 @@ fn log_filter() -> tracing_subscriber::EnvFilter {
     } else {
         format!("{spec},rustdds=off")
     };
-    tracing_subscriber::EnvFilter::try_new(spec)
-        .unwrap_or_else(|_| tracing_subscriber::EnvFilter::new("warn,rustdds=off"))
+    // zenoh 1.8 logs an error for every link that closes after its session did ("Unable to
+    // publish transport event: session closed"): every CLI run on the zenoh backend ends so.
+    let spec = if spec.contains("zenoh") {
+        spec
+    } else {
+        format!("{spec},zenoh::api::admin=off")
+    };
+    tracing_subscriber::EnvFilter::try_new(spec).unwrap_or_else(|_| {
+        tracing_subscriber::EnvFilter::new("warn,rustdds=off,zenoh::api::admin=off")
+    })
 }
 
 fn main() -> ExitCode {
@@ -265,6 +281,8 @@ fn main() -> ExitCode {
         Command::Daemon(c) => verb::daemon::run(&cli.global, c),
         Command::Demo(args) => verb::demo::run(&cli.global, &args),
         Command::Completions(args) => verb::completions::run(&args),
+        #[cfg(feature = "zenoh")]
+        Command::Router(args) => verb::router::run(&args),
     });
     // The reader of our output went away (`horus-ros … | head`): stop quietly, as a shell tool does.
     let Ok(result) = result else {

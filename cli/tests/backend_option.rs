@@ -108,7 +108,7 @@ fn unknown_backend_is_a_usage_error() {
     assert!(out.stdout.is_empty());
     assert!(
         stderr.contains("invalid value 'fastdds' for '--backend <BACKEND>'")
-            && stderr.contains("[possible values: rustdds, cyclone]"),
+            && stderr.contains("[possible values: rustdds, cyclone, zenoh]"),
         "{stderr}"
     );
     // The same from the environment variable it defaults to.
@@ -148,16 +148,16 @@ fn help_shows_the_backend_option() {
 fn unsupported_rmw_message(value: &str) -> String {
     format!(
         "RMW_IMPLEMENTATION='{value}' is not supported by horus-ros: it speaks rmw_fastrtps_cpp \
-         (rustdds), rmw_fastrtps_dynamic_cpp (rustdds), rmw_cyclonedds_cpp (cyclone) or, when \
-         unset or empty, rmw_fastrtps_cpp (rustdds); set HORUS_ROS_BACKEND to rustdds or cyclone \
-         to override it (or pass --backend)\n"
+         (rustdds), rmw_fastrtps_dynamic_cpp (rustdds), rmw_cyclonedds_cpp (cyclone), \
+         rmw_zenoh_cpp (zenoh) or, when unset or empty, rmw_fastrtps_cpp (rustdds); set \
+         HORUS_ROS_BACKEND to rustdds, cyclone or zenoh to override it (or pass --backend)\n"
     )
 }
 
 #[test]
 fn unsupported_rmw_implementation_is_a_clear_error() {
     for rmw in [
-        "rmw_zenoh_cpp",
+        "rmw_zenoh",
         "rmw_connextdds",
         "rmw_gurumdds_cpp",
         "rmw_cyclonedds",
@@ -173,10 +173,10 @@ fn unsupported_rmw_implementation_is_a_clear_error() {
     let out = output(horus_command(
         &["node", "list"],
         Some(""),
-        Some("rmw_zenoh_cpp"),
+        Some("rmw_connextdds"),
     ));
     assert_eq!(out.code(), Some(1));
-    assert_eq!(out.stderr, unsupported_rmw_message("rmw_zenoh_cpp"));
+    assert_eq!(out.stderr, unsupported_rmw_message("rmw_connextdds"));
     // HORUS_ROS_BACKEND and --backend override it: the command joins the domain and lists
     // its own hidden node.
     for (args, env_backend) in [
@@ -185,7 +185,7 @@ fn unsupported_rmw_implementation_is_a_clear_error() {
         (&["--backend", "rustdds", "node", "list", "-a"][..], None),
         (&["--backend", "cyclone", "node", "list", "-a"][..], None),
     ] {
-        let mut command = horus_command(args, env_backend, Some("rmw_zenoh_cpp"));
+        let mut command = horus_command(args, env_backend, Some("rmw_connextdds"));
         command.args([
             "--domain-id",
             &D_OVERRIDE.to_string(),

@@ -4,6 +4,8 @@
 //!   built in.
 //! - [`Backend::Cyclone`] (for `rmw_cyclonedds_cpp`): Eclipse Cyclone DDS 11 (the DDS of
 //!   rmw_cyclonedds_cpp), built in with the cargo feature `cyclone`.
+//! - [`Backend::Zenoh`] (for `rmw_zenoh_cpp`): Zenoh 1.8, wire-compatible with rmw_zenoh_cpp
+//!   0.2.10 (liveliness tokens, data keys, attachments), built in with the cargo feature `zenoh`.
 //!
 //! Chosen per context with [`ContextBuilder::backend`](crate::ContextBuilder::backend), else by
 //! the environment variable [`BACKEND_ENV`] (`rustdds` or `cyclone`), else by
@@ -35,10 +37,11 @@ pub const RMW_IMPLEMENTATION_ENV: &str = "RMW_IMPLEMENTATION";
 /// Jazzy's rmw_fastrtps_cpp and rmw_fastrtps_dynamic_cpp put the same bytes on the wire (they
 /// differ only in how type support is loaded), so both run on RustDDS, which follows the
 /// rmw_fastrtps service convention; rmw_cyclonedds_cpp runs on Cyclone DDS.
-pub const RMW_IMPLEMENTATIONS: [(&str, Backend); 3] = [
+pub const RMW_IMPLEMENTATIONS: [(&str, Backend); 4] = [
     ("rmw_fastrtps_cpp", Backend::RustDds),
     ("rmw_fastrtps_dynamic_cpp", Backend::RustDds),
     ("rmw_cyclonedds_cpp", Backend::Cyclone),
+    ("rmw_zenoh_cpp", Backend::Zenoh),
 ];
 
 /// Jazzy's default rmw implementation (rmw_implementation_cmake's
@@ -56,17 +59,22 @@ pub enum Backend {
     /// Cyclone DDS through `cyclors`: USER_DATA, rmw_cyclonedds' discovery configuration and
     /// `CYCLONEDDS_URI`; speaks only the rmw_cyclonedds service convention.
     Cyclone,
+    /// Zenoh (the zenoh crate): rmw_zenoh_cpp's liveliness-token graph, data keys and
+    /// attachments; `ZENOH_SESSION_CONFIG_URI`, `ZENOH_CONFIG_OVERRIDE`,
+    /// `ZENOH_ROUTER_CHECK_ATTEMPTS`. Services as queryables are not there yet.
+    Zenoh,
 }
 
 impl Backend {
     /// Every backend, built in or not.
-    pub const ALL: [Backend; 2] = [Backend::RustDds, Backend::Cyclone];
+    pub const ALL: [Backend; 3] = [Backend::RustDds, Backend::Cyclone, Backend::Zenoh];
 
     /// The name used by [`BACKEND_ENV`] and `Display`.
     pub const fn name(self) -> &'static str {
         match self {
             Self::RustDds => "rustdds",
             Self::Cyclone => "cyclone",
+            Self::Zenoh => "zenoh",
         }
     }
 
@@ -75,6 +83,7 @@ impl Backend {
         match self {
             Self::RustDds => true,
             Self::Cyclone => cfg!(feature = "cyclone"),
+            Self::Zenoh => cfg!(feature = "zenoh"),
         }
     }
 
@@ -87,6 +96,10 @@ impl Backend {
             Self::Cyclone => Ok(Arc::new(crate::cyclone::Cyclone)),
             #[cfg(not(feature = "cyclone"))]
             Self::Cyclone => Err(BackendError::NotBuiltIn { backend: self }),
+            #[cfg(feature = "zenoh")]
+            Self::Zenoh => Ok(Arc::new(crate::zenoh::Zenoh)),
+            #[cfg(not(feature = "zenoh"))]
+            Self::Zenoh => Err(BackendError::NotBuiltIn { backend: self }),
         }
     }
 
@@ -97,6 +110,7 @@ impl Backend {
         match self {
             Self::RustDds => &[],
             Self::Cyclone => &["CYCLONEDDS_URI"],
+            Self::Zenoh => &["ZENOH_SESSION_CONFIG_URI", "ZENOH_CONFIG_OVERRIDE"],
         }
     }
 
@@ -114,6 +128,7 @@ impl Backend {
         match self {
             Self::RustDds => VendorId::RUSTDDS,
             Self::Cyclone => VendorId::CYCLONE_DDS,
+            Self::Zenoh => VendorId::ZENOH,
         }
     }
 
@@ -142,6 +157,7 @@ impl Backend {
         match self {
             Self::RustDds => DEFAULT_RMW_IMPLEMENTATION,
             Self::Cyclone => "rmw_cyclonedds_cpp",
+            Self::Zenoh => "rmw_zenoh_cpp",
         }
     }
 
@@ -161,7 +177,7 @@ impl Backend {
     /// Chooses the backend from the values of [`BACKEND_ENV`] and [`RMW_IMPLEMENTATION_ENV`]
     /// (`None` when unset):
     ///
-    /// 1. `HORUS_ROS_BACKEND`, unless empty or blank: `rustdds` or `cyclone`, else
+    /// 1. `HORUS_ROS_BACKEND`, unless empty or blank: `rustdds`, `cyclone` or `zenoh`, else
     ///    [`BackendError::Unknown`].
     /// 2. `RMW_IMPLEMENTATION`, unless empty (rmw_implementation's `load_library` and rcl's
     ///    identifier check treat an empty value as unset): one of [`RMW_IMPLEMENTATIONS`], else
@@ -207,11 +223,12 @@ impl fmt::Display for Backend {
 impl FromStr for Backend {
     type Err = BackendError;
 
-    /// `rustdds` or `cyclone` (case-insensitive; `cyclonedds` also accepted).
+    /// `rustdds`, `cyclone` or `zenoh` (case-insensitive; `cyclonedds` also accepted).
     fn from_str(s: &str) -> Result<Self, Self::Err> {
         match s.trim().to_ascii_lowercase().as_str() {
             "rustdds" => Ok(Self::RustDds),
             "cyclone" | "cyclonedds" => Ok(Self::Cyclone),
+            "zenoh" => Ok(Self::Zenoh),
             _ => Err(BackendError::Unknown {
                 value: s.to_owned(),
             }),
@@ -225,18 +242,18 @@ impl FromStr for Backend {
 pub enum BackendError {
     /// The name is not a backend.
     #[error(
-        "unknown DDS backend '{value}' (expected 'rustdds' or 'cyclone', e.g. in {BACKEND_ENV})"
+        "unknown backend '{value}' (expected 'rustdds', 'cyclone' or 'zenoh', e.g. in {BACKEND_ENV})"
     )]
     Unknown {
         /// The value given.
         value: String,
     },
     /// `RMW_IMPLEMENTATION` names an rmw implementation horus-ros does not speak (e.g.
-    /// `rmw_zenoh_cpp`, `rmw_connextdds`, or a misspelling); rcl would fail to load it as well.
+    /// `rmw_connextdds`, or a misspelling); rcl would fail to load it as well.
     #[error(
         "{RMW_IMPLEMENTATION_ENV}='{}' is not supported by horus-ros: it speaks {} or, when \
-         unset or empty, {DEFAULT_RMW_IMPLEMENTATION} (rustdds); set {BACKEND_ENV} to rustdds or \
-         cyclone to override it",
+         unset or empty, {DEFAULT_RMW_IMPLEMENTATION} (rustdds); set {BACKEND_ENV} to rustdds, \
+         cyclone or zenoh to override it",
         value.escape_debug(),
         supported_rmw_implementations()
     )]
@@ -281,12 +298,14 @@ mod tests {
         }
         assert!(Backend::RustDds.is_available());
         assert_eq!(Backend::Cyclone.is_available(), cfg!(feature = "cyclone"));
+        assert_eq!(Backend::Zenoh.is_available(), cfg!(feature = "zenoh"));
+        assert_eq!("ZENOH".parse::<Backend>(), Ok(Backend::Zenoh));
     }
 
     /// The selection table: `HORUS_ROS_BACKEND` (first) over `RMW_IMPLEMENTATION` (second).
     #[test]
     fn selection_table() {
-        use Backend::{Cyclone, RustDds};
+        use Backend::{Cyclone, RustDds, Zenoh};
         let ok = [
             // RMW_IMPLEMENTATION alone, as rcl reads it (empty = unset = rmw_fastrtps_cpp).
             (None, None, RustDds),
@@ -294,6 +313,8 @@ mod tests {
             (None, Some("rmw_fastrtps_cpp"), RustDds),
             (None, Some("rmw_fastrtps_dynamic_cpp"), RustDds),
             (None, Some("rmw_cyclonedds_cpp"), Cyclone),
+            (None, Some("rmw_zenoh_cpp"), Zenoh),
+            (Some("zenoh"), Some("rmw_fastrtps_cpp"), Zenoh),
             // HORUS_ROS_BACKEND wins over RMW_IMPLEMENTATION, even over an unsupported one.
             (Some("rustdds"), Some("rmw_cyclonedds_cpp"), RustDds),
             (Some("cyclone"), Some("rmw_fastrtps_cpp"), Cyclone),
@@ -311,7 +332,7 @@ mod tests {
         // Unsupported or misspelt rmw implementations: an error, never a fallback. Names are
         // compared as rcl compares them (library names: case and blanks count).
         for rmw in [
-            "rmw_zenoh_cpp",
+            "rmw_zenoh",
             "rmw_connextdds",
             "rmw_gurumdds_cpp",
             "rmw_cyclone_cpp",
@@ -357,15 +378,16 @@ mod tests {
 
     #[test]
     fn unsupported_rmw_message_names_value_choices_and_override() {
-        let message = Backend::select(None, Some("rmw_zenoh_cpp"))
+        let message = Backend::select(None, Some("rmw_connextdds"))
             .expect_err("unsupported")
             .to_string();
         assert_eq!(
             message,
-            "RMW_IMPLEMENTATION='rmw_zenoh_cpp' is not supported by horus-ros: it speaks \
+            "RMW_IMPLEMENTATION='rmw_connextdds' is not supported by horus-ros: it speaks \
              rmw_fastrtps_cpp (rustdds), rmw_fastrtps_dynamic_cpp (rustdds), \
-             rmw_cyclonedds_cpp (cyclone) or, when unset or empty, rmw_fastrtps_cpp (rustdds); \
-             set HORUS_ROS_BACKEND to rustdds or cyclone to override it"
+             rmw_cyclonedds_cpp (cyclone), rmw_zenoh_cpp (zenoh) or, when unset or empty, \
+             rmw_fastrtps_cpp (rustdds); set HORUS_ROS_BACKEND to rustdds, cyclone or zenoh to \
+             override it"
         );
         // Control characters are shown escaped, on one line.
         let message = Backend::select(None, Some("rmw\nx\t"))

@@ -18,6 +18,9 @@ impl VendorId {
     pub const CYCLONE_DDS: Self = Self([0x01, 0x10]);
     /// RustDDS (horus-ros, ros2-client).
     pub const RUSTDDS: Self = Self([0x01, 0x12]);
+    /// Not an RTPS vendor: the participants of the Zenoh backend's graph (one per Zenoh
+    /// session, `ZN`), so that nothing takes them for a DDS implementation's.
+    pub const ZENOH: Self = Self([0x5a, 0x4e]);
 }
 
 /// A participant found by SPDP.

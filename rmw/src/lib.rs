@@ -41,6 +41,8 @@ pub mod signal_handler;
 #[cfg(feature = "tokio")]
 pub mod stream;
 pub mod wait_set;
+#[cfg(feature = "zenoh")]
+pub mod zenoh;
 
 pub use backend::{
     Backend, BackendError, BACKEND_ENV, DEFAULT_RMW_IMPLEMENTATION, RMW_IMPLEMENTATIONS,

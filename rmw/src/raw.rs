@@ -125,6 +125,14 @@ impl Node {
         self.raw_writer(spec, false)
     }
 
+    /// This node as the owner of an endpoint (listed under it or not).
+    fn owner(&self, listed: bool) -> crate::contract::EndpointOwner {
+        crate::contract::EndpointOwner {
+            node: self.inner().key.id(),
+            listed,
+        }
+    }
+
     fn raw_writer(&self, spec: &RawEndpointSpec, listed: bool) -> Result<RawWriter, EndpointError> {
         let dds_qos =
             spec.qos
@@ -137,7 +145,7 @@ impl Node {
             .context()
             .inner()
             .participant
-            .create_writer(spec, &dds_qos)
+            .create_node_writer(self.owner(listed), spec, &dds_qos)
             .map_err(dds_error("writer", spec))?;
         let endpoint = describe(self, spec, gid, EndpointKind::Writer);
         let registration = if listed {
@@ -215,7 +223,7 @@ impl Node {
             .context()
             .inner()
             .participant
-            .create_reader(spec, &dds_qos, responses_of)
+            .create_node_reader(self.owner(listed), spec, &dds_qos, responses_of)
             .map_err(dds_error("reader", spec))?;
         let waker = RawReaderWaker(reader.waker());
         let endpoint = describe(self, spec, gid, EndpointKind::Reader);

@@ -576,7 +576,7 @@ fn main() {
     let backends: Vec<Backend> = Backend::ALL
         .iter()
         .copied()
-        .filter(|b| b.is_available())
+        .filter(|b| b.is_available() && *b != Backend::Zenoh)
         .filter(|b| {
             std::env::var("HORUS_BENCH_RELIABILITY_BACKENDS").map_or(true, |only| {
                 only.split(',').any(|o| o.trim() == b.to_string())

@@ -808,6 +808,7 @@ fn horus_concurrent(backend: Backend, clients: usize, calls: usize) -> Result<f6
     let domain = match backend {
         Backend::RustDds => DOMAIN_CONCURRENT_RUSTDDS,
         Backend::Cyclone => DOMAIN_CONCURRENT_CYCLONE,
+        Backend::Zenoh => return Err("not measured on zenoh yet (issue 29)".to_owned()),
     };
     let server_node = context(backend, domain)?
         .create_node("bench_server", "/")
@@ -870,7 +871,11 @@ fn concurrent(calls: usize) {
             Ok(r) => println!("  {clients:>2} clients: ros2-client Enhanced  {r:>9.0} calls/s"),
             Err(e) => println!("  {clients:>2} clients: ros2-client Enhanced  failed: {e}"),
         }
-        for backend in Backend::ALL.iter().copied().filter(|b| b.is_available()) {
+        for backend in Backend::ALL
+            .iter()
+            .copied()
+            .filter(|b| b.is_available() && *b != Backend::Zenoh)
+        {
             match (horus_concurrent(backend, clients, calls), &ros2) {
                 (Ok(h), Ok(r)) => println!(
                     "  {clients:>2} clients: horus-ros {backend:<8}   {h:>9.0} calls/s, \
@@ -943,10 +948,15 @@ fn first_calls() {
     println!(
         "first call: a waiting client's reply after its server's build(), {FIRST_CALL_REPEATS} times"
     );
-    for backend in Backend::ALL.iter().copied().filter(|b| b.is_available()) {
+    for backend in Backend::ALL
+        .iter()
+        .copied()
+        .filter(|b| b.is_available() && *b != Backend::Zenoh)
+    {
         let goal = match backend {
             Backend::Cyclone => Duration::from_millis(50),
             Backend::RustDds => Duration::from_millis(150),
+            Backend::Zenoh => continue,
         };
         let mut times = Vec::new();
         for repeat in 0..FIRST_CALL_REPEATS {
@@ -1009,7 +1019,7 @@ fn main() {
             .map(|b| if b.is_available() {
                 b.to_string()
             } else {
-                format!("{b} (not built in: feature `cyclone`)")
+                format!("{b} (not built in: feature `{b}`)")
             })
             .collect::<Vec<_>>()
             .join(", "),
@@ -1232,6 +1242,7 @@ fn main() {
                     s.name
                 );
             }
+            Backend::Zenoh => {}
         }
     }
     for (s, _, _) in &horus {

@@ -9,5 +9,7 @@ pub mod interface;
 pub mod names;
 pub mod node;
 pub mod param;
+#[cfg(feature = "zenoh")]
+pub mod router;
 pub mod service;
 pub mod topic;

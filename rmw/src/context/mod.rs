@@ -423,6 +423,12 @@ impl ContextInner {
     pub(crate) fn add_node(&self, namespace: &str, name: &str) -> NodeKey {
         let mut local = self.local();
         let (key, message) = local.entities.add_node(namespace, name);
+        self.participant
+            .node_added(&crate::contract::NodeDescription {
+                id: key.id(),
+                namespace,
+                name,
+            });
         self.announce(&mut local, message);
         key
     }
@@ -433,6 +439,7 @@ impl ContextInner {
         if let Some(message) = local.entities.remove_node(key) {
             self.announce(&mut local, message);
         }
+        self.participant.node_removed(key.id());
     }
 
     /// Lists a new endpoint under a node and announces it.

@@ -109,6 +109,39 @@ pub trait ParticipantBackend: Send + Sync {
         responses_of: Option<u64>,
     ) -> Result<(Box<dyn ReaderBackend>, Gid), DdsError>;
 
+    /// A node of this context was created, before any endpoint of it; `node.id` names it in
+    /// [`create_node_writer`](Self::create_node_writer) and
+    /// [`create_node_reader`](Self::create_node_reader) until
+    /// [`node_removed`](Self::node_removed). DDS backends announce nodes only through
+    /// `ros_discovery_info` and ignore it; Zenoh declares the node's liveliness token here.
+    fn node_added(&self, _node: &NodeDescription<'_>) {}
+
+    /// The node `id` went (after all its endpoints).
+    fn node_removed(&self, _id: u64) {}
+
+    /// Creates a writer of a node ([`create_writer`](Self::create_writer) unless the backend
+    /// names endpoints by their node, as rmw_zenoh's liveliness tokens do).
+    fn create_node_writer(
+        &self,
+        _owner: EndpointOwner,
+        spec: &RawEndpointSpec,
+        qos: &DdsQos,
+    ) -> Result<(Box<dyn WriterBackend>, Gid), DdsError> {
+        self.create_writer(spec, qos)
+    }
+
+    /// Creates a reader of a node ([`create_reader`](Self::create_reader) unless the backend
+    /// names endpoints by their node).
+    fn create_node_reader(
+        &self,
+        _owner: EndpointOwner,
+        spec: &RawEndpointSpec,
+        qos: &DdsQos,
+        responses_of: Option<u64>,
+    ) -> Result<(Box<dyn ReaderBackend>, Gid), DdsError> {
+        self.create_reader(spec, qos, responses_of)
+    }
+
     /// Publishes the participant's whole `ros_discovery_info` message (called on every change,
     /// in order); a failure is logged, since the next change republishes everything.
     fn publish_discovery_info(&self, message: &ParticipantEntitiesInfo);
@@ -128,6 +161,27 @@ pub trait ParticipantBackend: Send + Sync {
 
     /// Creates an empty wait set for this backend's readers.
     fn create_wait_set(&self) -> Result<Box<dyn WaitSetBackend>, WaitSetError>;
+}
+
+/// A node as [`ParticipantBackend::node_added`] reports it.
+#[derive(Clone, Copy, Debug)]
+pub struct NodeDescription<'a> {
+    /// The context's id of the node.
+    pub id: u64,
+    /// Its namespace (`/` or `/ns`).
+    pub namespace: &'a str,
+    /// Its name.
+    pub name: &'a str,
+}
+
+/// Which node an endpoint is created for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct EndpointOwner {
+    /// The node's id (see [`NodeDescription::id`]).
+    pub node: u64,
+    /// Whether the node lists the endpoint (`false`: an observer no node shows, see
+    /// `Node::create_raw_reader_unlisted`).
+    pub listed: bool,
 }
 
 /// A writer of raw CDR bodies.

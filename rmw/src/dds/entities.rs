@@ -11,6 +11,13 @@ use horus_ros_msgs::rmw_dds_common::{Gid, NodeEntitiesInfo, ParticipantEntitiesI
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub(crate) struct NodeKey(u64);
 
+impl NodeKey {
+    /// The number (the backend contract's node id).
+    pub(crate) fn id(self) -> u64 {
+        self.0
+    }
+}
+
 /// Which list of a node an endpoint GID belongs in.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum EndpointSide {

@@ -1,0 +1,266 @@
+//! Publishers and subscriptions on Zenoh, as rmw_zenoh_cpp 0.2.10 makes them
+//! (`src/detail/rmw_publisher_data.cpp`, `src/detail/rmw_subscription_data.cpp`; wire facts
+//! §3–4): a Zenoh publisher on the data key, every sample the CDR payload (4-byte encapsulation
+//! header included) with the 33-byte attachment (sequence number from 1, source timestamp,
+//! GID); a Zenoh subscriber whose samples go to a bounded queue that wakes the reader (or its
+//! wait set). Each entity holds its liveliness token for its whole life.
+
+use std::collections::VecDeque;
+use std::sync::atomic::{AtomicBool, AtomicI64, Ordering};
+use std::sync::{Arc, Mutex};
+use std::time::Duration;
+
+use zenoh::liveliness::LivelinessToken;
+use zenoh::pubsub::{Publisher, Subscriber};
+use zenoh::Wait;
+
+use super::attachment::{now_ns, Attachment};
+use super::feed::Graph;
+use super::wait_set::{lock, SetState, Signal, WaitSet};
+use crate::contract::{ReaderBackend, SampleId, WaitSetBackend, WaitSetError, Wake, WriterBackend};
+use crate::dds_error::{boxed, DdsError};
+use crate::raw::RawSample;
+use crate::Gid;
+
+/// CDR little-endian encapsulation (`00 01 00 00`), what rmw_zenoh writes.
+const CDR_LE_HEADER: [u8; 4] = [0x00, 0x01, 0x00, 0x00];
+
+/// Most samples a reader queues (KEEP_ALL, or a larger depth): the oldest go first.
+pub(crate) const MAX_SAMPLES: usize = 10_000;
+
+/// A message Zenoh gave as an error.
+#[derive(Debug, thiserror::Error)]
+#[error("zenoh: {0}")]
+pub(crate) struct ZenohError(pub(crate) String);
+
+/// A Zenoh error as the contract's error.
+pub(crate) fn zenoh_error(
+    make: fn(crate::BackendCause) -> DdsError,
+    e: impl std::fmt::Display,
+) -> DdsError {
+    make(boxed(ZenohError(e.to_string())))
+}
+
+/// A Zenoh publisher: a plain one (VOLATILE) or zenoh-ext's advanced one (TRANSIENT_LOCAL,
+/// with the cache late joiners query), as rmw_zenoh declares them (`rmw_publisher_data.cpp`).
+pub(crate) enum Publication {
+    /// A plain publisher.
+    Plain(Publisher<'static>),
+    /// An advanced publisher with a cache of the last `depth` samples.
+    Advanced(zenoh_ext::AdvancedPublisher<'static>),
+}
+
+/// A publisher: the Zenoh publisher, its token and its sequence numbers.
+pub(crate) struct ZenohWriter {
+    pub(crate) publisher: Publication,
+    pub(crate) token: Option<LivelinessToken>,
+    pub(crate) gid: Gid,
+    pub(crate) sequence_number: AtomicI64,
+    pub(crate) graph: Arc<Graph>,
+    pub(crate) deleted: Arc<AtomicBool>,
+}
+
+impl WriterBackend for ZenohWriter {
+    /// Puts the sample with its attachment. `related` is refused (a Zenoh topic has no
+    /// related sample identity; replies are milestone 2's queryables); `only_to` is ignored.
+    fn write(
+        &self,
+        body: Vec<u8>,
+        related: Option<SampleId>,
+        _only_to: Option<Gid>,
+    ) -> Result<SampleId, DdsError> {
+        if related.is_some() {
+            return Err(DdsError::RelatedSampleIdentityUnsupported);
+        }
+        if self.deleted.load(Ordering::SeqCst) {
+            return Err(DdsError::ParticipantDeleted);
+        }
+        let sequence_number = self.sequence_number.fetch_add(1, Ordering::Relaxed) + 1;
+        let attachment = Attachment {
+            sequence_number,
+            source_timestamp: now_ns(),
+            gid: self.gid,
+        };
+        let mut payload = Vec::with_capacity(4 + body.len());
+        payload.extend_from_slice(&CDR_LE_HEADER);
+        payload.extend_from_slice(&body);
+        let attachment = attachment.to_bytes().to_vec();
+        match &self.publisher {
+            Publication::Plain(p) => p.put(payload).attachment(attachment).wait(),
+            Publication::Advanced(p) => p.put(payload).attachment(attachment).wait(),
+        }
+        .map_err(|e| zenoh_error(DdsError::Write, e))?;
+        Ok(SampleId {
+            writer: self.gid,
+            sequence_number,
+        })
+    }
+
+    /// At once: Zenoh has no acknowledgments (its TCP links are reliable; a RELIABLE publisher
+    /// on a full link drops or blocks by its congestion control).
+    fn wait_for_acknowledgments(&self, _timeout: Duration) -> bool {
+        true
+    }
+}
+
+impl Drop for ZenohWriter {
+    fn drop(&mut self) {
+        // The token first (as rmw_destroy_publisher undeclares it before the publisher).
+        drop(self.token.take());
+        self.graph.remove_local(self.gid);
+    }
+}
+
+/// A sample as received: the payload and what its attachment said.
+struct Incoming {
+    payload: Vec<u8>,
+    attachment: Attachment,
+}
+
+/// A reader's bounded queue and whom it wakes.
+pub(crate) struct ReaderQueue {
+    state: Mutex<QueueState>,
+    /// The reader's own waker (while attached to no wait set).
+    signal: Arc<Signal>,
+    depth: usize,
+    /// The topic, for the one log line about samples dropped.
+    topic: String,
+    warned: AtomicBool,
+}
+
+#[derive(Default)]
+struct QueueState {
+    samples: VecDeque<Incoming>,
+    attached: Option<(Arc<SetState>, usize)>,
+}
+
+impl ReaderQueue {
+    /// A queue keeping at most `depth` samples.
+    pub(crate) fn new(depth: usize, topic: &str) -> Arc<Self> {
+        Arc::new(Self {
+            state: Mutex::default(),
+            signal: Arc::default(),
+            depth: depth.clamp(1, MAX_SAMPLES),
+            topic: topic.to_owned(),
+            warned: AtomicBool::new(false),
+        })
+    }
+
+    /// What the subscriber's callback does with a sample: one without a valid attachment is
+    /// dropped, as rmw_zenoh drops it ("Unable to obtain attachment"), logged once per reader.
+    pub(crate) fn receive(&self, sample: &zenoh::sample::Sample) {
+        let attachment = match sample
+            .attachment()
+            .map(|a| Attachment::parse(&a.to_bytes()))
+        {
+            Some(Ok(a)) => a,
+            problem => {
+                if !self.warned.swap(true, Ordering::Relaxed) {
+                    let why = match problem {
+                        Some(Err(e)) => e.to_string(),
+                        _ => "no attachment".to_owned(),
+                    };
+                    tracing::warn!(topic = %self.topic, key = %sample.key_expr(), "zenoh: dropped a sample: {why} (further ones of this subscription are dropped silently)");
+                }
+                return;
+            }
+        };
+        self.deliver(Incoming {
+            payload: sample.payload().to_bytes().into_owned(),
+            attachment,
+        });
+    }
+
+    /// Queues a sample (the oldest goes when full) and wakes the reader or its wait set.
+    fn deliver(&self, sample: Incoming) {
+        let mut state = lock(&self.state);
+        if state.samples.len() >= self.depth {
+            state.samples.pop_front();
+        }
+        state.samples.push_back(sample);
+        match &state.attached {
+            Some((set, key)) => set.mark(Some(*key)),
+            None => self.signal.wake(),
+        }
+    }
+}
+
+/// A Zenoh subscriber: a plain one (VOLATILE) or zenoh-ext's advanced one (TRANSIENT_LOCAL:
+/// it queries the caches of the publishers it detects), as rmw_zenoh declares them
+/// (`rmw_subscription_data.cpp`).
+// Held only: dropping one undeclares it.
+#[allow(dead_code)]
+pub(crate) enum Subscription {
+    /// A plain subscriber.
+    Plain(Subscriber<()>),
+    /// An advanced subscriber.
+    Advanced(zenoh_ext::AdvancedSubscriber<()>),
+}
+
+/// A subscription: the Zenoh subscriber feeding the queue, and its token.
+pub(crate) struct ZenohReader {
+    pub(crate) token: Option<LivelinessToken>,
+    pub(crate) subscriber: Option<Subscription>,
+    pub(crate) queue: Arc<ReaderQueue>,
+    pub(crate) gid: Gid,
+    pub(crate) graph: Arc<Graph>,
+}
+
+impl ReaderBackend for ZenohReader {
+    /// Takes the next sample: its payload after the 4-byte encapsulation header, its identity
+    /// from the attachment (the publisher's GID and sequence number).
+    fn take(&mut self) -> Result<Option<RawSample>, DdsError> {
+        let Some(sample) = lock(&self.queue.state).samples.pop_front() else {
+            return Ok(None);
+        };
+        let Some((header, body)) = sample.payload.split_first_chunk::<4>() else {
+            return Err(DdsError::ShortSample {
+                len: sample.payload.len(),
+            });
+        };
+        let big_endian = match [header[0], header[1]] {
+            [0x00, 0x01] => false,
+            [0x00, 0x00] => true,
+            id => return Err(DdsError::UnsupportedEncapsulation { id }),
+        };
+        Ok(Some(RawSample {
+            body: body.to_vec(),
+            big_endian,
+            id: SampleId {
+                writer: sample.attachment.gid,
+                sequence_number: sample.attachment.sequence_number,
+            },
+            related: None,
+            publication_handle: None,
+        }))
+    }
+
+    fn wait(&mut self, timeout: Option<Duration>) -> bool {
+        self.queue.signal.wait(timeout)
+    }
+
+    fn waker(&self) -> Arc<dyn Wake> {
+        Arc::clone(&self.queue.signal) as Arc<dyn Wake>
+    }
+
+    fn attach_to(&mut self, set: &dyn WaitSetBackend, key: usize) -> Result<(), WaitSetError> {
+        let set = set
+            .as_any()
+            .downcast_ref::<WaitSet>()
+            .ok_or(WaitSetError::OtherBackend)?;
+        let mut state = lock(&self.queue.state);
+        if !state.samples.is_empty() {
+            set.shared.mark(Some(key));
+        }
+        state.attached = Some((Arc::clone(&set.shared), key));
+        Ok(())
+    }
+}
+
+impl Drop for ZenohReader {
+    fn drop(&mut self) {
+        drop(self.token.take());
+        drop(self.subscriber.take());
+        self.graph.remove_local(self.gid);
+    }
+}

@@ -1,0 +1,492 @@
+//! The Zenoh backend, wire-compatible with rmw_zenoh_cpp 0.2.10 (ROS 2 Jazzy) on zenoh 1.8
+//! (`Backend::Zenoh`, cargo feature `zenoh`). What goes on the wire is written down in
+//! `shared/docs/rmw-zenoh-jazzy-wire-facts.md`; each file cites the rmw_zenoh source it follows.
+//!
+//! - [`config`]: the session (peer, `tcp/localhost:7447`) and router configurations and the
+//!   environment rmw_zenoh reads (`ZENOH_SESSION_CONFIG_URI`, `ZENOH_CONFIG_OVERRIDE`,
+//!   `ZENOH_ROUTER_CHECK_ATTEMPTS`).
+//! - `liveliness`: the `@ros2_lv/…` tokens, their QoS chunk and the GIDs (XXH3-128 of the key).
+//! - `keyexpr`: data keys `<domain>/<name>/<type>/<hash>`.
+//! - `attachment`: the 33-byte attachment of every sample.
+//! - `endpoints`: publishers and subscriptions (TRANSIENT_LOCAL ones on zenoh-ext's advanced
+//!   publisher and subscriber, as rmw_zenoh's); `feed`: the graph from tokens, as the
+//!   DDS-shaped [`DiscoveryEvent`](crate::DiscoveryEvent)s; `wait_set`: waiting.
+//!
+//! One Zenoh session per context (rmw_zenoh's `rmw_context_impl_s`); nodes and entities are
+//! numbered by one per-context counter, the node first (rmw_zenoh's `get_next_entity_id`).
+//! Services are not yet queryables (milestone 2): their DDS request/reply endpoints travel
+//! between horus-ros processes on keys of their own, without tokens. `ROS_AUTOMATIC_DISCOVERY_RANGE`
+//! and `ROS_STATIC_PEERS` are not used, as rmw_zenoh 0.2.10 does not use them
+//! (ros2/rmw_zenoh#241): the Zenoh configuration decides whom a session reaches.
+
+pub mod config;
+
+mod attachment;
+mod endpoints;
+mod feed;
+mod keyexpr;
+mod liveliness;
+mod wait_set;
+
+use std::collections::HashMap;
+use std::sync::atomic::{AtomicBool, AtomicI64, AtomicU64, Ordering};
+use std::sync::{Arc, Mutex};
+use std::time::Duration;
+
+use horus_ros_msgs::rmw_dds_common::ParticipantEntitiesInfo;
+use zenoh::liveliness::LivelinessToken;
+use zenoh::qos::{CongestionControl, Priority, Reliability};
+use zenoh::Wait;
+
+use crate::contract::{
+    Capabilities, DiscoveryFeedError, EndpointOwner, FeedBackend, Implementation, LocalEvents,
+    NodeDescription, ParticipantBackend, ParticipantConfig, RawEndpointSpec, ReaderBackend,
+    WaitSetBackend, WaitSetError, WriterBackend,
+};
+use crate::dds_error::DdsError;
+use crate::discovery::VendorId;
+use crate::qos::{DdsQos, DurabilityPolicy, EndpointKind, HistoryPolicy, Qos, ReliabilityPolicy};
+use crate::Gid;
+use endpoints::{zenoh_error, Publication, ReaderQueue, Subscription, ZenohReader, ZenohWriter};
+use feed::Graph;
+use liveliness::{EntityKind, Token, TopicInfo, ADMIN_SPACE, DEFAULT_DEPTH};
+use wait_set::{lock, WaitSet};
+use zenoh_ext::{
+    AdvancedPublisherBuilderExt, AdvancedSubscriberBuilderExt, CacheConfig, HistoryConfig,
+    MissDetectionConfig, RecoveryConfig,
+};
+
+/// The period of a RELIABLE TRANSIENT_LOCAL publisher's sporadic heartbeats (zenoh-ext's
+/// sample-miss detection, which rmw_zenoh turns on; the wire facts do not give the period).
+const HEARTBEAT_PERIOD: Duration = Duration::from_millis(500);
+
+/// How many samples an endpoint keeps: its KEEP_LAST depth (rmw_zenoh's 42 for the system
+/// default), at most [`endpoints::MAX_SAMPLES`] for KEEP_ALL.
+fn history_depth(qos: &Qos) -> usize {
+    match (qos.history, qos.depth) {
+        (HistoryPolicy::KeepAll, _) => endpoints::MAX_SAMPLES,
+        (_, 0) => DEFAULT_DEPTH,
+        (_, d) => d.min(endpoints::MAX_SAMPLES),
+    }
+}
+
+/// The Zenoh backend: a Zenoh session per context.
+#[derive(Debug, Default)]
+pub(crate) struct Zenoh;
+
+impl Implementation for Zenoh {
+    fn name(&self) -> &'static str {
+        "zenoh"
+    }
+
+    fn rmw_implementation(&self) -> &'static str {
+        "rmw_zenoh_cpp"
+    }
+
+    fn vendor_id(&self) -> VendorId {
+        VendorId::ZENOH
+    }
+
+    fn capabilities(&self) -> Capabilities {
+        crate::Backend::Zenoh.capabilities()
+    }
+
+    fn create_participant(
+        &self,
+        config: &ParticipantConfig<'_>,
+    ) -> Result<Box<dyn ParticipantBackend>, DdsError> {
+        let get = |k: &str| std::env::var(k).ok();
+        let zenoh_config = config::config(config::ConfigKind::Session, get)
+            .map_err(|e| DdsError::Create(crate::dds_error::boxed(e)))?;
+        let attempts = config::router_check_attempts(get)
+            .map_err(|e| DdsError::Create(crate::dds_error::boxed(e)))?;
+        let session = zenoh::open(zenoh_config)
+            .wait()
+            .map_err(|e| zenoh_error(DdsError::Create, e))?;
+        if let Some(attempts) = attempts {
+            if !config::wait_for_router(&session, attempts) {
+                tracing::warn!(
+                    "Unable to connect to a Zenoh router after {attempts} retries (rmw_zenoh's \
+                     warning); going on without one: start `horus-ros router` (or rmw_zenohd) \
+                     or set {}",
+                    config::ROUTER_CHECK_ATTEMPTS_ENV
+                );
+            }
+        }
+        ZenohParticipant::new(session, u32::from(config.domain.get()), config.enclave)
+            .map(|p| Box::new(p) as Box<dyn ParticipantBackend>)
+    }
+}
+
+/// A node of this context: its ids and its token.
+struct NodeEntry {
+    /// rmw_zenoh's node id (from the context's entity counter).
+    id: u64,
+    namespace: String,
+    name: String,
+    _token: Option<LivelinessToken>,
+}
+
+/// A context's session, its nodes and the graph it sees.
+pub(crate) struct ZenohParticipant {
+    session: zenoh::Session,
+    zid: String,
+    domain: u32,
+    enclave: String,
+    gid: Gid,
+    /// rmw_zenoh's per-context entity counter: nodes and entities alike.
+    next_id: AtomicU64,
+    nodes: Mutex<HashMap<u64, NodeEntry>>,
+    graph: Arc<Graph>,
+    _graph_subscriber: zenoh::pubsub::Subscriber<()>,
+    deleted: Arc<AtomicBool>,
+}
+
+impl ZenohParticipant {
+    fn new(session: zenoh::Session, domain: u32, enclave: &str) -> Result<Self, DdsError> {
+        let zid = session.zid().to_string();
+        let graph = Arc::new(Graph::new(zid.clone(), domain));
+        // rmw_context_impl_s.cpp: a liveliness subscriber on the domain's tokens with history,
+        // and a liveliness get for what was there before (duplicates are ignored).
+        let prefix = format!("{ADMIN_SPACE}/{domain}/**");
+        let on_token = {
+            let graph = Arc::clone(&graph);
+            move |sample: zenoh::sample::Sample| {
+                let put = sample.kind() == zenoh::sample::SampleKind::Put;
+                graph.token(sample.key_expr().as_str(), put);
+            }
+        };
+        let graph_subscriber = session
+            .liveliness()
+            .declare_subscriber(&prefix)
+            .history(true)
+            .callback(on_token)
+            .wait()
+            .map_err(|e| zenoh_error(DdsError::Create, e))?;
+        let replies = session
+            .liveliness()
+            .get(&prefix)
+            .timeout(Duration::from_secs(10))
+            .wait()
+            .map_err(|e| zenoh_error(DdsError::Create, e))?;
+        while let Ok(reply) = replies.recv() {
+            if let Ok(sample) = reply.result() {
+                graph.token(sample.key_expr().as_str(), true);
+            }
+        }
+        Ok(Self {
+            gid: feed::participant_gid(&zid),
+            session,
+            zid,
+            domain,
+            enclave: enclave.to_owned(),
+            next_id: AtomicU64::new(0),
+            nodes: Mutex::new(HashMap::new()),
+            graph,
+            _graph_subscriber: graph_subscriber,
+            deleted: Arc::new(AtomicBool::new(false)),
+        })
+    }
+
+    fn next_id(&self) -> u64 {
+        self.next_id.fetch_add(1, Ordering::Relaxed)
+    }
+
+    /// Declares a liveliness token (a failure is logged: the entity works, unseen).
+    fn declare_token(&self, key: &str) -> Option<LivelinessToken> {
+        match self
+            .session
+            .liveliness()
+            .declare_token(key.to_owned())
+            .wait()
+        {
+            Ok(token) => Some(token),
+            Err(e) => {
+                tracing::warn!(key, "zenoh: could not declare the liveliness token: {e}");
+                None
+            }
+        }
+    }
+
+    /// The token of a node's endpoint, if it has one: a listed endpoint of a known node on a
+    /// ROS topic (`rt/…`); the request/reply topics of services get theirs in milestone 2.
+    fn endpoint_token(
+        &self,
+        owner: EndpointOwner,
+        spec: &RawEndpointSpec,
+        kind: EntityKind,
+        entity_id: u64,
+    ) -> Option<Token> {
+        let topic = keyexpr::ros_topic_of(&spec.dds_topic_name)?;
+        if !owner.listed {
+            return None;
+        }
+        let nodes = lock(&self.nodes);
+        let node = nodes.get(&owner.node)?;
+        let mut qos = spec.qos;
+        if qos.depth == 0 && qos.history != HistoryPolicy::KeepAll {
+            qos.depth = DEFAULT_DEPTH;
+        }
+        Some(Token {
+            domain: self.domain,
+            zid: self.zid.clone(),
+            node_id: node.id,
+            entity_id,
+            kind,
+            enclave: self.enclave.clone(),
+            namespace: node.namespace.clone(),
+            node_name: node.name.clone(),
+            topic: Some(TopicInfo {
+                name: topic,
+                type_name: spec.dds_type_name.clone(),
+                type_hash: spec.type_hash,
+                qos,
+            }),
+        })
+    }
+
+    /// The key, token and GID of a new endpoint: with a token, the GID is its hash (as
+    /// rmw_zenoh's); without one, the hash of a key of this session's own.
+    fn endpoint_identity(
+        &self,
+        owner: Option<EndpointOwner>,
+        spec: &RawEndpointSpec,
+        kind: EntityKind,
+    ) -> (String, Option<LivelinessToken>, Gid) {
+        let entity_id = self.next_id();
+        let data_key = keyexpr::data_key(
+            self.domain,
+            &spec.dds_topic_name,
+            &spec.dds_type_name,
+            &spec.type_hash,
+        );
+        match owner.and_then(|o| self.endpoint_token(o, spec, kind, entity_id)) {
+            Some(token) => {
+                let key = token.key();
+                (
+                    data_key,
+                    self.declare_token(&key),
+                    liveliness::gid_of_key(&key),
+                )
+            }
+            None => {
+                let gid = liveliness::gid_of_key(&format!("@horus/{}/{entity_id}", self.zid));
+                (data_key, None, gid)
+            }
+        }
+    }
+
+    fn writer(
+        &self,
+        owner: Option<EndpointOwner>,
+        spec: &RawEndpointSpec,
+    ) -> Result<(Box<dyn WriterBackend>, Gid), DdsError> {
+        if self.deleted.load(Ordering::SeqCst) {
+            return Err(DdsError::ParticipantDeleted);
+        }
+        let (key, token, gid) = self.endpoint_identity(owner, spec, EntityKind::Publisher);
+        // rmw_publisher_data.cpp: BLOCK only for RELIABLE + KEEP_ALL, DROP otherwise.
+        let congestion = match (spec.qos.reliability, spec.qos.history) {
+            (ReliabilityPolicy::BestEffort, _) => CongestionControl::Drop,
+            (_, HistoryPolicy::KeepAll) => CongestionControl::Block,
+            _ => CongestionControl::Drop,
+        };
+        let builder = self
+            .session
+            .declare_publisher(key)
+            .congestion_control(congestion)
+            .priority(Priority::Data)
+            .express(false)
+            // rmw_publisher_data.cpp: BEST_EFFORT is Zenoh's best-effort reliability.
+            .reliability(match spec.qos.reliability {
+                ReliabilityPolicy::BestEffort => Reliability::BestEffort,
+                _ => Reliability::Reliable,
+            });
+        let publisher = if spec.qos.durability == DurabilityPolicy::TransientLocal {
+            // rmw_publisher_data.cpp: a cache of `depth` samples that late joiners query, the
+            // publisher announced for them to detect, and sporadic heartbeats when RELIABLE.
+            let mut advanced = builder
+                .cache(CacheConfig::default().max_samples(history_depth(&spec.qos)))
+                .publisher_detection();
+            if spec.qos.reliability != ReliabilityPolicy::BestEffort {
+                advanced = advanced.sample_miss_detection(
+                    MissDetectionConfig::default().sporadic_heartbeat(HEARTBEAT_PERIOD),
+                );
+            }
+            advanced.wait().map(Publication::Advanced)
+        } else {
+            builder.wait().map(Publication::Plain)
+        }
+        .map_err(|e| zenoh_error(DdsError::Create, e))?;
+        self.graph.add_local(
+            gid,
+            EndpointKind::Writer,
+            &spec.dds_topic_name,
+            &spec.dds_type_name,
+        );
+        Ok((
+            Box::new(ZenohWriter {
+                publisher,
+                token,
+                gid,
+                sequence_number: AtomicI64::new(0),
+                graph: Arc::clone(&self.graph),
+                deleted: Arc::clone(&self.deleted),
+            }),
+            gid,
+        ))
+    }
+
+    fn reader(
+        &self,
+        owner: Option<EndpointOwner>,
+        spec: &RawEndpointSpec,
+    ) -> Result<(Box<dyn ReaderBackend>, Gid), DdsError> {
+        if self.deleted.load(Ordering::SeqCst) {
+            return Err(DdsError::ParticipantDeleted);
+        }
+        let (key, token, gid) = self.endpoint_identity(owner, spec, EntityKind::Subscription);
+        let queue = ReaderQueue::new(history_depth(&spec.qos), &spec.dds_topic_name);
+        let builder = {
+            let queue = Arc::clone(&queue);
+            self.session
+                .declare_subscriber(key)
+                .callback(move |sample| queue.receive(&sample))
+        };
+        let subscriber = if spec.qos.durability == DurabilityPolicy::TransientLocal {
+            // rmw_subscription_data.cpp: the history of the publishers it detects (late
+            // joiners), and recovery of missed samples from their heartbeats when RELIABLE.
+            let mut advanced = builder.history(HistoryConfig::default().detect_late_publishers());
+            if spec.qos.reliability != ReliabilityPolicy::BestEffort {
+                advanced = advanced.recovery(RecoveryConfig::default().heartbeat());
+            }
+            advanced.wait().map(Subscription::Advanced)
+        } else {
+            builder.wait().map(Subscription::Plain)
+        }
+        .map_err(|e| zenoh_error(DdsError::Create, e))?;
+        self.graph.add_local(
+            gid,
+            EndpointKind::Reader,
+            &spec.dds_topic_name,
+            &spec.dds_type_name,
+        );
+        Ok((
+            Box::new(ZenohReader {
+                token,
+                subscriber: Some(subscriber),
+                queue,
+                gid,
+                graph: Arc::clone(&self.graph),
+            }),
+            gid,
+        ))
+    }
+}
+
+impl ParticipantBackend for ZenohParticipant {
+    fn gid(&self) -> Gid {
+        self.gid
+    }
+
+    /// Declares the node's `NN` token; the node takes the next entity id (rmw_zenoh's
+    /// `rmw_create_node`).
+    fn node_added(&self, node: &NodeDescription<'_>) {
+        let id = self.next_id();
+        let token = Token {
+            domain: self.domain,
+            zid: self.zid.clone(),
+            node_id: id,
+            entity_id: id,
+            kind: EntityKind::Node,
+            enclave: self.enclave.clone(),
+            namespace: node.namespace.to_owned(),
+            node_name: node.name.to_owned(),
+            topic: None,
+        };
+        let token = self.declare_token(&token.key());
+        lock(&self.nodes).insert(
+            node.id,
+            NodeEntry {
+                id,
+                namespace: node.namespace.to_owned(),
+                name: node.name.to_owned(),
+                _token: token,
+            },
+        );
+    }
+
+    fn node_removed(&self, id: u64) {
+        lock(&self.nodes).remove(&id);
+    }
+
+    fn create_writer(
+        &self,
+        spec: &RawEndpointSpec,
+        _qos: &DdsQos,
+    ) -> Result<(Box<dyn WriterBackend>, Gid), DdsError> {
+        self.writer(None, spec)
+    }
+
+    fn create_reader(
+        &self,
+        spec: &RawEndpointSpec,
+        _qos: &DdsQos,
+        _responses_of: Option<u64>,
+    ) -> Result<(Box<dyn ReaderBackend>, Gid), DdsError> {
+        self.reader(None, spec)
+    }
+
+    fn create_node_writer(
+        &self,
+        owner: EndpointOwner,
+        spec: &RawEndpointSpec,
+        _qos: &DdsQos,
+    ) -> Result<(Box<dyn WriterBackend>, Gid), DdsError> {
+        self.writer(Some(owner), spec)
+    }
+
+    fn create_node_reader(
+        &self,
+        owner: EndpointOwner,
+        spec: &RawEndpointSpec,
+        _qos: &DdsQos,
+        _responses_of: Option<u64>,
+    ) -> Result<(Box<dyn ReaderBackend>, Gid), DdsError> {
+        self.reader(Some(owner), spec)
+    }
+
+    /// Nothing: on Zenoh, nodes and their endpoints are announced by liveliness tokens.
+    fn publish_discovery_info(&self, _message: &ParticipantEntitiesInfo) {}
+
+    /// At once: there is no `ros_discovery_info` to acknowledge.
+    fn wait_for_discovery_info_acks(&self, _limit: Duration) -> bool {
+        true
+    }
+
+    /// Closes the session: every peer sees its tokens' DELETEs.
+    fn delete(&self) {
+        if !self.deleted.swap(true, Ordering::SeqCst) {
+            lock(&self.nodes).clear();
+            if let Err(e) = self.session.close().wait() {
+                tracing::debug!("zenoh: closing the session: {e}");
+            }
+        }
+    }
+
+    fn open_feed(&self, local: LocalEvents) -> Result<Box<dyn FeedBackend>, DiscoveryFeedError> {
+        Ok(Box::new(self.graph.open_feed(local)))
+    }
+
+    fn create_wait_set(&self) -> Result<Box<dyn WaitSetBackend>, WaitSetError> {
+        Ok(Box::new(WaitSet {
+            shared: Arc::default(),
+        }))
+    }
+}
+
+impl Drop for ZenohParticipant {
+    fn drop(&mut self) {
+        self.delete();
+    }
+}
