@@ -14,7 +14,7 @@ use horus_ros_msgs::lifecycle_msgs::srv::{
 };
 use horus_ros_msgs::{Message, Service};
 use horus_ros_rmw::qos::Qos;
-use horus_ros_rmw::{EndpointError, Node, Publisher};
+use horus_ros_rmw::{EndpointError, Gid, Node, Publisher};
 use horus_ros_services::{EndpointBuilder, ServiceServer, SetupError};
 
 use crate::publisher::LifecyclePublisher;
@@ -240,6 +240,11 @@ impl LifecycleNode {
         &self.node
     }
 
+    /// The GID of the `~/transition_event` publisher (none without the communication interface).
+    pub fn transition_event_gid(&self) -> Option<Gid> {
+        self.shared.events.as_ref().map(Publisher::gid)
+    }
+
     /// The current state (a transition state while a callback runs).
     pub fn current_state(&self) -> State {
         self.shared.machine().current()
@@ -270,16 +275,15 @@ impl LifecycleNode {
     /// Runs the transition with this label from the current state (rclcpp's
     /// `trigger_transition(const std::string &)`; `"shutdown"` picks the current state's).
     pub fn trigger_transition_by_label(&self, label: &str) -> Result<State, TransitionError> {
-        let id = self
-            .shared
-            .machine()
-            .transition_by_label(label)
-            .ok_or_else(|| TransitionError::NotAvailable {
-                requested: label.to_owned(),
-                state: self.current_state(),
-            })?
-            .id();
-        self.trigger_transition(id)
+        let (found, state) = {
+            let machine = self.shared.machine();
+            (machine.transition_by_label(label), machine.current())
+        };
+        let transition = found.ok_or_else(|| TransitionError::NotAvailable {
+            requested: label.to_owned(),
+            state,
+        })?;
+        self.trigger_transition(transition.id())
     }
 
     /// Runs a transition and returns what happened, whatever the callback returned.
