@@ -99,7 +99,7 @@ impl Peer {
     }
 
     /// Kills the peer and gives everything it printed.
-    fn fail(&mut self) -> String {
+    pub fn fail(&mut self) -> String {
         let _ = self.child.kill();
         let _ = self.child.wait();
         let stderr = self.stderr.recv_timeout(LIMIT).unwrap_or_default();
