@@ -8,6 +8,7 @@ use horus_ros_msgs::lifecycle_msgs::msg::{self, TransitionDescription};
 use horus_ros_msgs::lifecycle_msgs::srv::{
     ChangeState, ChangeStateRequest, GetAvailableStates, GetAvailableTransitions, GetState,
 };
+use horus_ros_msgs::Service;
 use horus_ros_rmw::Node;
 use horus_ros_services::{EndpointBuilder, ServiceClient, ServiceError, SetupError};
 
@@ -57,15 +58,54 @@ impl From<&str> for TransitionRequest {
     }
 }
 
-/// Why a call of a [`LifecycleClient`] failed (the service error is the source).
+/// The lifecycle services' names under a node, in rcl's order (`com_interface.c`).
+const SERVICES: [&str; 5] = [
+    "get_state",
+    "change_state",
+    "get_available_states",
+    "get_available_transitions",
+    "get_transition_graph",
+];
+
+/// Why a call of a [`LifecycleClient`] failed (the cause is the source).
 #[derive(Debug, thiserror::Error)]
-#[error("calling {service} failed")]
-pub struct LifecycleCallError {
-    /// The service called (`/node/get_state` …).
-    pub service: String,
-    /// What went wrong.
-    #[source]
-    pub source: ServiceError,
+#[non_exhaustive]
+pub enum LifecycleCallError {
+    /// The service's client could not be created.
+    #[error("could not create a client of {service}")]
+    Setup {
+        /// The service (`/node/get_state` …).
+        service: String,
+        /// Why.
+        #[source]
+        source: SetupError,
+    },
+    /// The call failed (no server, timeout, transport).
+    #[error("calling {service} failed")]
+    Call {
+        /// The service called.
+        service: String,
+        /// What went wrong.
+        #[source]
+        source: ServiceError,
+    },
+}
+
+impl LifecycleCallError {
+    /// The service-level error of a failed call (`None` for a setup error).
+    pub fn service_error(&self) -> Option<&ServiceError> {
+        match self {
+            LifecycleCallError::Call { source, .. } => Some(source),
+            LifecycleCallError::Setup { .. } => None,
+        }
+    }
+}
+
+fn setup_failed(service: &str, source: SetupError) -> LifecycleCallError {
+    LifecycleCallError::Setup {
+        service: service.to_owned(),
+        source,
+    }
 }
 
 /// Builds a [`LifecycleClient`]: `LifecycleClient::builder().node(&n).target("/talker").build()`.
@@ -89,7 +129,7 @@ impl LifecycleClientBuilder {
         self
     }
 
-    /// Creates the five clients.
+    /// Makes the client; each service's client is created on its first use.
     pub fn build(self) -> Result<LifecycleClient, SetupError> {
         let target = if self.target.starts_with('/') {
             self.target
@@ -100,35 +140,14 @@ impl LifecycleClientBuilder {
             Some(n) => n,
             None => horus_ros_services::default_node()?,
         };
-        let name = |service: &str| {
-            if target == "/" {
-                format!("/{service}")
-            } else {
-                format!("{target}/{service}")
-            }
-        };
         Ok(LifecycleClient {
-            change_state: ServiceClient::builder()
-                .node(&node)
-                .name(name("change_state"))
-                .build()?,
-            get_state: ServiceClient::builder()
-                .node(&node)
-                .name(name("get_state"))
-                .build()?,
-            get_available_states: ServiceClient::builder()
-                .node(&node)
-                .name(name("get_available_states"))
-                .build()?,
-            get_available_transitions: ServiceClient::builder()
-                .node(&node)
-                .name(name("get_available_transitions"))
-                .build()?,
-            get_transition_graph: ServiceClient::builder()
-                .node(&node)
-                .name(name("get_transition_graph"))
-                .build()?,
+            node,
             target,
+            change_state: None,
+            get_state: None,
+            get_available_states: None,
+            get_available_transitions: None,
+            get_transition_graph: None,
         })
     }
 }
@@ -137,12 +156,29 @@ impl LifecycleClientBuilder {
 ///
 /// Every call waits (within its timeout) until the service is ready, then calls it.
 pub struct LifecycleClient {
+    node: Node,
     target: String,
-    change_state: ServiceClient<ChangeState>,
-    get_state: ServiceClient<GetState>,
-    get_available_states: ServiceClient<GetAvailableStates>,
-    get_available_transitions: ServiceClient<GetAvailableTransitions>,
-    get_transition_graph: ServiceClient<GetAvailableTransitions>,
+    change_state: Option<ServiceClient<ChangeState>>,
+    get_state: Option<ServiceClient<GetState>>,
+    get_available_states: Option<ServiceClient<GetAvailableStates>>,
+    get_available_transitions: Option<ServiceClient<GetAvailableTransitions>>,
+    get_transition_graph: Option<ServiceClient<GetAvailableTransitions>>,
+}
+
+/// The client in `slot`, created for `<target>/<service>` on first use.
+fn ensure<'a, S: Service>(
+    slot: &'a mut Option<ServiceClient<S>>,
+    node: &Node,
+    name: &str,
+) -> Result<&'a mut ServiceClient<S>, SetupError> {
+    let client = match slot.take() {
+        Some(client) => client,
+        None => ServiceClient::<S>::builder()
+            .node(node)
+            .name(name)
+            .build()?,
+    };
+    Ok(slot.insert(client))
 }
 
 impl std::fmt::Debug for LifecycleClient {
@@ -164,24 +200,30 @@ impl LifecycleClient {
         &self.target
     }
 
-    /// Waits until all five services are ready (woken by graph changes); false at the timeout.
-    pub fn wait_for_services(&self, timeout: Duration) -> bool {
+    /// Creates the five clients and waits until all five services are ready (woken by graph
+    /// changes); false at the timeout.
+    pub fn wait_for_services(&mut self, timeout: Duration) -> Result<bool, SetupError> {
         let deadline = Instant::now() + timeout;
         let left = || deadline.saturating_duration_since(Instant::now());
-        self.get_state.wait_for_service(left())
-            && self.change_state.wait_for_service(left())
-            && self.get_available_states.wait_for_service(left())
-            && self.get_available_transitions.wait_for_service(left())
-            && self.get_transition_graph.wait_for_service(left())
+        let [a, b, c, d, e] = SERVICES.map(|s| self.service(s));
+        let node = &self.node;
+        Ok(
+            ensure(&mut self.get_state, node, &a)?.wait_for_service(left())
+                && ensure(&mut self.change_state, node, &b)?.wait_for_service(left())
+                && ensure(&mut self.get_available_states, node, &c)?.wait_for_service(left())
+                && ensure(&mut self.get_available_transitions, node, &d)?.wait_for_service(left())
+                && ensure(&mut self.get_transition_graph, node, &e)?.wait_for_service(left()),
+        )
     }
 
     /// `~/get_state`: the node's current state.
     pub fn get_state(&mut self, timeout: Duration) -> Result<msg::State, LifecycleCallError> {
         let service = self.service("get_state");
-        self.get_state
+        ensure(&mut self.get_state, &self.node, &service)
+            .map_err(|e| setup_failed(&service, e))?
             .call(Default::default(), timeout)
             .map(|r| r.current_state)
-            .map_err(|source| LifecycleCallError { service, source })
+            .map_err(|source| LifecycleCallError::Call { service, source })
     }
 
     /// `~/change_state`: whether the transition was taken and its callback succeeded.
@@ -190,14 +232,22 @@ impl LifecycleClient {
         transition: impl Into<TransitionRequest>,
         timeout: Duration,
     ) -> Result<bool, LifecycleCallError> {
+        self.change_state_msg(transition.into().to_msg(), timeout)
+    }
+
+    /// `~/change_state` with the `lifecycle_msgs/msg/Transition` as given (ros2lifecycle's
+    /// `set` sends the transition description's, id and label).
+    pub fn change_state_msg(
+        &mut self,
+        transition: msg::Transition,
+        timeout: Duration,
+    ) -> Result<bool, LifecycleCallError> {
         let service = self.service("change_state");
-        let request = ChangeStateRequest {
-            transition: transition.into().to_msg(),
-        };
-        self.change_state
-            .call(request, timeout)
+        ensure(&mut self.change_state, &self.node, &service)
+            .map_err(|e| setup_failed(&service, e))?
+            .call(ChangeStateRequest { transition }, timeout)
             .map(|r| r.success)
-            .map_err(|source| LifecycleCallError { service, source })
+            .map_err(|source| LifecycleCallError::Call { service, source })
     }
 
     /// `~/get_available_states`: every state of the node's state machine.
@@ -206,10 +256,11 @@ impl LifecycleClient {
         timeout: Duration,
     ) -> Result<Vec<msg::State>, LifecycleCallError> {
         let service = self.service("get_available_states");
-        self.get_available_states
+        ensure(&mut self.get_available_states, &self.node, &service)
+            .map_err(|e| setup_failed(&service, e))?
             .call(Default::default(), timeout)
             .map(|r| r.available_states)
-            .map_err(|source| LifecycleCallError { service, source })
+            .map_err(|source| LifecycleCallError::Call { service, source })
     }
 
     /// `~/get_available_transitions`: the transitions valid from the current state.
@@ -218,10 +269,11 @@ impl LifecycleClient {
         timeout: Duration,
     ) -> Result<Vec<TransitionDescription>, LifecycleCallError> {
         let service = self.service("get_available_transitions");
-        self.get_available_transitions
+        ensure(&mut self.get_available_transitions, &self.node, &service)
+            .map_err(|e| setup_failed(&service, e))?
             .call(Default::default(), timeout)
             .map(|r| r.available_transitions)
-            .map_err(|source| LifecycleCallError { service, source })
+            .map_err(|source| LifecycleCallError::Call { service, source })
     }
 
     /// `~/get_transition_graph`: every transition of the node's state machine.
@@ -230,12 +282,14 @@ impl LifecycleClient {
         timeout: Duration,
     ) -> Result<Vec<TransitionDescription>, LifecycleCallError> {
         let service = self.service("get_transition_graph");
-        self.get_transition_graph
+        ensure(&mut self.get_transition_graph, &self.node, &service)
+            .map_err(|e| setup_failed(&service, e))?
             .call(Default::default(), timeout)
             .map(|r| r.available_transitions)
-            .map_err(|source| LifecycleCallError { service, source })
+            .map_err(|source| LifecycleCallError::Call { service, source })
     }
 
+    /// `<target>/<name>`.
     fn service(&self, name: &str) -> String {
         format!("{}/{name}", self.target.trim_end_matches('/'))
     }

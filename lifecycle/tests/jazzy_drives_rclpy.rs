@@ -61,12 +61,15 @@ impl Driver {
             )
             .expect("subscription");
         let peer = Peer::start(&json!({"domain": domain, "name": "py_managed", "lifecycle": true}));
-        let client = LifecycleClient::builder()
+        let mut client = LifecycleClient::builder()
             .node(&node)
             .target("py_managed")
             .build()
             .expect("client");
-        assert!(client.wait_for_services(LIMIT), "the rclpy node's services");
+        assert!(
+            client.wait_for_services(LIMIT).expect("clients"),
+            "the rclpy node's services"
+        );
         let graph = Graph::of(&context).expect("graph");
         wait_matched(
             &graph,
