@@ -182,6 +182,9 @@ enum Command {
     /// Inspect topics.
     #[command(subcommand)]
     Topic(verb::topic::TopicCommand),
+    /// Manage the lifecycle of managed nodes (`ros2 lifecycle`: nodes, list, get, set).
+    #[command(subcommand)]
+    Lifecycle(verb::lifecycle::LifecycleCommand),
     /// Get, set, list, describe, dump, load and delete a node's parameters.
     #[command(subcommand)]
     Param(verb::param::ParamCommand),
@@ -256,6 +259,7 @@ fn main() -> ExitCode {
         Command::Node(c) => verb::node::run(&cli.global, c),
         Command::Topic(c) => verb::topic::run(&cli.global, c),
         Command::Param(c) => verb::param::run(&cli.global, c),
+        Command::Lifecycle(c) => verb::lifecycle::run(&cli.global, c),
         Command::Interface(c) => verb::interface::run(&cli.global, c),
         Command::Graph(args) => verb::graph::run(&cli.global, &args),
         Command::Daemon(c) => verb::daemon::run(&cli.global, c),
