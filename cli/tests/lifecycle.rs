@@ -19,6 +19,16 @@ use serde_json::{json, Value};
 
 const NODE: &str = "/py_managed";
 
+/// The two tests run one after the other: each runs many CLI processes and Python peers, and on
+/// a loaded machine a CLI's discovery wait can end before a rustdds participant's
+/// `ros_discovery_info` arrived (see docs/design.md, "CLI daemon": such a participant holds the
+/// wait at most 1.6 s), which then reads "Node not found".
+static ONE_AT_A_TIME: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
+fn one_at_a_time() -> std::sync::MutexGuard<'static, ()> {
+    ONE_AT_A_TIME.lock().unwrap_or_else(|p| p.into_inner())
+}
+
 /// The rclpy lifecycle node `/py_managed` in `domain`.
 fn peer(domain: u32) -> Peer {
     let script = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
@@ -91,6 +101,7 @@ fn expect(run: &Run, stdout: &str, stderr: &str, code: i32) {
 
 #[test]
 fn verbs_print_what_ros2lifecycle_prints_for_an_rclpy_node() {
+    let _serial = one_at_a_time();
     let domain = 141;
     let mut peer = peer(domain);
     let w = &[NODE];
@@ -235,6 +246,7 @@ impl LifecycleCallbacks for FailsOnce {
 /// The verbs drive a horus-ros lifecycle node, on the backend the environment chooses.
 #[test]
 fn verbs_drive_a_horus_ros_lifecycle_node() {
+    let _serial = one_at_a_time();
     let domain = 142;
     let context = horus_ros_rmw::Context::builder()
         .domain_id(domain)
