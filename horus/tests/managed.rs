@@ -157,3 +157,127 @@ fn a_managed_horus_node_follows_its_lifecycle() {
     let status = horus_ros_test_support::wait_exit(&mut example.child, LIMIT).expect("wait");
     assert_eq!(status.and_then(|s| s.code()), Some(0));
 }
+
+/// What the in-process node's calls were, in order.
+type Calls = std::sync::Arc<std::sync::Mutex<Vec<&'static str>>>;
+
+/// A node whose `init` fails, then panics, then succeeds, and whose `shutdown` fails once.
+struct Moody {
+    inits: u32,
+    shutdowns: u32,
+    calls: Calls,
+    ticked: std::sync::mpsc::Sender<()>,
+}
+
+impl horus::Node for Moody {
+    fn name(&self) -> &str {
+        "moody"
+    }
+    fn init(&mut self) -> horus::Result<()> {
+        self.inits += 1;
+        self.calls.lock().expect("lock").push("init");
+        match self.inits {
+            1 => Err(horus::Error::config("no device")),
+            2 => panic!("init panicked on purpose"),
+            _ => Ok(()),
+        }
+    }
+    fn tick(&mut self) {
+        let mut calls = self.calls.lock().expect("lock");
+        if calls.last() != Some(&"tick") {
+            calls.push("tick");
+            let _ = self.ticked.send(());
+        }
+    }
+    fn shutdown(&mut self) -> horus::Result<()> {
+        self.shutdowns += 1;
+        self.calls.lock().expect("lock").push("shutdown");
+        if self.shutdowns == 1 {
+            Err(horus::Error::msg("busy"))
+        } else {
+            Ok(())
+        }
+    }
+}
+
+/// In one process: `init`'s error is FAILURE (unconfigured), its panic ERROR (error processing,
+/// unconfigured), a failing `shutdown` on cleanup FAILURE (inactive, still configured); `tick`
+/// runs only while active; the scheduler's exit runs `shutdown` of a node still configured.
+#[test]
+fn transitions_run_init_and_shutdown_on_the_scheduler() {
+    use horus::prelude::Units;
+    let domain = 152;
+    let calls = Calls::default();
+    let (ticked, ticks) = std::sync::mpsc::channel();
+    let mut sched = horus::Scheduler::new()
+        .context(
+            Context::builder()
+                .domain_id(domain)
+                .arguments(horus::ros::Arguments::default())
+                .build()
+                .expect("context"),
+        )
+        .tick_rate(50_u64.hz())
+        .print_report(false);
+    sched
+        .add(horus::Managed::new(Moody {
+            inits: 0,
+            shutdowns: 0,
+            calls: calls.clone(),
+            ticked,
+        }))
+        .build()
+        .expect("node");
+    let stop = sched.stop_handle();
+    let thread = std::thread::spawn(move || sched.run().map_err(|e| e.to_string()));
+
+    let context = Context::builder()
+        .domain_id(domain)
+        .build()
+        .expect("context");
+    let node = context.create_node("driver", "/").expect("node");
+    let mut client = LifecycleClient::builder()
+        .node(&node)
+        .target("/moody")
+        .build()
+        .expect("client");
+    assert!(client.wait_for_services(LIMIT).expect("clients"));
+    let state = |c: &mut LifecycleClient| c.get_state(CALL).expect("get_state").id;
+
+    assert!(!client.change_state("configure", CALL).expect("call"));
+    assert_eq!(state(&mut client), 1);
+    assert!(!client.change_state("configure", CALL).expect("call"));
+    assert_eq!(state(&mut client), 1);
+    let third = client.change_state("configure", CALL).expect("call");
+    assert!(
+        third,
+        "third configure: state {}, calls {:?}",
+        state(&mut client),
+        calls.lock().expect("lock")
+    );
+    assert_eq!(state(&mut client), 2);
+    // Not ticked while inactive: the cleanup below is handled by a later tick of the
+    // scheduler, and no tick of the node came between.
+    assert!(!client.change_state("cleanup", CALL).expect("call"));
+    assert_eq!(state(&mut client), 2);
+    assert_eq!(
+        *calls.lock().expect("lock"),
+        ["init", "init", "init", "shutdown"]
+    );
+    // The failed cleanup left it inactive and configured; the next cleanup runs shutdown again.
+    assert!(client.change_state("cleanup", CALL).expect("call"));
+    assert!(client.change_state("configure", CALL).expect("call"));
+    assert!(ticks.try_recv().is_err(), "ticked before activation");
+    assert!(client.change_state("activate", CALL).expect("call"));
+    assert!(ticks.recv_timeout(LIMIT).is_ok(), "no tick while active");
+    assert!(client.change_state("deactivate", CALL).expect("call"));
+    let seen = calls.lock().expect("lock").clone();
+    assert_eq!(
+        seen[..6],
+        ["init", "init", "init", "shutdown", "shutdown", "init"]
+    );
+    assert_eq!(seen[6..], ["tick"], "ticked while active only");
+    stop.stop();
+    assert_eq!(thread.join().expect("scheduler thread"), Ok(()));
+    assert_eq!(calls.lock().expect("lock").last(), Some(&"shutdown"));
+}

@@ -44,7 +44,8 @@ pub const DEFAULT_TRANSITION_TIMEOUT: Duration = Duration::from_secs(10);
 /// |---|---|
 /// | `configure` | the node's [`init`](Node::init) (`Err` → FAILURE, a panic → ERROR) |
 /// | `activate` / `deactivate` | [`tick`](Node::tick) runs only while `active` |
-/// | `cleanup`, `shutdown` | the node's [`shutdown`](Node::shutdown) if it was configured |
+/// | `cleanup` | the node's [`shutdown`](Node::shutdown) (`Err` → FAILURE: still inactive and configured) |
+/// | `shutdown` | the node's `shutdown` if it is configured (→ finalized either way) |
 /// | an error (`errorprocessing`) | `shutdown` if configured; back to `unconfigured` |
 ///
 /// `init` and `shutdown` run on the scheduler's thread, at the node's next tick, with the node
@@ -116,32 +117,44 @@ impl<N: Node> Managed<N> {
                     CallbackReturn::Error
                 }
             },
-            Work::Shutdown | Work::Error => {
+            Work::Cleanup | Work::Shutdown | Work::Error => {
                 self.active.store(false, Ordering::Release);
-                if !std::mem::replace(&mut self.configured, false) {
+                if !self.configured {
                     return CallbackReturn::Success;
                 }
-                match catch_unwind(AssertUnwindSafe(|| self.inner.shutdown())) {
-                    Ok(Ok(())) => CallbackReturn::Success,
-                    // The node is given up on error processing whatever its shutdown says; a
-                    // cleanup or shutdown whose node shutdown failed fails (cleanup stays
-                    // inactive, as rcl's `transition_failure`, but the node is not configured
-                    // any more: the next configure runs init again).
-                    Ok(Err(e)) => {
-                        crate::hlog!(error, "shutdown failed: {}", e);
-                        if work == Work::Error {
-                            CallbackReturn::Success
-                        } else {
-                            CallbackReturn::Failure
-                        }
+                let result = catch_unwind(AssertUnwindSafe(|| self.inner.shutdown()));
+                match (work, result) {
+                    (_, Ok(Ok(()))) => {
+                        self.configured = false;
+                        CallbackReturn::Success
                     }
-                    Err(_) => {
+                    // A cleanup whose shutdown failed leaves the node configured (and the
+                    // state machine inactive: rcl's `transition_failure`).
+                    (Work::Cleanup, Ok(Err(e))) => {
+                        crate::hlog!(error, "cleanup: shutdown failed: {}", e);
+                        CallbackReturn::Failure
+                    }
+                    // `shutdown` ends in finalized either way.
+                    (Work::Shutdown | Work::Configure, Ok(Err(e))) => {
+                        crate::hlog!(error, "shutdown failed: {}", e);
+                        self.configured = false;
+                        CallbackReturn::Failure
+                    }
+                    // Error processing gives the node up whatever its shutdown says.
+                    (Work::Error, Ok(Err(e))) => {
+                        crate::hlog!(error, "error processing: shutdown failed: {}", e);
+                        self.configured = false;
+                        CallbackReturn::Success
+                    }
+                    (Work::Error, Err(_)) => {
+                        crate::hlog!(error, "error processing: shutdown panicked");
+                        self.configured = false;
+                        CallbackReturn::Failure
+                    }
+                    (_, Err(_)) => {
                         crate::hlog!(error, "shutdown panicked");
-                        if work == Work::Error {
-                            CallbackReturn::Failure
-                        } else {
-                            CallbackReturn::Error
-                        }
+                        self.configured = false;
+                        CallbackReturn::Error
                     }
                 }
             }
@@ -153,6 +166,7 @@ impl<N: Node> Managed<N> {
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Work {
     Configure,
+    Cleanup,
     Shutdown,
     Error,
 }
@@ -201,7 +215,7 @@ impl LifecycleCallbacks for Relay {
         self.ask(Work::Configure)
     }
     fn on_cleanup(&mut self, _previous: State) -> CallbackReturn {
-        self.ask(Work::Shutdown)
+        self.ask(Work::Cleanup)
     }
     fn on_shutdown(&mut self, _previous: State) -> CallbackReturn {
         self.ask(Work::Shutdown)
