@@ -1,26 +1,4 @@
 //! [`Managed`]: a scheduled node run as a ROS 2 managed (lifecycle) node, opt-in.
-//!
-//! ```no_run
-//! use horus::prelude::*;
-//! use horus::Managed;
-//!
-//! struct Camera { frames: u64 }
-//!
-//! impl Node for Camera {
-//!     fn name(&self) -> &str { "camera" }
-//!     fn init(&mut self) -> Result<()> { Ok(()) } // open the device: on `configure`
-//!     fn tick(&mut self) { self.frames += 1 }     // only while `active`
-//!     fn shutdown(&mut self) -> Result<()> { Ok(()) } // on `cleanup` / `shutdown`
-//! }
-//!
-//! fn main() -> Result<()> {
-//!     let mut sched = Scheduler::new();
-//!     // `ros2 lifecycle set /camera configure`, then `activate`, start its ticks.
-//!     sched.add(Managed::new(Camera { frames: 0 })).build()?;
-//!     sched.run()
-//! }
-//! ```
-
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::{self, Receiver, RecvTimeoutError, SyncSender, TrySendError};
@@ -56,6 +34,27 @@ pub const DEFAULT_TRANSITION_TIMEOUT: Duration = Duration::from_secs(10);
 /// `shutdown` runs if it is still configured.
 ///
 /// Needs the scheduler's ROS side (not [`Scheduler::without_ros`](crate::Scheduler::without_ros)).
+///
+/// ```no_run
+/// use horus::prelude::*;
+/// use horus::Managed;
+///
+/// struct Camera { frames: u64 }
+///
+/// impl Node for Camera {
+///     fn name(&self) -> &str { "camera" }
+///     fn init(&mut self) -> Result<()> { Ok(()) } // open the device: on `configure`
+///     fn tick(&mut self) { self.frames += 1 }     // only while `active`
+///     fn shutdown(&mut self) -> Result<()> { Ok(()) } // on `cleanup` / `shutdown`
+/// }
+///
+/// fn main() -> Result<()> {
+///     let mut sched = Scheduler::new();
+///     // `ros2 lifecycle set /camera configure`, then `activate`, start its ticks.
+///     sched.add(Managed::new(Camera { frames: 0 })).build()?;
+///     sched.run()
+/// }
+/// ```
 pub struct Managed<N: Node> {
     inner: N,
     timeout: Duration,
