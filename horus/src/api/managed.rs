@@ -1,4 +1,5 @@
 //! [`Managed`]: a scheduled node run as a ROS 2 managed (lifecycle) node, opt-in.
+
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::{self, Receiver, RecvTimeoutError, SyncSender, TrySendError};
