@@ -3,7 +3,7 @@
 //! [`LifecyclePublisher`](horus_ros_lifecycle::LifecyclePublisher) publishes only while active.
 //!
 //! Run inside the private network namespace:
-//! `scripts/isolated cargo test -p horus-ros-lifecycle --test horus_to_horus` (domain 206).
+//! `scripts/isolated cargo test -p horus-ros-lifecycle --test horus_to_horus` (domains 206-207).
 
 mod common;
 
@@ -106,4 +106,79 @@ fn a_client_drives_a_node_and_managed_publishers_follow_the_state() {
         ]
     );
     assert!(events.try_take().expect("take").is_none());
+}
+
+/// `on_configure` waits until the test lets it go, telling the test it has started.
+struct Held {
+    started: std::sync::mpsc::Sender<()>,
+    release: std::sync::mpsc::Receiver<()>,
+}
+
+impl horus_ros_lifecycle::LifecycleCallbacks for Held {
+    fn on_configure(&mut self, _previous: State) -> CallbackReturn {
+        let _ = self.started.send(());
+        match self.release.recv_timeout(LIMIT) {
+            Ok(()) => CallbackReturn::Success,
+            Err(_) => CallbackReturn::Failure,
+        }
+    }
+}
+
+/// While a transition runs, the node is in its transition state and another transition finds
+/// nothing to take (as rcl from a transition state); `~/get_state` answers the transition state.
+#[test]
+fn a_transition_asked_during_another_is_not_available() {
+    use horus_ros_lifecycle::TransitionError;
+    let domain = 207;
+    let context = context(domain);
+    let node = context.create_node("held", "/").expect("node");
+    let (started_tx, started) = std::sync::mpsc::channel();
+    let (release, release_rx) = std::sync::mpsc::channel();
+    let managed = std::sync::Arc::new(
+        LifecycleNode::builder()
+            .node(&node)
+            .callbacks(Held {
+                started: started_tx,
+                release: release_rx,
+            })
+            .build()
+            .expect("lifecycle node"),
+    );
+    let running = std::sync::Arc::clone(&managed);
+    let configure = std::thread::spawn(move || running.configure());
+    started.recv_timeout(LIMIT).expect("on_configure started");
+    assert_eq!(managed.current_state(), State::Configuring);
+    assert_eq!(
+        managed.activate(),
+        Err(TransitionError::NotAvailable {
+            requested: "activate".into(),
+            state: State::Configuring
+        })
+    );
+    assert_eq!(
+        managed.trigger_transition(Transition::Configure.id()),
+        Err(TransitionError::NotAvailable {
+            requested: "1".into(),
+            state: State::Configuring
+        })
+    );
+    let driver = context.create_node("driver", "/").expect("node");
+    let mut client = LifecycleClient::builder()
+        .node(&driver)
+        .target("/held")
+        .build()
+        .expect("client");
+    let state = client.get_state(CALL).expect("get_state");
+    assert_eq!((state.id, state.label.as_str()), (10, "configuring"));
+    assert!(!client.change_state("shutdown", CALL).expect("change_state"));
+    release.send(()).expect("release");
+    assert_eq!(configure.join().expect("thread"), Ok(State::Inactive));
+    assert_eq!(
+        managed
+            .available_transitions()
+            .iter()
+            .map(|t| t.id())
+            .collect::<Vec<_>>(),
+        [2, 3, 6]
+    );
 }
