@@ -5,7 +5,7 @@
 //! rclpy. Stdout, stderr and the exit status are compared whole.
 //!
 //! Each test has its own DDS domain (141-142). Run inside the private network namespace:
-//! `scripts/isolated cargo test -p horus-ros-cli --test lifecycle`.
+//! `scripts/isolated cargo test -p horus-ros-cli --test jazzy_lifecycle`.
 
 mod common;
 
@@ -90,6 +90,12 @@ fn same_as_ros2lifecycle(domain: u32, wait_for: &[&str], args: &[&str]) -> Run {
     assert_eq!(ours.stderr, theirs.stderr, "{what} stderr");
     assert_eq!(ours.code, theirs.code, "{what} exit status");
     ours
+}
+
+/// The run's stdout as JSON (a failure shows its stderr).
+fn json_of(run: &Run) -> Value {
+    serde_json::from_str(&run.stdout)
+        .unwrap_or_else(|e| panic!("{e}: stdout {:?}, stderr {:?}", run.stdout, run.stderr))
 }
 
 fn expect(run: &Run, stdout: &str, stderr: &str, code: i32) {
@@ -184,19 +190,19 @@ fn verbs_print_what_ros2lifecycle_prints_for_an_rclpy_node() {
 
     // --json.
     let run = lifecycle(domain, true, &["--json", "get", NODE]);
-    let v: Value = serde_json::from_str(&run.stdout).expect("json");
+    let v: Value = json_of(&run);
     assert_eq!(
         v,
         json!({"node": NODE, "state": {"id": 3, "label": "active"}})
     );
     let run = lifecycle(domain, true, &["--json", "get"]);
-    let v: Value = serde_json::from_str(&run.stdout).expect("json");
+    let v: Value = json_of(&run);
     assert_eq!(
         v,
         json!([{"node": NODE, "state": {"id": 3, "label": "active"}, "error": null}])
     );
     let run = lifecycle(domain, true, &["--json", "list", NODE]);
-    let v: Value = serde_json::from_str(&run.stdout).expect("json");
+    let v: Value = json_of(&run);
     assert_eq!(v["node"], json!(NODE));
     assert_eq!(
         v["transitions"][0],
@@ -204,24 +210,18 @@ fn verbs_print_what_ros2lifecycle_prints_for_an_rclpy_node() {
                "goal": {"id": 14, "label": "deactivating"}})
     );
     let run = lifecycle(domain, true, &["--json", "nodes"]);
-    assert_eq!(
-        serde_json::from_str::<Value>(&run.stdout).ok(),
-        Some(json!([NODE]))
-    );
+    assert_eq!(Some(json_of(&run)), Some(json!([NODE])));
     let run = lifecycle(domain, true, &["--json", "nodes", "-c"]);
-    assert_eq!(
-        serde_json::from_str::<Value>(&run.stdout).ok(),
-        Some(json!({"count": 1}))
-    );
+    assert_eq!(Some(json_of(&run)), Some(json!({"count": 1})));
     let run = lifecycle(domain, true, &["--json", "set", NODE, "deactivate"]);
-    let v: Value = serde_json::from_str(&run.stdout).expect("json");
+    let v: Value = json_of(&run);
     assert_eq!(
         v,
         json!({"node": NODE, "transition": {"id": 4, "label": "deactivate"}, "success": false})
     );
     peer.send(&json!({"behave": {"on_deactivate": "success"}}).to_string());
     let run = lifecycle(domain, true, &["--json", "set", NODE, "shutdown"]);
-    let v: Value = serde_json::from_str(&run.stdout).expect("json");
+    let v: Value = json_of(&run);
     assert_eq!(
         v,
         json!({"node": NODE, "transition": {"id": 7, "label": "shutdown"}, "success": true})

@@ -2,7 +2,9 @@
 
 use serde_json::{json, Value};
 
-use super::{absolute, client, direct, exception, lifecycle_nodes, state_json, CALL_TIMEOUT};
+use super::{
+    absolute, client, direct, exception, lifecycle_nodes, require_node, state_json, CALL_TIMEOUT,
+};
 use crate::session::GraphSource;
 use crate::verb::names;
 use crate::{CliError, Global};
@@ -22,16 +24,13 @@ pub struct GetArgs {
 /// (and ends the command, exit status 1, when it was named).
 pub fn run(global: &Global, args: &GetArgs) -> Result<(), CliError> {
     let source = GraphSource::open(global)?;
-    let known = lifecycle_nodes(&source, args.include_hidden_nodes);
     let to_query = match &args.node_name {
         Some(name) => {
             let node = absolute(name);
-            if !known.contains(&node) {
-                return Err(CliError::new("Node not found"));
-            }
+            require_node(&source, &node, args.include_hidden_nodes)?;
             vec![node]
         }
-        None => known,
+        None => lifecycle_nodes(&source, args.include_hidden_nodes),
     };
     let session = direct(global, source)?;
     let mut states = Vec::new();

@@ -2,7 +2,7 @@
 
 use serde_json::{json, Value};
 
-use super::{absolute, client, direct, exception, lifecycle_nodes, transition_json, CALL_TIMEOUT};
+use super::{absolute, client, direct, exception, require_node, transition_json, CALL_TIMEOUT};
 use crate::session::GraphSource;
 use crate::verb::names;
 use crate::{CliError, Global};
@@ -25,9 +25,7 @@ pub struct ListArgs {
 pub fn run(global: &Global, args: &ListArgs) -> Result<(), CliError> {
     let source = GraphSource::open(global)?;
     let node = absolute(&args.node_name);
-    if !lifecycle_nodes(&source, args.include_hidden_nodes).contains(&node) {
-        return Err(CliError::new("Node not found"));
-    }
+    require_node(&source, &node, args.include_hidden_nodes)?;
     let session = direct(global, source)?;
     let mut lifecycle = client(&session, &node)?;
     // With no state to filter by (`states={node_name: None}`), every description is listed.

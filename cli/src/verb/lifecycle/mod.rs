@@ -77,6 +77,44 @@ pub fn lifecycle_nodes(source: &GraphSource, include_hidden: bool) -> Vec<String
     found
 }
 
+/// Checks that `node` is a lifecycle node of the graph ("Node not found" otherwise, as
+/// ros2lifecycle). A session of our own (`--no-daemon`, or no daemon) is younger than the
+/// daemon ros2cli asks: when the node is not there yet it waits for it, woken by graph changes,
+/// until [`ENDPOINTS_BOUND`](crate::settle::ENDPOINTS_BOUND) after joining (a participant not
+/// heard of at all when the discovery wait ended, on a loaded machine, is usually heard by then).
+pub fn require_node(
+    source: &GraphSource,
+    node: &str,
+    include_hidden: bool,
+) -> Result<(), CliError> {
+    let found = |source: &GraphSource| {
+        lifecycle_nodes(source, include_hidden)
+            .iter()
+            .any(|n| n == node)
+    };
+    let GraphSource::Direct(session) = source else {
+        return if found(source) {
+            Ok(())
+        } else {
+            Err(CliError::new("Node not found"))
+        };
+    };
+    let deadline = session.joined + crate::settle::ENDPOINTS_BOUND;
+    loop {
+        let seen = session.graph.generation();
+        if found(source) {
+            return Ok(());
+        }
+        let now = std::time::Instant::now();
+        if now >= deadline {
+            return Err(CliError::new("Node not found"));
+        }
+        session
+            .graph
+            .wait_for_graph_change_since(seen, deadline - now);
+    }
+}
+
 /// ros2node's `get_absolute_node_name`.
 pub fn absolute(name: &str) -> String {
     crate::verb::param::absolute_node_name(name)
