@@ -190,6 +190,9 @@ enum Command {
     /// Inspect actions and send goals.
     #[command(subcommand)]
     Action(verb::action::ActionCommand),
+    /// Manage the lifecycle of managed nodes (`ros2 lifecycle`: nodes, list, get, set).
+    #[command(subcommand)]
+    Lifecycle(verb::lifecycle::LifecycleCommand),
     /// Get, set, list, describe, dump, load and delete a node's parameters.
     #[command(subcommand)]
     Param(verb::param::ParamCommand),
@@ -276,6 +279,7 @@ fn main() -> ExitCode {
         Command::Topic(c) => verb::topic::run(&cli.global, c),
         Command::Param(c) => verb::param::run(&cli.global, c),
         Command::Action(c) => verb::action::run(&cli.global, c),
+        Command::Lifecycle(c) => verb::lifecycle::run(&cli.global, c),
         Command::Interface(c) => verb::interface::run(&cli.global, c),
         Command::Graph(args) => verb::graph::run(&cli.global, &args),
         Command::Daemon(c) => verb::daemon::run(&cli.global, c),

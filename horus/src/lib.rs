@@ -56,6 +56,7 @@ pub use api::clock::{timestamp_now, Clock, ManualClock, StopHandle, SystemClock}
 pub use api::current;
 pub use api::error::{BuildError, ConfigError, Error, MessageError, Result, SchedulerError};
 pub use api::log::LogLevel;
+pub use api::managed::{Managed, DEFAULT_TRANSITION_TIMEOUT};
 pub use api::metrics::{NodeMetrics, NodeTiming, TimingReport};
 pub use api::names;
 pub use api::node::{Node, NodeHealthState, NodeState, TopicMetadata};
@@ -69,6 +70,10 @@ pub use api::units::{Frequency, Units};
 pub use horus_ros_rmw::stream::Lagged;
 
 pub use horus_ros_msgs::{Message, Service};
+
+/// Managed (lifecycle) nodes: horus-ros-lifecycle, which [`Managed`] is built on (its
+/// `LifecycleClient` drives any managed node).
+pub use horus_ros_lifecycle as lifecycle;
 pub use horus_ros_services::{message, service};
 
 /// ROS 2 message and service types (the packages of `horus-ros-msgs`).

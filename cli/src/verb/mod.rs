@@ -6,6 +6,7 @@ pub mod daemon;
 pub mod demo;
 pub mod graph;
 pub mod interface;
+pub mod lifecycle;
 pub mod names;
 pub mod node;
 pub mod param;

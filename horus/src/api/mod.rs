@@ -5,6 +5,7 @@ pub mod current;
 pub(crate) mod error;
 pub(crate) mod log;
 pub(crate) mod macros;
+pub(crate) mod managed;
 pub(crate) mod metrics;
 pub mod names;
 pub(crate) mod node;
