@@ -8,16 +8,21 @@
 //! `message_to_yaml(…)` followed by `---` (`--csv`: `message_to_csv`, one line), a `--field`
 //! that selects no message as Python's `str()` followed by `---`, `--raw` as the Python `repr`
 //! of the serialized message followed by `---`; `--include-message-info` prints the message
-//! info first (YAML: `yaml.dump(info)` and `---`; CSV: its values prepended). With the global
-//! `--json`, each message is one JSON object on one line (docs/cli-json.md).
+//! info first (YAML: `yaml.dump(info)` and `---`; CSV: its values prepended): rclpy's dict
+//! (rclpy jazzy `src/rclpy/subscription.cpp` `take_message`: `source_timestamp`,
+//! `received_timestamp`, `publication_sequence_number`, `reception_sequence_number`) filled as
+//! rmw_fastrtps_cpp fills it (the writer's source timestamp, the reception time, the sample's
+//! sequence number at its writer; no reception sequence number). Unless `--no-lost-messages`,
+//! samples lost before a message are reported first as `_message_lost_event_callback` prints
+//! them ([`super::lost`]). With the global `--json`, each message is one JSON object on one line
+//! (docs/cli-json.md).
 //!
 //! Types are resolved as [`super::subscribe::resolve_type`] does: compiled in, interface files on
 //! `AMENT_PREFIX_PATH`, else the `~/get_type_description` of a node on the topic.
 //!
 //! Differences, for lack of support below: `--filter` evaluates a subset of Python
-//! ([`Filter`]); the message info's `source_timestamp` is 0 (the DDS layers do not hand it over
-//! here) and `reception_sequence_number` is `None` (as rmw_fastrtps_cpp reports it); lost messages
-//! are not reported (`--no-lost-messages` is accepted and changes nothing).
+//! ([`Filter`]); on the Cyclone backend the sequence numbers are not known (Cyclone DDS does not
+//! report them), so `publication_sequence_number` is `None` there and no loss is reported.
 
 use std::io::Write;
 use std::time::{Duration, Instant};
@@ -25,9 +30,10 @@ use std::time::{Duration, Instant};
 use horus_ros_rmw::SampleId;
 use serde_json::{json, Map, Value as Json};
 
+use super::lost::LostSamples;
 use super::subscribe::{
-    expand, graph_type, normalize_message_type, now_ns, numeric, publisher_qos, resolve_type,
-    select, subscribe, Filter, MessageType, Part, QosArgs,
+    expand, graph_type, normalize_message_type, numeric, publisher_qos, resolve_type, select,
+    subscribe, Filter, MessageType, Part, QosArgs,
 };
 use crate::dynamic::convert::{to_csv, to_ordereddict, ConvertOptions};
 use crate::dynamic::json::to_json;
@@ -245,6 +251,7 @@ pub fn run(global: &Global, args: &EchoArgs) -> Result<(), CliError> {
     let mut reader = subscribe(&session, &topic, &type_name, hash, qos)?;
 
     let stdout = std::io::stdout();
+    let mut lost = LostSamples::default();
     loop {
         let left = match deadline {
             Some(d) => match d.checked_duration_since(Instant::now()) {
@@ -263,9 +270,26 @@ pub fn run(global: &Global, args: &EchoArgs) -> Result<(), CliError> {
                     continue;
                 }
             };
+            if !args.no_lost_messages {
+                if let Some(status) = lost.observe(sample.id) {
+                    let text = if global.json {
+                        json!({ "message_lost": {
+                            "total_count_change": status.total_count_change,
+                            "total_count": status.total_count,
+                        }})
+                        .to_string()
+                    } else {
+                        status.text()
+                    };
+                    let mut out = stdout.lock();
+                    if writeln!(out, "{text}").and_then(|()| out.flush()).is_err() {
+                        return Ok(());
+                    }
+                }
+            }
             let info = MessageInfo {
-                source_timestamp: 0,
-                received_timestamp: now_ns(),
+                source_timestamp: sample.source_timestamp.unwrap_or(0),
+                received_timestamp: sample.received_timestamp,
                 publication_sequence_number: (sample.id.sequence_number
                     != SampleId::UNKNOWN_SEQUENCE_NUMBER)
                     .then_some(sample.id.sequence_number),

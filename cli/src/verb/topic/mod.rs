@@ -7,6 +7,7 @@ pub mod find;
 pub mod hz;
 pub mod info;
 pub mod list;
+pub mod lost;
 pub mod pub_;
 pub mod publish;
 pub mod subscribe;
