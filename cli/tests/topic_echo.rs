@@ -1,7 +1,13 @@
 //! `horus-ros topic echo` against real rclpy publishers (rmw_fastrtps_cpp, the suite's Jazzy
-//! wheels): the text is compared with what ros2topic echo prints for the same message — the peer
-//! computes it with rosidl_runtime_py's `message_to_yaml` / `message_to_csv` conversion (copied
-//! into the peer) and PyYAML, as ros2cli does.
+//! wheels): the text is compared with what ros2topic echo prints for the same message, checked
+//! in under `tests/expected/topic_echo/` (`<message>.yaml`, `<message>.csv`): recorded once
+//! from rosidl_runtime_py's conversion run on the peer's message, and reviewed against
+//! rosidl_runtime_py jazzy 0.13.1 `convert.py`, whose lines define the format —
+//! `message_to_yaml` 66-96 (`yaml.dump` of `message_to_ordereddict`, fields in declaration
+//! order, `allow_unicode=True, width=sys.maxsize`, block style) and `message_to_csv` 99-156
+//! (values joined by `,`, a `,` added only after a non-empty result: `if result: result +=
+//! ','`) — and ros2topic 0.32.2 `verb/echo.py` 292-309 (`print(to_print)` for CSV;
+//! `print(message_to_yaml(…), end='---\n')` for YAML).
 //!
 //! Types: compiled in (std_msgs, sensor_msgs), from interface files on `AMENT_PREFIX_PATH`
 //! (test_msgs from the venv's `share/`), and known only from the publisher's node
@@ -29,14 +35,16 @@ fn echo(domain: u32, args: &[&str], ament: Ament<'_>) -> (String, Option<i32>) {
     Cli::start(domain, &all, ament).finish(RUN)
 }
 
-fn yaml_of(peer: &common::Peer) -> String {
-    peer.field("/yaml")
+/// What ros2topic echo prints for the message `name` (`tests/expected/topic_echo/<name>.yaml`
+/// or `.csv`).
+fn expected(name: &str) -> String {
+    common::expected::expected_file(&format!("topic_echo/{name}"))
 }
 
 #[test]
 fn echoes_std_msgs_string_as_ros2cli() {
     let domain = 210;
-    let peer = publisher(
+    let _peer = publisher(
         domain,
         "talker",
         "/chatter",
@@ -45,7 +53,7 @@ fn echoes_std_msgs_string_as_ros2cli() {
         r#"[["data", "hello world"]]"#,
         false,
     );
-    assert_eq!(yaml_of(&peer), "data: hello world\n");
+    assert_eq!(expected("string.yaml"), "data: hello world\n");
 
     let (out, code) = echo(domain, &["/chatter", "--once"], Ament::Inherit);
     assert_eq!((out.as_str(), code), ("data: hello world\n---\n", Some(0)));
@@ -59,7 +67,7 @@ fn echoes_std_msgs_string_as_ros2cli() {
     assert_eq!((out.as_str(), code), ("data: hello world\n---\n", Some(0)));
 
     let (out, code) = echo(domain, &["/chatter", "--once", "--csv"], Ament::Inherit);
-    assert_eq!((out, code), (format!("{}\n", peer.field("/csv")), Some(0)));
+    assert_eq!((out, code), (expected("string.csv"), Some(0)));
 
     let (out, code) = echo(
         domain,
@@ -143,7 +151,7 @@ fn echoes_std_msgs_string_as_ros2cli() {
 #[test]
 fn echoes_sensor_msgs_imu_as_ros2cli() {
     let domain = 211;
-    let peer = publisher(
+    let _peer = publisher(
         domain,
         "imu",
         "/imu",
@@ -154,10 +162,13 @@ fn echoes_sensor_msgs_imu_as_ros2cli() {
         false,
     );
     let (out, code) = echo(domain, &["/imu", "--once"], Ament::Inherit);
-    assert_eq!((out, code), (format!("{}---\n", yaml_of(&peer)), Some(0)));
+    assert_eq!(
+        (out, code),
+        (format!("{}---\n", expected("imu.yaml")), Some(0))
+    );
 
     let (out, code) = echo(domain, &["/imu", "--once", "--csv"], Ament::Inherit);
-    assert_eq!((out, code), (format!("{}\n", peer.field("/csv")), Some(0)));
+    assert_eq!((out, code), (expected("imu.csv"), Some(0)));
 
     let (out, code) = echo(
         domain,
@@ -217,25 +228,11 @@ fn echoes_sensor_msgs_imu_as_ros2cli() {
     assert_ne!(code, Some(0), "{out}");
 }
 
-/// `test_msgs/msg/Strings`: not compiled in.
-const STRINGS_YAML: &str = "string_value: ''
-string_value_default1: Hello world!
-string_value_default2: Hello'world!
-string_value_default3: Hello\"world!
-string_value_default4: Hello'world!
-string_value_default5: Hello\"world!
-bounded_string_value: ''
-bounded_string_value_default1: Hello world!
-bounded_string_value_default2: Hello'world!
-bounded_string_value_default3: Hello\"world!
-bounded_string_value_default4: Hello'world!
-bounded_string_value_default5: Hello\"world!
-";
-
 #[test]
 fn echoes_a_type_from_interface_files() {
     let domain = 212;
-    let peer = publisher(
+    // `test_msgs/msg/Strings`: not compiled in.
+    let _peer = publisher(
         domain,
         "strings",
         "/strings",
@@ -244,16 +241,18 @@ fn echoes_a_type_from_interface_files() {
         "[]",
         false,
     );
-    assert_eq!(yaml_of(&peer), STRINGS_YAML);
     let prefix = jazzy_prefix();
     let (out, code) = echo(domain, &["/strings", "--once"], Ament::Prefix(&prefix));
-    assert_eq!((out, code), (format!("{STRINGS_YAML}---\n"), Some(0)));
+    assert_eq!(
+        (out, code),
+        (format!("{}---\n", expected("strings.yaml")), Some(0))
+    );
 }
 
 #[test]
 fn echoes_a_type_known_only_from_the_publishers_node() {
     let domain = 213;
-    let peer = publisher(
+    let _peer = publisher(
         domain,
         "strings",
         "/strings",
@@ -283,9 +282,12 @@ fn echoes_a_type_known_only_from_the_publishers_node() {
         return;
     }
     let (out, code) = echo(domain, &["/strings", "--once"], Ament::Unset);
-    assert_eq!((out, code), (format!("{}---\n", yaml_of(&peer)), Some(0)));
+    assert_eq!(
+        (out, code),
+        (format!("{}---\n", expected("strings.yaml")), Some(0))
+    );
     let (out, code) = echo(domain, &["/strings", "--once", "--csv"], Ament::Unset);
-    assert_eq!((out, code), (format!("{}\n", peer.field("/csv")), Some(0)));
+    assert_eq!((out, code), (expected("strings.csv"), Some(0)));
 }
 
 #[test]

@@ -6,6 +6,7 @@
 #![allow(dead_code)]
 
 pub mod daemon;
+pub mod expected;
 
 use std::io::{BufRead, BufReader};
 use std::path::PathBuf;
