@@ -22,8 +22,9 @@ mod topic_support;
 
 use std::time::Duration;
 
+use common::jazzy_prefix;
 use serde_json::Value;
-use topic_support::{jazzy_prefix, publisher, Ament, Cli};
+use topic_support::{publisher, Ament, Cli};
 
 /// Longest a `--once` / `--timeout` run may take (discovery and type look-up included).
 const RUN: Duration = Duration::from_secs(60);

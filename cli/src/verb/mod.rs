@@ -3,6 +3,7 @@
 pub mod completions;
 pub mod daemon;
 pub mod demo;
+pub mod echo_options;
 pub mod graph;
 pub mod interface;
 pub mod names;
@@ -10,3 +11,4 @@ pub mod node;
 pub mod param;
 pub mod service;
 pub mod topic;
+pub mod type_name;

@@ -24,39 +24,26 @@
 //! ([`Filter`]); on the Cyclone backend the sequence numbers are not known (Cyclone DDS does not
 //! report them), so `publication_sequence_number` is `None` there and no loss is reported.
 
-use std::io::Write;
 use std::time::{Duration, Instant};
 
 use horus_ros_rmw::SampleId;
 use serde_json::{json, Map, Value as Json};
 
 use super::lost::LostSamples;
+use super::qos::QosArgs;
 use super::subscribe::{
-    expand, graph_type, normalize_message_type, numeric, publisher_qos, resolve_type, select,
-    subscribe, Filter, MessageType, Part, QosArgs,
+    decode, drain, expand, graph_type, numeric, print_report, publisher_qos, resolve_type, select,
+    subscribe, Filter, MessageType, Part,
 };
 use crate::dynamic::convert::{to_csv, to_ordereddict, ConvertOptions};
 use crate::dynamic::json::to_json;
 use crate::dynamic::pyyaml::{dump, PyValue};
 use crate::dynamic::repr::{py_bytes, py_float, py_str, repr};
-use crate::dynamic::{cdr, Container, Elem, Schema, Value};
+use crate::dynamic::{Container, Elem, Schema, Value};
 use crate::session::Session;
+use crate::verb::echo_options::EchoOptions;
+use crate::verb::type_name::normalize_message_type;
 use crate::{CliError, Global};
-
-/// ros2topic echo `DEFAULT_TRUNCATE_LENGTH`.
-const DEFAULT_TRUNCATE_LENGTH: usize = 128;
-
-/// ros2topic `positive_float`.
-fn positive_float(value: &str) -> Result<f64, String> {
-    let v: f64 = value
-        .trim()
-        .parse()
-        .map_err(|_| "Expects a floating point number".to_owned())?;
-    if v.is_nan() || v <= 0.0 {
-        return Err("Value must be positive".to_owned());
-    }
-    Ok(v)
-}
 
 /// Arguments of `topic echo`.
 #[derive(Debug, clap::Args)]
@@ -78,22 +65,8 @@ pub struct EchoArgs {
     /// pose.pose.position'
     #[arg(long)]
     pub field: Option<String>,
-    /// Output all elements for arrays, bytes, and string with a length > '--truncate-length', by
-    /// default they are truncated after '--truncate-length' elements with '...''
-    #[arg(short = 'f', long)]
-    pub full_length: bool,
-    /// The length to truncate arrays, bytes, and string to (default: 128)
-    #[arg(short = 'l', long, default_value_t = DEFAULT_TRUNCATE_LENGTH)]
-    pub truncate_length: usize,
-    /// Don't print array fields of messages
-    #[arg(long)]
-    pub no_arr: bool,
-    /// Don't print string fields of messages
-    #[arg(long)]
-    pub no_str: bool,
-    /// Print collections in the block style (not available with csv format)
-    #[arg(long)]
-    pub flow_style: bool,
+    #[command(flatten)]
+    pub output: EchoOptions,
     /// Don't report when a message is lost
     #[arg(long)]
     pub no_lost_messages: bool,
@@ -110,7 +83,7 @@ pub struct EchoArgs {
     #[arg(long)]
     pub once: bool,
     /// Set a timeout in seconds for waiting
-    #[arg(long, value_name = "N", value_parser = positive_float)]
+    #[arg(long, value_name = "N", value_parser = crate::args::positive_float)]
     pub timeout: Option<f64>,
     /// Shows the associated message info.
     #[arg(short = 'i', long)]
@@ -208,11 +181,7 @@ pub fn run(global: &Global, args: &EchoArgs) -> Result<(), CliError> {
             })
         })
         .transpose()?;
-    let options = ConvertOptions {
-        truncate_length: (!args.full_length).then_some(args.truncate_length),
-        no_arr: args.no_arr,
-        no_str: args.no_str,
-    };
+    let options = args.output.convert();
     let deadline = args
         .timeout
         .map(|t| Instant::now() + Duration::from_secs_f64(t));
@@ -250,7 +219,6 @@ pub fn run(global: &Global, args: &EchoArgs) -> Result<(), CliError> {
     };
     let mut reader = subscribe(&session, &topic, &type_name, hash, qos)?;
 
-    let stdout = std::io::stdout();
     let mut lost = LostSamples::default();
     loop {
         let left = match deadline {
@@ -261,15 +229,7 @@ pub fn run(global: &Global, args: &EchoArgs) -> Result<(), CliError> {
             None => None,
         };
         reader.wait(left);
-        loop {
-            let sample = match reader.take() {
-                Ok(Some(s)) => s,
-                Ok(None) => break,
-                Err(e) => {
-                    tracing::warn!("dropped a message: {e}");
-                    continue;
-                }
-            };
+        for sample in drain(&mut reader) {
             if !args.no_lost_messages {
                 if let Some(status) = lost.observe(sample.id) {
                     let text = if global.json {
@@ -281,8 +241,7 @@ pub fn run(global: &Global, args: &EchoArgs) -> Result<(), CliError> {
                     } else {
                         status.text()
                     };
-                    let mut out = stdout.lock();
-                    if writeln!(out, "{text}").and_then(|()| out.flush()).is_err() {
+                    if !print_report(&text) {
                         return Ok(());
                     }
                 }
@@ -312,14 +271,9 @@ pub fn run(global: &Global, args: &EchoArgs) -> Result<(), CliError> {
                     raw_text(global, args, &info, &bytes)
                 }
                 Some(t) => {
-                    let value =
-                        match cdr::decode(&t.schema, &t.name, &sample.body, sample.big_endian) {
-                            Ok(v) => v,
-                            Err(e) => {
-                                tracing::warn!("could not decode a message: {e}");
-                                continue;
-                            }
-                        };
+                    let Some(value) = decode(&t.schema, &t.name, &sample) else {
+                        continue;
+                    };
                     let part = match &field {
                         None => Part::Message(&t.name, &value),
                         Some(f) => select(&t.schema, &t.name, &value, f).map_err(|e| {
@@ -349,8 +303,7 @@ pub fn run(global: &Global, args: &EchoArgs) -> Result<(), CliError> {
                     )
                 }
             };
-            let mut out = stdout.lock();
-            if writeln!(out, "{text}").and_then(|()| out.flush()).is_err() {
+            if !print_report(&text) {
                 // stdout closed (e.g. `| head`): nothing more to do.
                 return Ok(());
             }
@@ -432,7 +385,7 @@ fn message_text(
         s.push_str("---\n");
     }
     let d: PyValue = to_ordereddict(&t.schema, type_name, v, options);
-    s.push_str(&dump(&d, args.flow_style));
+    s.push_str(&dump(&d, args.output.flow_style));
     s.push_str("---");
     s
 }
