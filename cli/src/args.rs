@@ -27,6 +27,26 @@ pub fn domain_id(value: &str) -> Result<u32, String> {
         .ok_or_else(out_of_range)
 }
 
+/// ros2topic `positive_int` (`--window`).
+pub fn positive_int(value: &str) -> Result<usize, String> {
+    match value.trim().parse::<i64>() {
+        Ok(v) if v > 0 => usize::try_from(v).map_err(|_| "value must be a positive integer".into()),
+        _ => Err("value must be a positive integer".to_owned()),
+    }
+}
+
+/// ros2topic `positive_float` (`--rate`, `--timeout`, `--keep-alive`, …).
+pub fn positive_float(value: &str) -> Result<f64, String> {
+    let v: f64 = value
+        .trim()
+        .parse()
+        .map_err(|_| "Expects a floating point number".to_owned())?;
+    if v.is_nan() || v <= 0.0 {
+        return Err("Value must be positive".to_owned());
+    }
+    Ok(v)
+}
+
 #[cfg(test)]
 mod tests {
     use super::{domain_id, seconds};

@@ -12,12 +12,11 @@
 
 mod common;
 
-use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
 use common::daemon::{adopt_orphans, daemon_children, DaemonGuard, EXIT_LIMIT};
 use common::{
-    expect_as_typed as expect, horus_as_typed as horus, Peer, Run, LINGER, RUN_LIMIT, SETTLE,
+    expect_as_typed as expect, horus_as_typed as horus, horus_with_env, Peer, Run, LINGER, SETTLE,
 };
 use horus_ros_msgs::builtin_interfaces::msg::Time;
 use horus_ros_msgs::example_interfaces::srv::AddTwoInts;
@@ -25,7 +24,6 @@ use horus_ros_msgs::Message;
 use horus_ros_rmw::qos::Qos;
 use horus_ros_rmw::Context;
 use horus_ros_services::{EndpointBuilder, ServiceServer};
-use horus_ros_test_support::wait_with_output;
 use interop_tests::rclpy::RclpyPeer;
 use nix::sys::signal::Signal;
 use nix::sys::wait::WaitStatus;
@@ -36,37 +34,12 @@ const FAST_DDS_WARM_UP: Duration = Duration::from_secs(20);
 /// The longest lease of a participant of ours: rustdds announces 50 s (10 s on Cyclone).
 const PARTICIPANT_LEASE: Duration = Duration::from_secs(50);
 
-/// `horus-ros --domain-id <domain> <args…>` with `env` added.
-fn horus_env(domain: u32, env: &[(&str, &str)], args: &[&str]) -> Run {
-    let mut command = Command::new(env!("CARGO_BIN_EXE_horus-ros"));
-    command
-        .arg("--domain-id")
-        .arg(domain.to_string())
-        .args(args)
-        .env_remove("ROS_DOMAIN_ID")
-        .env("RUST_LOG", "error")
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped());
-    for (k, v) in env {
-        command.env(k, v);
-    }
-    let mut child = command.spawn().expect("start horus-ros");
-    let pid = child.id();
-    let out = wait_with_output(&mut child, RUN_LIMIT).expect("horus-ros output");
-    Run {
-        code: out.code(),
-        stdout: out.stdout,
-        stderr: out.stderr,
-        pid,
-    }
-}
-
 /// Runs `daemon start <args…>` (with `env`), asserts its message, and guards the daemon.
 fn start_daemon(domain: u32, env: &[(&str, &str)], args: &[&str]) -> DaemonGuard {
     adopt_orphans();
     let mut start = vec!["daemon", "start"];
     start.extend_from_slice(args);
-    let run = horus_env(domain, env, &start);
+    let run = horus_with_env(domain, env, &start);
     // Guarded first, so that it is stopped even if the message is wrong.
     let guard = (run.code == Some(0)).then(|| DaemonGuard::adopt(domain));
     assert_eq!(
@@ -79,7 +52,7 @@ fn start_daemon(domain: u32, env: &[(&str, &str)], args: &[&str]) -> DaemonGuard
 
 /// `--json daemon status`, parsed.
 fn status_json(domain: u32, env: &[(&str, &str)]) -> Value {
-    let run = horus_env(domain, env, &["--json", "daemon", "status"]);
+    let run = horus_with_env(domain, env, &["--json", "daemon", "status"]);
     assert_eq!(run.code, Some(0), "{run:?}");
     serde_json::from_str(&run.stdout).unwrap_or_else(|e| panic!("{e}: {run:?}"))
 }
@@ -467,7 +440,7 @@ fn daemon_serves_only_its_discovery_settings() {
     );
     // The same settings use it.
     let node = status["node_name"].as_str().expect("node_name").to_owned();
-    let run = horus_env(D, &peers, &["node", "list", "-a"]);
+    let run = horus_with_env(D, &peers, &["node", "list", "-a"]);
     assert_eq!(run.stdout, format!("/{node}\n"), "{run:?}");
     // Other discovery settings are another graph: that daemon is not this command's.
     let run = horus(D, &["daemon", "status"]);
@@ -489,7 +462,7 @@ fn daemon_serves_only_its_discovery_settings() {
         "not answered by its own daemon: {run:?}"
     );
     for env in [&[][..], &peers[..]] {
-        let run = horus_env(D, env, &["daemon", "stop"]);
+        let run = horus_with_env(D, env, &["daemon", "stop"]);
         assert_eq!(run.stdout, "The daemon has been stopped\n", "{env:?}");
     }
 }

@@ -5,11 +5,12 @@
 //! Every test joins its own domain (131-139), so they run in parallel; run them inside the
 //! private network namespace (`scripts/test`, or `scripts/isolated cargo test …`).
 
-use std::io::{BufRead, BufReader};
-use std::path::PathBuf;
+mod common;
+
 use std::process::{Child, Command, Stdio};
-use std::sync::mpsc::{self, Receiver};
 use std::time::{Duration, Instant};
+
+use common::{Peer, Streaming};
 
 use horus_ros_msgs::builtin_interfaces::msg::Time;
 use horus_ros_msgs::Message;
@@ -27,63 +28,21 @@ const SPIN_TIME: &str = "3";
 // ---------------------------------------------------------------------------------------------
 // Helpers.
 
-/// The interpreter with the `cyclonedds` package: `HORUS_ROS_INTEROP_PYTHON`, else the virtual
-/// environment `scripts/setup` makes.
-fn python() -> PathBuf {
-    std::env::var_os("HORUS_ROS_INTEROP_PYTHON").map_or_else(
-        || PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../target/interop-venv/bin/python"),
-        PathBuf::from,
-    )
-}
-
 /// A Cyclone DDS peer announcing node NAMESPACE/NODE with a writer on `NAMESPACE/chatter`, a
-/// reader on `NAMESPACE/echo` and an AddTwoInts server; killed when dropped.
-struct CyclonePeer {
-    child: Child,
-    /// The JSON line it printed: `participant`, `writer`, `reader`, `server.request_reader`,
-    /// `server.reply_writer`.
-    created: Value,
-}
-
-impl CyclonePeer {
-    fn start(domain: u32, namespace: &str, node: &str, service: &str) -> Self {
-        let mut child = Command::new(python())
-            .arg(interop_tests::peer_script("cyclone_ros_participant.py"))
-            .args([
-                &domain.to_string(),
-                namespace,
-                node,
-                &Time::type_hash().to_string(),
-                "120",
-                service,
-            ])
-            .env("CYCLONEDDS_URI", interop_tests::cyclone_config())
-            .stdout(Stdio::piped())
-            .stderr(Stdio::inherit())
-            .spawn()
-            .expect("start the Cyclone DDS peer");
-        let mut line = String::new();
-        BufReader::new(child.stdout.take().expect("piped stdout"))
-            .read_line(&mut line)
-            .expect("the peer's JSON line");
-        let created = serde_json::from_str(line.trim()).expect("the peer prints one JSON line");
-        Self { child, created }
-    }
-
-    fn gid(&self, pointer: &str) -> String {
-        self.created
-            .pointer(pointer)
-            .and_then(Value::as_str)
-            .unwrap_or_else(|| panic!("{pointer} in {}", self.created))
-            .to_owned()
-    }
-}
-
-impl Drop for CyclonePeer {
-    fn drop(&mut self) {
-        let _ = self.child.kill();
-        let _ = self.child.wait();
-    }
+/// reader on `NAMESPACE/echo` and an AddTwoInts server; its JSON line holds `participant`,
+/// `writer`, `reader`, `server.request_reader`, `server.reply_writer`; killed when dropped.
+fn cyclone_peer(domain: u32, namespace: &str, node: &str, service: &str) -> Peer {
+    Peer::start(
+        "cyclone_ros_participant.py",
+        &[
+            &domain.to_string(),
+            namespace,
+            node,
+            &Time::type_hash().to_string(),
+            "120",
+            service,
+        ],
+    )
 }
 
 fn horus_ros() -> Command {
@@ -215,7 +174,7 @@ fn graph_prints_the_whole_live_graph_as_text_and_json() {
         .name("add")
         .build()
         .expect("client");
-    let peer = CyclonePeer::start(DOMAIN, "/cyc", "peer", "/cyc/add");
+    let peer = cyclone_peer(DOMAIN, "/cyc", "peer", "/cyc/add");
 
     let (server_reader, server_writer) = server.gids();
     let (client_writer, client_reader) = client.gids();
@@ -273,10 +232,10 @@ Services:
     Clients (1):
       /graph_test/caller  gids {client_reader}, {client_writer}
 ",
-        peer_writer = peer.gid("/writer"),
-        peer_reader = peer.gid("/reader"),
-        peer_request_reader = peer.gid("/server/request_reader"),
-        peer_reply_writer = peer.gid("/server/reply_writer"),
+        peer_writer = peer.field("/writer"),
+        peer_reader = peer.field("/reader"),
+        peer_request_reader = peer.field("/server/request_reader"),
+        peer_reply_writer = peer.field("/server/reply_writer"),
         chatter = g(chatter.gid()),
         echo = g(echo.gid()),
         server_reader = g(server_reader),
@@ -378,7 +337,7 @@ Services:
     let peer_publisher = &topics[0]["publishers"][0];
     assert_eq!(peer_publisher["node_name"], "peer");
     assert_eq!(peer_publisher["node_namespace"], "/cyc");
-    assert_eq!(peer_publisher["gid"], peer.gid("/writer"));
+    assert_eq!(peer_publisher["gid"], peer.field("/writer"));
     assert_eq!(peer_publisher["type_hash"], Time::type_hash().to_string());
     let subscription = &topics[3]["subscriptions"][0];
     assert_eq!(subscription["endpoint_type"], "SUBSCRIPTION");
@@ -420,8 +379,8 @@ Services:
     assert_eq!(
         strings(&peer_server["gids"]),
         [
-            peer.gid("/server/request_reader"),
-            peer.gid("/server/reply_writer")
+            peer.field("/server/request_reader"),
+            peer.field("/server/reply_writer")
         ]
     );
 
@@ -470,8 +429,7 @@ fn graph_of_an_empty_domain() {
 
 /// A running `graph --watch`, its stdout lines arriving on a channel.
 struct Watch {
-    child: Child,
-    lines: Receiver<String>,
+    process: Streaming,
     seen: Vec<String>,
 }
 
@@ -482,25 +440,10 @@ impl Watch {
         if json {
             command.arg("--json");
         }
-        let mut child = command
-            .args(["graph", "--watch"])
-            .stdout(Stdio::piped())
-            .stderr(Stdio::inherit())
-            .spawn()
+        let process = Streaming::spawn(command.args(["graph", "--watch"]).stderr(Stdio::inherit()))
             .expect("start graph --watch");
-        let stdout = child.stdout.take().expect("stdout");
-        let (tx, lines) = mpsc::channel();
-        std::thread::spawn(move || {
-            for line in BufReader::new(stdout).lines() {
-                let Ok(line) = line else { break };
-                if tx.send(line).is_err() {
-                    break;
-                }
-            }
-        });
         Self {
-            child,
-            lines,
+            process,
             seen: Vec::new(),
         }
     }
@@ -512,14 +455,12 @@ impl Watch {
         }
         let deadline = Instant::now() + WAIT;
         while let Some(left) = deadline.checked_duration_since(Instant::now()) {
-            match self.lines.recv_timeout(left) {
-                Ok(line) => {
-                    self.seen.push(line.clone());
-                    if matches(&line) {
-                        return line;
-                    }
-                }
-                Err(_) => break,
+            let Some(line) = self.process.next_line(left) else {
+                break;
+            };
+            self.seen.push(line.clone());
+            if matches(&line) {
+                return line;
             }
         }
         panic!(
@@ -532,21 +473,15 @@ impl Watch {
     fn stop(mut self, signal: &str) -> (Option<i32>, Duration) {
         let start = Instant::now();
         let status = Command::new("kill")
-            .args([&format!("-{signal}"), &self.child.id().to_string()])
+            .args([
+                &format!("-{signal}"),
+                &self.process.child().id().to_string(),
+            ])
             .status()
             .expect("kill");
         assert!(status.success(), "kill -{signal}");
-        let code = wait_bounded(&mut self.child, Duration::from_secs(10));
+        let code = wait_bounded(self.process.child(), Duration::from_secs(10));
         (code, start.elapsed())
-    }
-}
-
-impl Drop for Watch {
-    fn drop(&mut self) {
-        if matches!(self.child.try_wait(), Ok(None)) {
-            let _ = self.child.kill();
-            let _ = self.child.wait();
-        }
     }
 }
 

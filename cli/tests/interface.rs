@@ -14,25 +14,7 @@ use std::path::PathBuf;
 use std::process::{Command, Stdio};
 use std::time::Duration;
 
-use common::{cli_peer_script, Peer};
-
-/// The install prefix of the Jazzy wheels: the venv of [`common::python`].
-fn jazzy_prefix() -> PathBuf {
-    let python = common::python();
-    let prefix = python
-        .parent()
-        .and_then(|bin| bin.parent())
-        .map(PathBuf::from)
-        .unwrap_or_default();
-    assert!(
-        prefix
-            .join("share/ament_index/resource_index/rosidl_interfaces")
-            .is_dir(),
-        "no Jazzy install under {} (set HORUS_ROS_INTEROP_PYTHON to the interop venv's python)",
-        prefix.display()
-    );
-    prefix
-}
+use common::{cli_peer_script, jazzy_prefix, Peer};
 
 /// One run: stdout, stderr, exit code.
 struct Out {

@@ -1,19 +1,32 @@
 //! Output tests of `param list|get|set|describe|dump|load|delete` against a real rclpy node
 //! (`peers/jazzy_param_node.py`, Fast DDS). ros2cli is not installed: each output is compared
-//! with `peers/jazzy_ros2param_reference.py`, ros2param 0.32's verb bodies transcribed onto
-//! rclpy — so values are typed by rclpy's own `get_parameter_value`, files read by rclpy's own
-//! `parameter_dict_from_yaml_file` and dumps written by PyYAML itself. Stdout and stderr are
-//! compared whole.
+//! whole (stdout, stderr, exit status) with a checked-in transcript,
+//! `tests/expected/param/<test>.txt`, recorded once from ros2param 0.32.2's verb bodies run on
+//! rclpy (the suite's Jazzy wheels: values typed by rclpy's `get_parameter_value`, files read
+//! by rclpy's `parameter_dict_from_yaml_file`, dumps written by PyYAML) against the same node,
+//! and reviewed against ros2param 0.32.2 (ros2/ros2cli tag 0.32.2), whose lines define each
+//! format:
 //!
-//! Each test has its own DDS domain (161-168). Run inside the private network namespace:
+//! - `list`: `ros2param/verb/list.py` 96-112 (`{node}:` when no node is given, `  {name}` or
+//!   `  {name} (type: …)`; types from `api/__init__.py` `get_parameter_type_string` 116-133);
+//! - `get`: `verb/get.py` 60-105 (`Parameter not set` on stderr, exit 1; the labels
+//!   `Integer value is:` … and `print(label, value)` or `print(value)` with `--hide-type`);
+//! - `set` / `delete`: `verb/set.py` / `verb/delete.py` 65-78 (`Set parameter successful` /
+//!   `Deleted parameter successfully` on stdout, `Setting parameter failed` / `Deleting
+//!   parameter failed` with `: {reason}` on stderr, exit 0 either way);
+//! - `describe`: `verb/describe.py` 60-79;
+//! - `dump`: `verb/dump.py` 95-106 (`yaml.dump(…, default_flow_style=False)` printed, hence the
+//!   empty last line);
+//! - `load`: `api/__init__.py` `load_parameter_file` 35-58 (`Set parameter {name} successful`
+//!   on stdout, `… failed` with the reason on stderr, in the file's order).
+//!
+//! Each test has its own DDS domain (161-163, 165-168). Run inside the private network namespace:
 //! `scripts/isolated cargo test -p horus-ros-cli --test param`.
 
 mod common;
 
-use std::process::{Command, Stdio};
-use std::time::Duration;
-
-use common::{cli_peer_script, horus, python, Peer, Run, PEER_START};
+use common::expected::Transcript;
+use common::{cli_peer_script, horus, Peer, Run, PEER_START};
 use serde_json::Value;
 
 const NODE: &str = "/param_node";
@@ -32,27 +45,6 @@ fn peer(domain: u32, extra: &[&str]) -> Peer {
     )
 }
 
-/// What ros2param prints for `ros2 param <args>` (the transcription run on rclpy).
-fn reference(domain: u32, args: &[&str]) -> Run {
-    let mut child = Command::new(python())
-        .arg(cli_peer_script("jazzy_ros2param_reference.py"))
-        .arg(domain.to_string())
-        .args(args)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("start the reference");
-    let pid = child.id();
-    let out = horus_ros_test_support::wait_with_output(&mut child, Duration::from_secs(60))
-        .expect("reference output");
-    Run {
-        code: out.code(),
-        stdout: out.stdout,
-        stderr: out.stderr,
-        pid,
-    }
-}
-
 /// Runs `horus-ros param <args>` against the rclpy peer. The peer runs on Fast DDS, whose
 /// service convention only the rustdds backend speaks (a Cyclone DDS context is refused by
 /// Fast DDS servers, as rmw_cyclonedds is: `verbs_against_a_horus_ros_node` covers Cyclone),
@@ -63,36 +55,22 @@ fn param(domain: u32, args: &[&str]) -> Run {
     horus(domain, &all)
 }
 
-/// Asserts `horus-ros param <args>` prints what ros2param prints (stdout and stderr, and the
-/// exit status); returns our run.
-fn same_as_ros2param(domain: u32, args: &[&str]) -> Run {
-    let ours = param(domain, args);
-    let theirs = reference(domain, args);
-    assert_eq!(
-        ours.stdout,
-        theirs.stdout,
-        "`param {}` stdout\n--- ours stderr:\n{}\n--- reference stderr:\n{}",
-        args.join(" "),
-        ours.stderr,
-        theirs.stderr
-    );
-    assert_eq!(
-        ours.stderr,
-        theirs.stderr,
-        "`param {}` stderr",
-        args.join(" ")
-    );
-    assert_eq!(
-        ours.code,
-        theirs.code,
-        "`param {}` exit status",
-        args.join(" ")
-    );
-    ours
+/// Asserts `horus-ros param <args>` prints what ros2param prints: the transcript's next case
+/// (stdout, stderr and exit status); returns our run.
+fn same_as_ros2param(expected: &mut Transcript, domain: u32, args: &[&str]) -> Run {
+    let run = param(domain, args);
+    // The test's files as `$TMP/<name>`.
+    let dir = temp_dir().to_string_lossy().into_owned();
+    let shown: Vec<String> = args.iter().map(|a| a.replace(&dir, "$TMP")).collect();
+    let mut all = vec!["param"];
+    all.extend(shown.iter().map(String::as_str));
+    expected.check(&all, &run);
+    run
 }
 
 #[test]
 fn list_get_describe_and_dump_match_ros2param() {
+    let mut expected = Transcript::load("param/list_get_describe_and_dump_match_ros2param.txt");
     let _peer = peer(161, &[]);
     for args in [
         vec!["list", NODE],
@@ -113,7 +91,7 @@ fn list_get_describe_and_dump_match_ros2param() {
         vec!["describe", NODE, "count", "nope"],
         vec!["dump", NODE],
     ] {
-        same_as_ros2param(161, &args);
+        same_as_ros2param(&mut expected, 161, &args);
     }
     for name in [
         "flag",
@@ -131,37 +109,32 @@ fn list_get_describe_and_dump_match_ros2param() {
         "use_sim_time",
         "nope",
     ] {
-        same_as_ros2param(161, &["get", NODE, name]);
+        same_as_ros2param(&mut expected, 161, &["get", NODE, name]);
     }
     for name in ["words", "doubles", "flag"] {
-        same_as_ros2param(161, &["get", NODE, name, "--hide-type"]);
+        same_as_ros2param(&mut expected, 161, &["get", NODE, name, "--hide-type"]);
     }
     // Without a node: every node's parameters under its name (only the peer is not hidden).
-    let one = reference(161, &["list", NODE]);
-    let run = param(161, &["list"]);
-    assert_eq!(
-        run.stdout,
-        format!("{NODE}:\n{}", one.stdout),
-        "{}",
-        run.stderr
-    );
+    same_as_ros2param(&mut expected, 161, &["list"]);
     // An unknown node.
     let run = horus(161, &["param", "get", "/nobody", "x"]);
     assert_eq!(
         (run.code, run.stderr.as_str()),
         (Some(1), "Node not found\n")
     );
-    let dump = same_as_ros2param(161, &["dump", NODE]);
+    let dump = same_as_ros2param(&mut expected, 161, &["dump", NODE]);
     assert!(
         dump.stdout
             .starts_with("/param_node:\n  ros__parameters:\n"),
         "{}",
         dump.stdout
     );
+    expected.finish();
 }
 
 #[test]
 fn set_matches_ros2param() {
+    let mut expected = Transcript::load("param/set_matches_ros2param.txt");
     let _peer = peer(162, &[]);
     // Each set is run by us, then by the reference: setting the same value twice gives the same
     // answer twice.
@@ -184,41 +157,37 @@ fn set_matches_ros2param() {
         ("dynamic", "yes"),
         ("dynamic", "[1, a]"),
     ] {
-        same_as_ros2param(162, &["set", NODE, name, value]);
-        same_as_ros2param(162, &["get", NODE, name]);
+        same_as_ros2param(&mut expected, 162, &["set", NODE, name, value]);
+        same_as_ros2param(&mut expected, 162, &["get", NODE, name]);
     }
-    same_as_ros2param(162, &["dump", NODE]);
+    same_as_ros2param(&mut expected, 162, &["dump", NODE]);
+    expected.finish();
 }
 
 #[test]
 fn delete_matches_ros2param() {
-    // Deleting changes the node: ours and the reference each get a node of their own.
-    let _ours = peer(163, &[]);
-    let _theirs = peer(164, &[]);
+    let mut expected = Transcript::load("param/delete_matches_ros2param.txt");
+    let _peer = peer(163, &[]);
     for name in ["dynamic", "count", "fixed", "nope"] {
-        let args = ["delete", NODE, name];
-        let ours = param(163, &args);
-        let theirs = reference(164, &args);
-        assert_eq!(
-            (ours.stdout.as_str(), ours.stderr.as_str(), ours.code),
-            (theirs.stdout.as_str(), theirs.stderr.as_str(), theirs.code),
-            "`param delete {NODE} {name}`"
-        );
+        same_as_ros2param(&mut expected, 163, &["delete", NODE, name]);
     }
-    assert_eq!(
-        param(163, &["dump", NODE]).stdout,
-        reference(164, &["dump", NODE]).stdout
-    );
+    same_as_ros2param(&mut expected, 163, &["dump", NODE]);
     let gone = param(163, &["get", NODE, "dynamic"]);
     assert_eq!(
         (gone.code, gone.stderr.as_str()),
         (Some(1), "Parameter not set\n")
     );
+    expected.finish();
+}
+
+/// The test's temporary directory.
+fn temp_dir() -> std::path::PathBuf {
+    std::env::temp_dir().join(format!("horus_ros_param_{}", std::process::id()))
 }
 
 /// A file in the test's temporary directory.
 fn temp_file(name: &str, text: &str) -> String {
-    let dir = std::env::temp_dir().join(format!("horus_ros_param_{}", std::process::id()));
+    let dir = temp_dir();
     std::fs::create_dir_all(&dir).expect("temp dir");
     let path = dir.join(name);
     std::fs::write(&path, text).expect("write");
@@ -227,8 +196,9 @@ fn temp_file(name: &str, text: &str) -> String {
 
 #[test]
 fn dump_then_load_gives_the_parameters_back() {
+    let mut expected = Transcript::load("param/dump_then_load_gives_the_parameters_back.txt");
     let _peer = peer(165, &[]);
-    let original = same_as_ros2param(165, &["dump", NODE]).stdout;
+    let original = same_as_ros2param(&mut expected, 165, &["dump", NODE]).stdout;
     // The dump, as a file (ros2cli's users redirect it: `ros2 param dump /n > n.yaml`).
     let file = temp_file("dump.yaml", &original);
     for (name, value) in [
@@ -244,7 +214,7 @@ fn dump_then_load_gives_the_parameters_back() {
     }
     assert_ne!(param(165, &["dump", NODE]).stdout, original);
     // Loading the dump: one line per parameter (use_sim_time and the read-only one included).
-    let load = same_as_ros2param(165, &["load", NODE, &file]);
+    let load = same_as_ros2param(&mut expected, 165, &["load", NODE, &file]);
     assert!(
         load.stdout.contains("Set parameter count successful\n"),
         "{}",
@@ -267,11 +237,13 @@ fn dump_then_load_gives_the_parameters_back() {
     let run = param(165, &["set", NODE, "doubles", "[1.5, -2.0, 1.0e-05]"]);
     assert_eq!(run.stdout, "Set parameter successful\n", "{}", run.stderr);
     assert_eq!(param(165, &["dump", NODE]).stdout, original);
-    same_as_ros2param(165, &["get", NODE, "words"]);
+    same_as_ros2param(&mut expected, 165, &["get", NODE, "words"]);
+    expected.finish();
 }
 
 #[test]
 fn load_reads_wildcards_as_rcl_files_do() {
+    let mut expected = Transcript::load("param/load_reads_wildcards_as_rcl_files_do.txt");
     let _peer = peer(166, &[]);
     let file = temp_file(
         "wildcard.yaml",
@@ -279,18 +251,23 @@ fn load_reads_wildcards_as_rcl_files_do() {
          /param_node:\n  ros__parameters:\n    count: 25\n    nested:\n      depth: 4\n\
          \x20     deeper: {label: '5'}\n    ratio: .5\n    words: [a, 'true', 3]\n",
     );
-    same_as_ros2param(166, &["load", NODE, &file]);
-    same_as_ros2param(166, &["dump", NODE]);
-    same_as_ros2param(166, &["load", NODE, &file, "--no-use-wildcard"]);
-    same_as_ros2param(166, &["dump", NODE]);
+    same_as_ros2param(&mut expected, 166, &["load", NODE, &file]);
+    same_as_ros2param(&mut expected, 166, &["dump", NODE]);
+    same_as_ros2param(
+        &mut expected,
+        166,
+        &["load", NODE, &file, "--no-use-wildcard"],
+    );
+    same_as_ros2param(&mut expected, 166, &["dump", NODE]);
     let only_wildcard = temp_file("only.yaml", "/**:\n  ros__parameters:\n    count: 35\n");
-    same_as_ros2param(166, &["load", NODE, &only_wildcard]);
-    same_as_ros2param(166, &["get", NODE, "count"]);
+    same_as_ros2param(&mut expected, 166, &["load", NODE, &only_wildcard]);
+    same_as_ros2param(&mut expected, 166, &["get", NODE, "count"]);
     let run = param(166, &["load", NODE, &only_wildcard, "--no-use-wildcard"]);
     assert_eq!(
         (run.code, run.stderr.as_str()),
         (Some(1), "Param file does not contain selected parameters\n")
     );
+    expected.finish();
 }
 
 #[test]

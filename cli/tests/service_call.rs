@@ -10,52 +10,35 @@
 
 mod common;
 
-use std::io::{BufRead, BufReader};
-use std::process::{Child, Command, Stdio};
-use std::sync::mpsc;
+use std::process::{Command, Stdio};
 
 use common::{
-    cyclone_config, expect, expect_failure, horus, peer_script, python, LINGER, PEER_START,
+    cyclone_config, expect, expect_failure, horus, peer_script, python, Streaming, LINGER,
+    PEER_START,
 };
 
-/// A peer server that logs a line per request: unlike `common::Peer`, its stdout is drained
-/// until it exits (a closed pipe would kill it at its second line).
+/// A peer server that logs a line per request: unlike `common::Peer`, its first line is not
+/// JSON; its stdout is read until it exits (a closed pipe would kill it at its second line).
 struct Peer {
-    child: Child,
+    /// Held for its lifetime: the server runs until dropped.
+    _process: Streaming,
 }
 
 impl Peer {
     /// Starts `script` with `args` and waits for its first line.
     fn start(script: &str, args: &[&str]) -> Self {
-        let mut child = Command::new(python())
-            .arg(peer_script(script))
-            .args(args)
-            .env("CYCLONEDDS_URI", cyclone_config())
-            .stdout(Stdio::piped())
-            .stderr(Stdio::inherit())
-            .spawn()
-            .unwrap_or_else(|e| panic!("start {script}: {e}"));
-        let stdout = child.stdout.take().expect("piped stdout");
-        let (tx, rx) = mpsc::channel();
-        std::thread::spawn(move || {
-            for line in BufReader::new(stdout).lines() {
-                let Ok(line) = line else { break };
-                let _ = tx.send(line);
-            }
-        });
-        if rx.recv_timeout(PEER_START).is_err() {
-            let _ = child.kill();
-            let _ = child.wait();
+        let process = Streaming::spawn(
+            Command::new(python())
+                .arg(peer_script(script))
+                .args(args)
+                .env("CYCLONEDDS_URI", cyclone_config())
+                .stderr(Stdio::inherit()),
+        )
+        .unwrap_or_else(|e| panic!("start {script}: {e}"));
+        if process.next_line(PEER_START).is_none() {
             panic!("{script} printed nothing within {PEER_START:?}");
         }
-        Self { child }
-    }
-}
-
-impl Drop for Peer {
-    fn drop(&mut self) {
-        let _ = self.child.kill();
-        let _ = self.child.wait();
+        Self { _process: process }
     }
 }
 

@@ -6,13 +6,11 @@
 
 mod common;
 
-use std::io::{BufRead, BufReader};
-use std::process::{Child, Command, Stdio};
-use std::sync::mpsc;
+use std::process::{Command, Stdio};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use common::Peer;
+use common::{Peer, Streaming};
 use horus_ros_graph::Graph;
 use horus_ros_rmw::qos::Qos;
 use horus_ros_rmw::{Context, Gid};
@@ -22,67 +20,33 @@ use horus_ros_services::IntrospectionState;
 const WAIT: Duration = Duration::from_secs(15);
 
 /// A running `horus-ros service echo`, its stdout lines on a channel.
-struct Echo {
-    child: Child,
-    lines: mpsc::Receiver<String>,
-}
+struct Echo(Streaming);
 
 impl Echo {
     fn start(domain: u32, args: &[&str]) -> Self {
-        let mut child = Command::new(env!("CARGO_BIN_EXE_horus-ros"))
-            .arg("--domain-id")
-            .arg(domain.to_string())
-            .arg("service")
-            .arg("echo")
-            .args(args)
-            .env_remove("ROS_DOMAIN_ID")
-            .env("RUST_LOG", "error")
-            .stdout(Stdio::piped())
-            .stderr(Stdio::inherit())
-            .spawn()
-            .expect("start horus-ros service echo");
-        let stdout = child.stdout.take().expect("piped");
-        let (tx, lines) = mpsc::channel();
-        std::thread::spawn(move || {
-            for line in BufReader::new(stdout).lines() {
-                let Ok(line) = line else { break };
-                if tx.send(line).is_err() {
-                    break;
-                }
-            }
-        });
-        Self { child, lines }
+        let process = Streaming::spawn(
+            Command::new(env!("CARGO_BIN_EXE_horus-ros"))
+                .arg("--domain-id")
+                .arg(domain.to_string())
+                .arg("service")
+                .arg("echo")
+                .args(args)
+                .env_remove("ROS_DOMAIN_ID")
+                .env("RUST_LOG", "error")
+                .stderr(Stdio::inherit()),
+        )
+        .expect("start horus-ros service echo");
+        Self(process)
     }
 
     /// The next line, within `WAIT`.
     fn line(&self) -> String {
-        self.lines
-            .recv_timeout(WAIT)
-            .expect("service echo printed a line in time")
+        self.0.line(WAIT)
     }
 
     /// Everything up to the end of output (the process exits after `--count` events).
     fn rest(&mut self) -> String {
-        let deadline = Instant::now() + WAIT;
-        let mut out = String::new();
-        loop {
-            let left = deadline.saturating_duration_since(Instant::now());
-            match self.lines.recv_timeout(left) {
-                Ok(line) => {
-                    out.push_str(&line);
-                    out.push('\n');
-                }
-                Err(mpsc::RecvTimeoutError::Disconnected) => return out,
-                Err(mpsc::RecvTimeoutError::Timeout) => panic!("service echo did not end:\n{out}"),
-            }
-        }
-    }
-}
-
-impl Drop for Echo {
-    fn drop(&mut self) {
-        let _ = self.child.kill();
-        let _ = self.child.wait();
+        self.0.rest(WAIT)
     }
 }
 

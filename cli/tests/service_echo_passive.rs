@@ -8,12 +8,10 @@
 
 mod common;
 
-use std::io::{BufRead, BufReader};
-use std::process::{Child, Command, Stdio};
-use std::sync::mpsc;
+use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-use common::{cli_peer_script, Peer};
+use common::{cli_peer_script, Peer, Streaming};
 use serde_json::{json, Value};
 
 const WAIT: Duration = Duration::from_secs(20);
@@ -26,81 +24,33 @@ fn pairs_fast_rtps() -> bool {
 }
 
 /// A running `horus-ros service echo --passive`, its stdout lines on a channel.
-struct Echo {
-    child: Child,
-    lines: mpsc::Receiver<String>,
-}
+struct Echo(Streaming);
 
 impl Echo {
     fn start(domain: u32, global: &[&str], args: &[&str]) -> Self {
-        let mut child = Command::new(env!("CARGO_BIN_EXE_horus-ros"))
-            .arg("--domain-id")
-            .arg(domain.to_string())
-            .args(global)
-            .args(["service", "echo", "--passive"])
-            .args(args)
-            .env_remove("ROS_DOMAIN_ID")
-            .env("RUST_LOG", "error")
-            .stdout(Stdio::piped())
-            .stderr(Stdio::inherit())
-            .spawn()
-            .expect("start horus-ros service echo --passive");
-        let stdout = child.stdout.take().expect("piped");
-        let (tx, lines) = mpsc::channel();
-        std::thread::spawn(move || {
-            for line in BufReader::new(stdout).lines() {
-                let Ok(line) = line else { break };
-                if tx.send(line).is_err() {
-                    break;
-                }
-            }
-        });
-        Self { child, lines }
+        let process = Streaming::spawn(
+            Command::new(env!("CARGO_BIN_EXE_horus-ros"))
+                .arg("--domain-id")
+                .arg(domain.to_string())
+                .args(global)
+                .args(["service", "echo", "--passive"])
+                .args(args)
+                .env_remove("ROS_DOMAIN_ID")
+                .env("RUST_LOG", "error")
+                .stderr(Stdio::inherit()),
+        )
+        .expect("start horus-ros service echo --passive");
+        Self(process)
     }
 
     /// The lines up to the end of the next record (`---`).
     fn record(&mut self) -> String {
-        let deadline = Instant::now() + WAIT;
-        let mut out = String::new();
-        loop {
-            let left = deadline.saturating_duration_since(Instant::now());
-            match self.lines.recv_timeout(left) {
-                Ok(line) => {
-                    out.push_str(&line);
-                    out.push('\n');
-                    if line == "---" {
-                        return out;
-                    }
-                }
-                Err(e) => panic!("no record from service echo --passive ({e}):\n{out}"),
-            }
-        }
+        self.0.until(WAIT, |line| line == "---")
     }
 
     /// Everything up to the end of output (the process exits after `--count` records).
     fn rest(&mut self) -> String {
-        let deadline = Instant::now() + WAIT;
-        let mut out = String::new();
-        loop {
-            let left = deadline.saturating_duration_since(Instant::now());
-            match self.lines.recv_timeout(left) {
-                Ok(line) => {
-                    out.push_str(&line);
-                    out.push('\n');
-                }
-                Err(mpsc::RecvTimeoutError::Disconnected) => return out,
-                Err(mpsc::RecvTimeoutError::Timeout) => {
-                    panic!("service echo --passive did not end:\n{out}")
-                }
-            }
-        }
-    }
-}
-
-impl Drop for Echo {
-    fn drop(&mut self) {
-        let _ = self.child.kill();
-        let _ = self.child.wait();
+        self.0.rest(WAIT)
     }
 }
 

@@ -1,7 +1,13 @@
 //! `horus-ros topic echo` against real rclpy publishers (rmw_fastrtps_cpp, the suite's Jazzy
-//! wheels): the text is compared with what ros2topic echo prints for the same message — the peer
-//! computes it with rosidl_runtime_py's `message_to_yaml` / `message_to_csv` conversion (copied
-//! into the peer) and PyYAML, as ros2cli does.
+//! wheels): the text is compared with what ros2topic echo prints for the same message, checked
+//! in under `tests/expected/topic_echo/` (`<message>.yaml`, `<message>.csv`): recorded once
+//! from rosidl_runtime_py's conversion run on the peer's message, and reviewed against
+//! rosidl_runtime_py jazzy 0.13.1 `convert.py`, whose lines define the format —
+//! `message_to_yaml` 66-96 (`yaml.dump` of `message_to_ordereddict`, fields in declaration
+//! order, `allow_unicode=True, width=sys.maxsize`, block style) and `message_to_csv` 99-156
+//! (values joined by `,`, a `,` added only after a non-empty result: `if result: result +=
+//! ','`) — and ros2topic 0.32.2 `verb/echo.py` 292-309 (`print(to_print)` for CSV;
+//! `print(message_to_yaml(…), end='---\n')` for YAML).
 //!
 //! Types: compiled in (std_msgs, sensor_msgs), from interface files on `AMENT_PREFIX_PATH`
 //! (test_msgs from the venv's `share/`), and known only from the publisher's node
@@ -16,8 +22,9 @@ mod topic_support;
 
 use std::time::Duration;
 
+use common::jazzy_prefix;
 use serde_json::Value;
-use topic_support::{jazzy_prefix, publisher, Ament, Cli};
+use topic_support::{publisher, Ament, Cli};
 
 /// Longest a `--once` / `--timeout` run may take (discovery and type look-up included).
 const RUN: Duration = Duration::from_secs(60);
@@ -29,14 +36,16 @@ fn echo(domain: u32, args: &[&str], ament: Ament<'_>) -> (String, Option<i32>) {
     Cli::start(domain, &all, ament).finish(RUN)
 }
 
-fn yaml_of(peer: &common::Peer) -> String {
-    peer.field("/yaml")
+/// What ros2topic echo prints for the message `name` (`tests/expected/topic_echo/<name>.yaml`
+/// or `.csv`).
+fn expected(name: &str) -> String {
+    common::expected::expected_file(&format!("topic_echo/{name}"))
 }
 
 #[test]
 fn echoes_std_msgs_string_as_ros2cli() {
     let domain = 210;
-    let peer = publisher(
+    let _peer = publisher(
         domain,
         "talker",
         "/chatter",
@@ -45,7 +54,7 @@ fn echoes_std_msgs_string_as_ros2cli() {
         r#"[["data", "hello world"]]"#,
         false,
     );
-    assert_eq!(yaml_of(&peer), "data: hello world\n");
+    assert_eq!(expected("string.yaml"), "data: hello world\n");
 
     let (out, code) = echo(domain, &["/chatter", "--once"], Ament::Inherit);
     assert_eq!((out.as_str(), code), ("data: hello world\n---\n", Some(0)));
@@ -59,7 +68,7 @@ fn echoes_std_msgs_string_as_ros2cli() {
     assert_eq!((out.as_str(), code), ("data: hello world\n---\n", Some(0)));
 
     let (out, code) = echo(domain, &["/chatter", "--once", "--csv"], Ament::Inherit);
-    assert_eq!((out, code), (format!("{}\n", peer.field("/csv")), Some(0)));
+    assert_eq!((out, code), (expected("string.csv"), Some(0)));
 
     let (out, code) = echo(
         domain,
@@ -131,12 +140,19 @@ fn echoes_std_msgs_string_as_ros2cli() {
         "{out}"
     );
     assert!(out.ends_with("---\ndata: hello world\n---\n"), "{out}");
+    // Fast DDS stamps each sample: the writer's source timestamp, not rmw's 0 for none.
+    let source: i64 = out
+        .lines()
+        .find_map(|l| l.strip_prefix("source_timestamp: "))
+        .and_then(|v| v.parse().ok())
+        .expect("a source timestamp");
+    assert!(source > 0, "{out}");
 }
 
 #[test]
 fn echoes_sensor_msgs_imu_as_ros2cli() {
     let domain = 211;
-    let peer = publisher(
+    let _peer = publisher(
         domain,
         "imu",
         "/imu",
@@ -147,10 +163,13 @@ fn echoes_sensor_msgs_imu_as_ros2cli() {
         false,
     );
     let (out, code) = echo(domain, &["/imu", "--once"], Ament::Inherit);
-    assert_eq!((out, code), (format!("{}---\n", yaml_of(&peer)), Some(0)));
+    assert_eq!(
+        (out, code),
+        (format!("{}---\n", expected("imu.yaml")), Some(0))
+    );
 
     let (out, code) = echo(domain, &["/imu", "--once", "--csv"], Ament::Inherit);
-    assert_eq!((out, code), (format!("{}\n", peer.field("/csv")), Some(0)));
+    assert_eq!((out, code), (expected("imu.csv"), Some(0)));
 
     let (out, code) = echo(
         domain,
@@ -210,25 +229,11 @@ fn echoes_sensor_msgs_imu_as_ros2cli() {
     assert_ne!(code, Some(0), "{out}");
 }
 
-/// `test_msgs/msg/Strings`: not compiled in.
-const STRINGS_YAML: &str = "string_value: ''
-string_value_default1: Hello world!
-string_value_default2: Hello'world!
-string_value_default3: Hello\"world!
-string_value_default4: Hello'world!
-string_value_default5: Hello\"world!
-bounded_string_value: ''
-bounded_string_value_default1: Hello world!
-bounded_string_value_default2: Hello'world!
-bounded_string_value_default3: Hello\"world!
-bounded_string_value_default4: Hello'world!
-bounded_string_value_default5: Hello\"world!
-";
-
 #[test]
 fn echoes_a_type_from_interface_files() {
     let domain = 212;
-    let peer = publisher(
+    // `test_msgs/msg/Strings`: not compiled in.
+    let _peer = publisher(
         domain,
         "strings",
         "/strings",
@@ -237,16 +242,18 @@ fn echoes_a_type_from_interface_files() {
         "[]",
         false,
     );
-    assert_eq!(yaml_of(&peer), STRINGS_YAML);
     let prefix = jazzy_prefix();
     let (out, code) = echo(domain, &["/strings", "--once"], Ament::Prefix(&prefix));
-    assert_eq!((out, code), (format!("{STRINGS_YAML}---\n"), Some(0)));
+    assert_eq!(
+        (out, code),
+        (format!("{}---\n", expected("strings.yaml")), Some(0))
+    );
 }
 
 #[test]
 fn echoes_a_type_known_only_from_the_publishers_node() {
     let domain = 213;
-    let peer = publisher(
+    let _peer = publisher(
         domain,
         "strings",
         "/strings",
@@ -276,9 +283,12 @@ fn echoes_a_type_known_only_from_the_publishers_node() {
         return;
     }
     let (out, code) = echo(domain, &["/strings", "--once"], Ament::Unset);
-    assert_eq!((out, code), (format!("{}---\n", yaml_of(&peer)), Some(0)));
+    assert_eq!(
+        (out, code),
+        (format!("{}---\n", expected("strings.yaml")), Some(0))
+    );
     let (out, code) = echo(domain, &["/strings", "--once", "--csv"], Ament::Unset);
-    assert_eq!((out, code), (format!("{}\n", peer.field("/csv")), Some(0)));
+    assert_eq!((out, code), (expected("strings.csv"), Some(0)));
 }
 
 #[test]
@@ -324,4 +334,172 @@ fn timeout_ends_a_quiet_echo() {
         Ament::Inherit,
     );
     assert_eq!((out.as_str(), code), ("", Some(0)));
+}
+
+/// A new writer of `/lost` (std_msgs/msg/String) on `node`, a RustDDS node whatever the CLI's
+/// backend: it can address a sample to a single reader, which the others are sent a GAP for
+/// instead. Reliable and TRANSIENT_LOCAL, so that a TRANSIENT_LOCAL reader gets every sample
+/// however late its side of the match comes (a VOLATILE reader takes only what is written after
+/// it has matched the writer, which the test cannot observe).
+fn lost_writer(node: &horus_ros_rmw::Node) -> horus_ros_rmw::RawWriter {
+    use horus_ros_msgs::message::Message;
+    use horus_ros_msgs::std_msgs::msg::String as StringMsg;
+    let spec = horus_ros_rmw::RawEndpointSpec {
+        dds_topic_name: "rt/lost".to_owned(),
+        dds_type_name: StringMsg::dds_type_name(),
+        type_hash: StringMsg::type_hash(),
+        qos: horus_ros_rmw::qos::Qos::default().transient_local(),
+        service_id: None,
+    };
+    node.create_raw_writer(&spec).expect("writer")
+}
+
+/// A std_msgs/msg/String CDR body.
+fn string_body(s: &str) -> Vec<u8> {
+    let mut b = u32::try_from(s.len() + 1)
+        .expect("short")
+        .to_le_bytes()
+        .to_vec();
+    b.extend_from_slice(s.as_bytes());
+    b.push(0);
+    b
+}
+
+/// Samples a writer skipped over reach the echo as a sequence-number gap: reported before the
+/// next message as ros2topic echo's `_message_lost_event_callback` prints it, unless
+/// `--no-lost-messages`; the message info carries the writer's source timestamp and the sample's
+/// sequence number. Deterministic: the writer's second sample is addressed to another reader,
+/// so the echo is sent a GAP for it, never the sample. On the Cyclone backend the sequence
+/// numbers are not known: no loss is reported and the number is `null`.
+#[test]
+fn reports_lost_messages_and_message_info() {
+    let domain = 216;
+    let context = horus_ros_rmw::Context::builder()
+        .domain_id(domain)
+        .backend(horus_ros_rmw::backend::Backend::RustDds)
+        .build()
+        .expect("context");
+    let node = context.create_node("lossy", "/").expect("node");
+    let mut feed = context.discovery_feed().expect("feed");
+    let mut echoes = std::collections::HashSet::new();
+    let cyclone = std::env::var("HORUS_ROS_BACKEND").is_ok_and(|b| b == "cyclone");
+    for (json, no_lost) in [(false, false), (true, false), (false, true)] {
+        let mut args = vec![
+            "topic",
+            "echo",
+            "/lost",
+            "std_msgs/msg/String",
+            "-i",
+            "--qos-reliability",
+            "reliable",
+            "--qos-durability",
+            "transient_local",
+        ];
+        if json {
+            args.insert(0, "--json");
+        }
+        if no_lost {
+            args.push("--no-lost-messages");
+        }
+        // A writer of its own per run: a TRANSIENT_LOCAL reader gets the writer's whole history.
+        let writer = lost_writer(&node);
+        let cli = Cli::start(domain, &args, Ament::Inherit);
+        // The writer addresses "two" away from the readers it has matched: wait for the echo's.
+        let deadline = std::time::Instant::now() + RUN;
+        loop {
+            let left = deadline.saturating_duration_since(std::time::Instant::now());
+            assert!(!left.is_zero(), "the writer did not match the echo in time");
+            if let Some(horus_ros_rmw::DiscoveryEvent::Matched { local, remote }) =
+                feed.next_timeout(left)
+            {
+                // This run's echo, not the reader of an earlier one that is going away.
+                if local == writer.gid() && echoes.insert(remote) {
+                    break;
+                }
+            }
+        }
+        let before = horus_ros_rmw::unix_time_ns();
+        let first = writer.write(string_body("one"), None, None).expect("write");
+        let elsewhere = horus_ros_rmw::Gid::from_bytes([0xaa; 16]);
+        writer
+            .write(string_body("two"), None, Some(elsewhere))
+            .expect("write");
+        let third = writer
+            .write(string_body("three"), None, None)
+            .expect("write");
+        let mut out = Vec::new();
+        while !out.iter().any(|l: &String| l.contains("three")) {
+            out.push(cli.line());
+        }
+        let after = horus_ros_rmw::unix_time_ns();
+        let text = out.join("\n");
+        assert!(!text.contains("two"), "{text}");
+        // Each message: its info (YAML, or the JSON line's `message_info`).
+        let infos: Vec<Value> = if json {
+            out.iter()
+                .filter_map(|l| serde_json::from_str::<Value>(l).ok())
+                .filter_map(|j| j.get("message_info").cloned())
+                .collect()
+        } else {
+            out.split(|l| l == "---")
+                .filter(|block| block.iter().any(|l| l.starts_with("source_timestamp: ")))
+                .map(|block| {
+                    let map: serde_json::Map<String, Value> = block
+                        .iter()
+                        .filter_map(|l| l.split_once(": "))
+                        .map(|(k, v)| {
+                            let v = serde_json::from_str(v).unwrap_or(Value::Null);
+                            (k.to_owned(), v)
+                        })
+                        .collect();
+                    Value::Object(map)
+                })
+                .collect()
+        };
+        assert_eq!(infos.len(), 2, "{text}");
+        for (info, sent) in infos.iter().zip([first, third]) {
+            let source = info["source_timestamp"].as_i64().expect("source_timestamp");
+            let received = info["received_timestamp"]
+                .as_i64()
+                .expect("received_timestamp");
+            assert!(
+                before <= source && source <= received && received <= after,
+                "{text}"
+            );
+            assert_eq!(info["reception_sequence_number"], Value::Null, "{text}");
+            let number = if cyclone {
+                Value::Null
+            } else {
+                sent.sequence_number.into()
+            };
+            assert_eq!(info["publication_sequence_number"], number, "{text}");
+        }
+        let reported: Vec<usize> = (0..out.len())
+            .filter(|&i| out[i].contains("lost") || out[i].starts_with('\t'))
+            .collect();
+        if cyclone || no_lost {
+            assert_eq!(reported, Vec::<usize>::new(), "{text}");
+            continue;
+        }
+        let at = *reported.first().expect("a loss reported");
+        if json {
+            assert_eq!(reported.len(), 1, "{text}");
+            let j: Value = serde_json::from_str(&out[at]).expect("a JSON line");
+            assert_eq!(
+                j,
+                serde_json::json!({"message_lost": {"total_count_change": 1, "total_count": 1}}),
+                "{text}"
+            );
+        } else {
+            assert_eq!(
+                out[at..at + 3].join("\n"),
+                "A message was lost!!!\n\ttotal count change:1\n\ttotal count: 1---",
+                "{text}"
+            );
+            assert_eq!(reported, [at, at + 1, at + 2], "{text}");
+        }
+        // Between the message before the gap and the one after it.
+        let one = out.iter().position(|l| l.contains("one")).expect("one");
+        assert!(one < at, "{text}");
+    }
 }

@@ -9,12 +9,10 @@
 mod common;
 
 use std::io::Write;
-use std::path::PathBuf;
 use std::process::{Child, Command, Stdio};
-use std::sync::mpsc;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
-use common::{cli_peer_script, expect, expect_json, horus, Peer, Run};
+use common::{cli_peer_script, expect, expect_json, horus, jazzy_prefix, Peer, Run, Streaming};
 use serde_json::{json, Value};
 
 /// Python start-up and rclpy's first discovery on a loaded machine.
@@ -38,17 +36,6 @@ fn publisher(domain: u32, node: &str, topic: &str, type_name: &str) -> Peer {
         &[&domain.to_string(), node, topic, type_name, "120"],
         RCLPY_START,
     )
-}
-
-/// The prefix of the Jazzy install the tests use (its `share/` holds test_msgs' interface
-/// files): the venv of the interpreter.
-fn jazzy_prefix() -> PathBuf {
-    let python = common::python();
-    python
-        .parent()
-        .and_then(|bin| bin.parent())
-        .map(PathBuf::from)
-        .unwrap_or_default()
 }
 
 /// `horus-ros --domain-id <domain> topic pub <args…>`, started (not awaited), with
@@ -105,68 +92,28 @@ fn finish_child(child: &mut Child) -> Run {
 
 /// A started `topic pub` whose stdout is read line by line as it is printed.
 struct Waiting {
-    child: Child,
+    process: Streaming,
     /// What it printed so far, each line with its newline.
     stdout: String,
-    lines: mpsc::Receiver<String>,
 }
 
 impl Waiting {
     /// Reads `child`'s stdout until pub.py's `Waiting for at least N matching
     /// subscription(s)...` line (at most [`RECEIVE`]): it then waits for subscriptions.
-    fn until_waiting(mut child: Child, wanted: u32) -> Self {
-        let stdout = child.stdout.take().expect("piped stdout");
-        let mut this = Self {
-            child,
-            stdout: String::new(),
-            lines: horus_ros_test_support::line_reader(stdout),
-        };
+    fn until_waiting(child: Child, wanted: u32) -> Self {
+        let process = Streaming::from_child(child);
         let waiting = format!("Waiting for at least {wanted} matching subscription(s)...");
-        let deadline = Instant::now() + RECEIVE;
-        loop {
-            let left = deadline.saturating_duration_since(Instant::now());
-            let line = this.lines.recv_timeout(left).unwrap_or_else(|e| {
-                panic!(
-                    "topic pub did not print {waiting:?} ({e}):\n{}",
-                    this.stdout
-                )
-            });
-            this.stdout.push_str(&line);
-            this.stdout.push('\n');
-            if line == waiting {
-                return this;
-            }
-        }
+        let stdout = process.until(RECEIVE, |line| line == waiting);
+        Self { process, stdout }
     }
 
     /// Waits for the `topic pub` to end; its whole stdout.
     fn finish(&mut self) -> Run {
-        let mut run = finish_child(&mut self.child);
+        let mut run = finish_child(self.process.child());
         // The pipe closed with the process: the rest of the lines are there.
-        let deadline = Instant::now() + RECEIVE;
-        loop {
-            let left = deadline.saturating_duration_since(Instant::now());
-            match self.lines.recv_timeout(left) {
-                Ok(line) => {
-                    self.stdout.push_str(&line);
-                    self.stdout.push('\n');
-                }
-                Err(mpsc::RecvTimeoutError::Disconnected) => break,
-                Err(mpsc::RecvTimeoutError::Timeout) => {
-                    panic!("topic pub's stdout did not close:\n{}", self.stdout)
-                }
-            }
-        }
-        run.stdout = std::mem::take(&mut self.stdout);
+        let rest = self.process.rest(RECEIVE);
+        run.stdout = std::mem::take(&mut self.stdout) + &rest;
         run
-    }
-}
-
-impl Drop for Waiting {
-    fn drop(&mut self) {
-        // Ended already when finished; else (a failed test) stopped here.
-        let _ = self.child.kill();
-        let _ = self.child.wait();
     }
 }
 

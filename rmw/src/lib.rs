@@ -61,8 +61,8 @@ pub use node::{Node, NodeError, WeakNode};
 pub use pubsub::{EndpointError, PublishError, Publisher, SampleError, Subscription, TakeError};
 pub use queue::{DropOldestQueue, Lagged};
 pub use raw::{
-    RawEndpointSpec, RawReader, RawReaderWaker, RawSample, RawWriter, SampleId, ServiceEndpointId,
-    ServiceEndpointRole,
+    unix_time_ns, RawEndpointSpec, RawReader, RawReaderWaker, RawSample, RawWriter, SampleId,
+    ServiceEndpointId, ServiceEndpointRole,
 };
 pub use signal_handler::{ShutdownSignal, SignalHandlerOptions};
 #[cfg(feature = "tokio")]

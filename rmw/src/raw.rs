@@ -11,7 +11,7 @@ use std::sync::Arc;
 use std::time::Duration;
 
 pub use crate::contract::{
-    RawEndpointSpec, RawSample, SampleId, ServiceEndpointId, ServiceEndpointRole,
+    unix_time_ns, RawEndpointSpec, RawSample, SampleId, ServiceEndpointId, ServiceEndpointRole,
 };
 use crate::contract::{ReaderBackend, Wake, WriterBackend};
 use crate::dds::entities::EndpointSide;

@@ -6,14 +6,15 @@
 #![allow(dead_code)]
 
 pub mod daemon;
+pub mod expected;
+pub mod streaming;
 
-use std::io::{BufRead, BufReader};
 use std::path::PathBuf;
-use std::process::{Child, Command, Stdio};
-use std::sync::mpsc;
+use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
 use serde_json::Value;
+pub use streaming::Streaming;
 
 /// How long a peer may take to start and print its JSON line (Python start-up included).
 pub const PEER_START: Duration = Duration::from_secs(8);
@@ -26,6 +27,25 @@ pub const LINGER: &str = "30";
 /// `HORUS_ROS_INTEROP_PYTHON` variable, else the workspace's venv, else `python3`).
 pub fn python() -> PathBuf {
     horus_ros_test_support::jazzy::python()
+}
+
+/// The install prefix of the Jazzy wheels, the venv of [`python`]: an `AMENT_PREFIX_PATH` with
+/// every Jazzy message package (their interface files under `share/`).
+pub fn jazzy_prefix() -> PathBuf {
+    let python = python();
+    let prefix = python
+        .parent()
+        .and_then(|bin| bin.parent())
+        .map(PathBuf::from)
+        .unwrap_or_default();
+    assert!(
+        prefix
+            .join("share/ament_index/resource_index/rosidl_interfaces")
+            .is_dir(),
+        "no Jazzy install under {} (set HORUS_ROS_INTEROP_PYTHON to the interop venv's python)",
+        prefix.display()
+    );
+    prefix
 }
 
 /// `interop-tests/peers/<name>`.
@@ -42,23 +62,18 @@ pub fn cli_peer_script(name: &str) -> PathBuf {
         .join(name)
 }
 
-/// Cyclone DDS configuration for the peers: loopback only, with multicast (a copy of
-/// `interop_tests::cyclone_config()`).
+/// Cyclone DDS configuration for the peers: loopback only, with multicast.
 pub fn cyclone_config() -> String {
-    "<CycloneDDS><Domain Id=\"any\"><General><Interfaces>\
-     <NetworkInterface name=\"lo\" multicast=\"true\"/></Interfaces>\
-     <AllowMulticast>true</AllowMulticast></General></Domain></CycloneDDS>"
-        .to_owned()
+    interop_tests::cyclone_config()
 }
 
 /// A running peer (a Python program) and the JSON line it printed at start (its GIDs); its stdin
 /// is a pipe held open while it runs; killed when dropped.
 pub struct Peer {
-    child: Child,
+    process: Streaming,
     stdin: Option<std::process::ChildStdin>,
     /// The peer's first line, parsed.
     pub created: Value,
-    lines: mpsc::Receiver<String>,
 }
 
 impl Peer {
@@ -71,41 +86,25 @@ impl Peer {
     /// JSON line.
     pub fn start_path(path: &std::path::Path, args: &[&str], limit: Duration) -> Self {
         let script = path.display();
-        let mut child = Command::new(python())
-            .arg(path)
-            .args(args)
-            .env("CYCLONEDDS_URI", cyclone_config())
-            .stdin(Stdio::piped())
-            .stdout(Stdio::piped())
-            .stderr(Stdio::inherit())
-            .spawn()
-            .unwrap_or_else(|e| panic!("start {script} with {:?}: {e}", python()));
-        let stdin = child.stdin.take();
-        let stdout = child.stdout.take().expect("piped stdout");
-        let (tx, rx) = mpsc::channel();
-        std::thread::spawn(move || {
-            for line in BufReader::new(stdout).lines() {
-                let Ok(line) = line else { break };
-                if tx.send(line).is_err() {
-                    break;
-                }
-            }
-        });
-        let line = match rx.recv_timeout(limit) {
-            Ok(line) => line,
-            Err(_) => {
-                let _ = child.kill();
-                let _ = child.wait();
-                panic!("{script} printed nothing within {limit:?}");
-            }
+        let mut process = Streaming::spawn(
+            Command::new(python())
+                .arg(path)
+                .args(args)
+                .env("CYCLONEDDS_URI", cyclone_config())
+                .stdin(Stdio::piped())
+                .stderr(Stdio::inherit()),
+        )
+        .unwrap_or_else(|e| panic!("start {script} with {:?}: {e}", python()));
+        let stdin = process.child().stdin.take();
+        let Some(line) = process.next_line(limit) else {
+            panic!("{script} printed nothing within {limit:?}");
         };
         let created = serde_json::from_str(line.trim())
             .unwrap_or_else(|e| panic!("{script} printed {line:?}: {e}"));
         Self {
-            child,
+            process,
             stdin,
             created,
-            lines: rx,
         }
     }
 
@@ -113,17 +112,17 @@ impl Peer {
     pub fn lines(&mut self, n: usize, timeout: Duration) -> Vec<String> {
         (0..n)
             .map(|i| {
-                self.lines
-                    .recv_timeout(timeout)
-                    .unwrap_or_else(|_| panic!("peer line {i} of {n} did not come"))
+                self.process
+                    .next_line(timeout)
+                    .unwrap_or_else(|| panic!("peer line {i} of {n} did not come"))
             })
             .collect()
     }
 
     /// The next line the peer prints, if one comes by `deadline`.
     pub fn line_by(&mut self, deadline: Instant) -> Option<String> {
-        let left = deadline.saturating_duration_since(Instant::now());
-        self.lines.recv_timeout(left).ok()
+        self.process
+            .next_line(deadline.saturating_duration_since(Instant::now()))
     }
 
     /// Writes `line` and a newline to the peer's stdin (a request, for the peers that take them).
@@ -142,13 +141,6 @@ impl Peer {
             .and_then(Value::as_str)
             .unwrap_or_else(|| panic!("no {pointer} in {}", self.created))
             .to_owned()
-    }
-}
-
-impl Drop for Peer {
-    fn drop(&mut self) {
-        let _ = self.child.kill();
-        let _ = self.child.wait();
     }
 }
 
@@ -182,16 +174,24 @@ pub fn horus(domain: u32, args: &[&str]) -> Run {
 /// its graph and starts one when none runs (guard it: [`daemon::DaemonGuard`]). At most
 /// [`RUN_LIMIT`].
 pub fn horus_as_typed(domain: u32, args: &[&str]) -> Run {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_horus-ros"))
+    horus_with_env(domain, &[], args)
+}
+
+/// [`horus_as_typed`] with the variables `env` set.
+pub fn horus_with_env(domain: u32, env: &[(&str, &str)], args: &[&str]) -> Run {
+    let mut command = Command::new(env!("CARGO_BIN_EXE_horus-ros"));
+    command
         .arg("--domain-id")
         .arg(domain.to_string())
         .args(args)
         .env_remove("ROS_DOMAIN_ID")
         .env("RUST_LOG", "error")
         .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("start horus-ros");
+        .stderr(Stdio::piped());
+    for (k, v) in env {
+        command.env(k, v);
+    }
+    let mut child = command.spawn().expect("start horus-ros");
     let pid = child.id();
     let out =
         horus_ros_test_support::wait_with_output(&mut child, RUN_LIMIT).expect("horus-ros output");

@@ -14,8 +14,9 @@ import importlib
 import json
 import os
 import sys
-import threading
 import time
+
+from jazzy_linger import spin_until_done
 
 
 def main() -> int:
@@ -32,24 +33,14 @@ def main() -> int:
     print(json.dumps({"node": node.get_fully_qualified_name(), "topic": topic,
                       "pid": os.getpid()}), flush=True)
 
-    stdin_closed = threading.Event()
+    next_publish = [time.monotonic()]
 
-    def watch_stdin():
-        try:
-            sys.stdin.read()
-        finally:
-            stdin_closed.set()
-
-    threading.Thread(target=watch_stdin, daemon=True).start()
-    deadline = time.monotonic() + float(linger)
-    next_publish = time.monotonic()
-    while rclpy.ok() and time.monotonic() < deadline and not stdin_closed.is_set():
-        rclpy.spin_once(node, timeout_sec=0.1)
-        if time.monotonic() >= next_publish:
+    def publish_now_and_then():
+        if time.monotonic() >= next_publish[0]:
             publisher.publish(message_type())
-            next_publish = time.monotonic() + 0.5
-    node.destroy_node()
-    rclpy.try_shutdown()
+            next_publish[0] = time.monotonic() + 0.5
+
+    spin_until_done(rclpy, node, linger, after_each=publish_now_and_then)
     return 0
 
 

@@ -13,8 +13,8 @@ The domain goes to ROS_DOMAIN_ID before rclpy starts.
 import json
 import os
 import sys
-import threading
-import time
+
+from jazzy_linger import spin_until_done
 
 
 def main() -> int:
@@ -41,20 +41,7 @@ def main() -> int:
     print(json.dumps({"node": node.get_fully_qualified_name(), "topic": endpoint.topic_name,
                       "pid": os.getpid()}), flush=True)
 
-    stdin_closed = threading.Event()
-
-    def watch_stdin():
-        try:
-            sys.stdin.read()
-        finally:
-            stdin_closed.set()
-
-    threading.Thread(target=watch_stdin, daemon=True).start()
-    deadline = time.monotonic() + float(linger)
-    while rclpy.ok() and time.monotonic() < deadline and not stdin_closed.is_set():
-        rclpy.spin_once(node, timeout_sec=0.1)
-    node.destroy_node()
-    rclpy.try_shutdown()
+    spin_until_done(rclpy, node, linger)
     return 0
 
 

@@ -20,8 +20,9 @@ import argparse
 import json
 import os
 import sys
-import threading
 import time
+
+from jazzy_linger import spin_until_done
 
 
 def main() -> int:
@@ -65,31 +66,19 @@ def main() -> int:
     print(json.dumps({"node": node.get_fully_qualified_name(), "service": args.service,
                       "pid": os.getpid()}), flush=True)
 
-    # Ends the loop when the test closes our stdin (or dies).
-    stdin_closed = threading.Event()
+    pending = [None]
+    next_call = [time.monotonic()]
+    flip = [False]
 
-    def watch_stdin():
-        try:
-            sys.stdin.read()
-        finally:
-            stdin_closed.set()
-
-    threading.Thread(target=watch_stdin, daemon=True).start()
-
-    deadline = time.monotonic() + args.linger
-    pending = None
-    next_call = time.monotonic()
-    flip = False
-    while rclpy.ok() and time.monotonic() < deadline and not stdin_closed.is_set():
-        rclpy.spin_once(node, timeout_sec=0.1)
-        if client is not None and (pending is None or pending.done()):
+    def call_now_and_then():
+        if client is not None and (pending[0] is None or pending[0].done()):
             now = time.monotonic()
-            if now >= next_call and client.service_is_ready():
-                flip = not flip
-                pending = client.call_async(SetBool.Request(data=flip))
-                next_call = now + 0.2
-    node.destroy_node()
-    rclpy.try_shutdown()
+            if now >= next_call[0] and client.service_is_ready():
+                flip[0] = not flip[0]
+                pending[0] = client.call_async(SetBool.Request(data=flip[0]))
+                next_call[0] = now + 0.2
+
+    spin_until_done(rclpy, node, args.linger, after_each=call_now_and_then)
     return 0
 
 

@@ -19,8 +19,8 @@ import importlib
 import json
 import os
 import sys
-import threading
-import time
+
+from jazzy_linger import spin_until_done
 
 
 def to_json(value):
@@ -68,20 +68,7 @@ def main() -> int:
     print(json.dumps({"node": node.get_fully_qualified_name(), "topic": args.topic,
                       "pid": os.getpid()}), flush=True)
 
-    stdin_closed = threading.Event()
-
-    def watch_stdin():
-        try:
-            sys.stdin.read()
-        finally:
-            stdin_closed.set()
-
-    threading.Thread(target=watch_stdin, daemon=True).start()
-    deadline = time.monotonic() + args.linger
-    while rclpy.ok() and time.monotonic() < deadline and not stdin_closed.is_set():
-        rclpy.spin_once(node, timeout_sec=0.1)
-    node.destroy_node()
-    rclpy.try_shutdown()
+    spin_until_done(rclpy, node, args.linger)
     return 0
 
 

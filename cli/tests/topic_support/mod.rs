@@ -3,27 +3,13 @@
 
 #![allow(dead_code)]
 
-use std::io::{BufRead, BufReader};
-use std::path::PathBuf;
-use std::process::{Child, Command, Stdio};
-use std::sync::mpsc;
-use std::time::{Duration, Instant};
+use std::process::{Command, Stdio};
+use std::time::Duration;
 
-use crate::common::{self, cli_peer_script, Peer};
+use crate::common::{cli_peer_script, Peer, Streaming};
 
 /// How long a line of the CLI may take (discovery, a Python peer starting up, a loaded machine).
 pub const LINE_WAIT: Duration = Duration::from_secs(30);
-
-/// The install prefix of the Jazzy wheels (the venv of [`common::python`]): an
-/// `AMENT_PREFIX_PATH` with every Jazzy message package.
-pub fn jazzy_prefix() -> PathBuf {
-    let python = common::python();
-    python
-        .parent()
-        .and_then(|bin| bin.parent())
-        .map(PathBuf::from)
-        .unwrap_or_default()
-}
 
 /// `cli/tests/peers/jazzy_topic_publisher.py`: an rclpy node publishing `type_name` on `topic`
 /// at `rate` Hz, filled from `settings` (JSON list of `[path, value]`), stamping `header.stamp`
@@ -66,10 +52,7 @@ pub enum Ament<'a> {
 
 /// A running `horus-ros --domain-id <d> --no-daemon <args>`, its stdout lines on a channel;
 /// killed when dropped.
-pub struct Cli {
-    child: Child,
-    lines: mpsc::Receiver<String>,
-}
+pub struct Cli(Streaming);
 
 impl Cli {
     /// Starts the CLI.
@@ -83,7 +66,6 @@ impl Cli {
             .env_remove("ROS_DOMAIN_ID")
             .env("RUST_LOG", "error")
             .stdin(Stdio::null())
-            .stdout(Stdio::piped())
             .stderr(Stdio::inherit());
         match ament {
             Ament::Inherit => {}
@@ -94,50 +76,16 @@ impl Cli {
                 command.env("AMENT_PREFIX_PATH", p);
             }
         }
-        let mut child = command.spawn().expect("start horus-ros");
-        let stdout = child.stdout.take().expect("piped");
-        let (tx, lines) = mpsc::channel();
-        std::thread::spawn(move || {
-            for line in BufReader::new(stdout).lines() {
-                let Ok(line) = line else { break };
-                if tx.send(line).is_err() {
-                    break;
-                }
-            }
-        });
-        Self { child, lines }
+        Self(Streaming::spawn(&mut command).expect("start horus-ros"))
     }
 
     /// The next line, within [`LINE_WAIT`].
     pub fn line(&self) -> String {
-        self.lines
-            .recv_timeout(LINE_WAIT)
-            .expect("horus-ros printed a line in time")
+        self.0.line(LINE_WAIT)
     }
 
     /// Every line up to the end of output, within `limit`, and the exit code.
-    pub fn finish(mut self, limit: Duration) -> (String, Option<i32>) {
-        let deadline = Instant::now() + limit;
-        let mut out = String::new();
-        loop {
-            let left = deadline.saturating_duration_since(Instant::now());
-            match self.lines.recv_timeout(left) {
-                Ok(line) => {
-                    out.push_str(&line);
-                    out.push('\n');
-                }
-                Err(mpsc::RecvTimeoutError::Disconnected) => break,
-                Err(mpsc::RecvTimeoutError::Timeout) => panic!("horus-ros did not end:\n{out}"),
-            }
-        }
-        let code = self.child.wait().ok().and_then(|s| s.code());
-        (out, code)
-    }
-}
-
-impl Drop for Cli {
-    fn drop(&mut self) {
-        let _ = self.child.kill();
-        let _ = self.child.wait();
+    pub fn finish(self, limit: Duration) -> (String, Option<i32>) {
+        self.0.finish(limit)
     }
 }

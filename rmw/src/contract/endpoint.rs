@@ -36,6 +36,20 @@ pub struct RawSample {
     /// `publication_handle`, which rmw_cyclonedds puts in the second half of a request's
     /// `writer_guid`); `None` on RustDDS.
     pub publication_handle: Option<u64>,
+    /// The writer's source timestamp (DDS `SampleInfo.source_timestamp`), nanoseconds since the
+    /// Unix epoch; `None` where the sample carried none.
+    pub source_timestamp: Option<i64>,
+    /// When the DDS layer handed the sample over (taken from the reader), nanoseconds since the
+    /// Unix epoch (rmw's `received_timestamp`).
+    pub received_timestamp: i64,
+}
+
+/// Now, in nanoseconds since the Unix epoch (0 if the clock is before it), as a
+/// [`RawSample::received_timestamp`].
+pub fn unix_time_ns() -> i64 {
+    std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| i64::try_from(d.as_nanos()).unwrap_or(i64::MAX))
 }
 
 /// What a raw endpoint is: its DDS topic and type, and the hash and QoS it is listed with.

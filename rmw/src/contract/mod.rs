@@ -34,7 +34,9 @@ use horus_ros_msgs::rmw_dds_common::ParticipantEntitiesInfo;
 mod endpoint;
 mod errors;
 
-pub use endpoint::{RawEndpointSpec, RawSample, SampleId, ServiceEndpointId, ServiceEndpointRole};
+pub use endpoint::{
+    unix_time_ns, RawEndpointSpec, RawSample, SampleId, ServiceEndpointId, ServiceEndpointRole,
+};
 pub use errors::{DiscoveryFeedError, WaitSetError};
 
 use crate::context::env::{DiscoveryOptions, DomainId};

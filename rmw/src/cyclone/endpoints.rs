@@ -12,7 +12,7 @@ use horus_ros_rmw_cyclone as cyc;
 use super::wait_set::{SignalWake, WaitSet};
 use super::{cyclone_error, gid, qos, CycloneParticipant, LocalEndpoints};
 use crate::contract::WaitSetError;
-use crate::contract::{RawEndpointSpec, RawSample, SampleId};
+use crate::contract::{unix_time_ns, RawEndpointSpec, RawSample, SampleId};
 use crate::contract::{ReaderBackend, WaitSetBackend, Wake, WriterBackend};
 use crate::dds_error::DdsError;
 use crate::qos::{DdsQos, EndpointKind};
@@ -221,6 +221,8 @@ impl ReaderBackend for RawReader {
             },
             related: None,
             publication_handle: Some(sample.publication_handle),
+            source_timestamp: Some(sample.source_timestamp_ns),
+            received_timestamp: unix_time_ns(),
         }))
     }
 

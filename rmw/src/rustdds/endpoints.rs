@@ -13,7 +13,7 @@ use super::raw::{RawAdapter, RawPayload};
 use super::wait_set::{wait_on, WaitSet, Waker};
 use super::{gid_from_guid, guid_from_gid, qos, RustddsParticipant};
 use crate::contract::WaitSetError;
-use crate::contract::{RawEndpointSpec, RawSample, SampleId};
+use crate::contract::{unix_time_ns, RawEndpointSpec, RawSample, SampleId};
 use crate::contract::{ReaderBackend, WaitSetBackend, Wake, WriterBackend};
 use crate::dds_error::{boxed, DdsError};
 use crate::qos::DdsQos;
@@ -79,16 +79,17 @@ impl RawWriter {
 }
 
 impl WriterBackend for RawWriter {
-    /// Writes a CDR_LE body, with `related` as its `related_sample_identity` (rustdds sends it
-    /// under both PIDs 0x0083 and 0x800f) and to the one matched reader `only_to` if given;
-    /// returns the sample's identity.
+    /// Writes a CDR_LE body stamped with the current time, with `related` as its
+    /// `related_sample_identity` (rustdds sends it under both PIDs 0x0083 and 0x800f) and to the
+    /// one matched reader `only_to` if given; returns the sample's identity.
     fn write(
         &self,
         body: Vec<u8>,
         related: Option<SampleId>,
         only_to: Option<Gid>,
     ) -> Result<SampleId, DdsError> {
-        let mut options = WriteOptionsBuilder::new();
+        // Stamped as Fast DDS stamps every sample (INFO_TS): readers' `source_timestamp`.
+        let mut options = WriteOptionsBuilder::new().source_timestamp(rustdds::Timestamp::now());
         if let Some(r) = related {
             options = options.related_sample_identity(sample_identity(r));
         }
@@ -166,6 +167,7 @@ impl ReaderBackend for RawReader {
         let info = sample.sample_info();
         let id = sample_id(info.sample_identity());
         let related = info.related_sample_identity().map(sample_id);
+        let source_timestamp = info.source_timestamp().and_then(timestamp_ns);
         let payload = sample.into_value();
         Ok(Some(RawSample {
             body: payload.body,
@@ -173,6 +175,8 @@ impl ReaderBackend for RawReader {
             id,
             related,
             publication_handle: None,
+            source_timestamp,
+            received_timestamp: unix_time_ns(),
         }))
     }
 
@@ -200,4 +204,19 @@ impl ReaderBackend for RawReader {
     fn waker(&self) -> Arc<dyn Wake> {
         Arc::new(self.waker.clone())
     }
+}
+
+/// An RTPS `Time_t` (seconds and 2^-32 fractions since the Unix epoch) in nanoseconds, as Fast
+/// DDS `Time_t::to_ns` reads it; `None` for the reserved ZERO, INVALID and INFINITE values.
+fn timestamp_ns(t: rustdds::Timestamp) -> Option<i64> {
+    if t == rustdds::Timestamp::ZERO
+        || t == rustdds::Timestamp::INVALID
+        || t == rustdds::Timestamp::INFINITE
+    {
+        return None;
+    }
+    let ticks = t.to_ticks();
+    let seconds = i64::try_from(ticks >> 32).ok()?;
+    let nanos = i64::try_from(((ticks & 0xffff_ffff) * 1_000_000_000) >> 32).ok()?;
+    Some(seconds * 1_000_000_000 + nanos)
 }

@@ -115,6 +115,8 @@ impl Drop for ZenohWriter {
 struct Incoming {
     payload: Vec<u8>,
     attachment: Attachment,
+    /// When it arrived, in ns since the UNIX epoch.
+    received: i64,
 }
 
 /// A reader's bounded queue and whom it wakes.
@@ -168,6 +170,7 @@ impl ReaderQueue {
         self.deliver(Incoming {
             payload: sample.payload().to_bytes().into_owned(),
             attachment,
+            received: crate::contract::unix_time_ns(),
         });
     }
 
@@ -232,6 +235,9 @@ impl ReaderBackend for ZenohReader {
             },
             related: None,
             publication_handle: None,
+            // The attachment's timestamp (rmw_zenoh's `source_timestamp`).
+            source_timestamp: Some(sample.attachment.source_timestamp),
+            received_timestamp: sample.received,
         }))
     }
 

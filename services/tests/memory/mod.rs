@@ -29,8 +29,8 @@ use horus_ros_rmw::contract::{
 use horus_ros_rmw::qos::{DdsDurability, DdsHistory, DdsQos, DdsReliability, EndpointKind};
 use horus_ros_rmw::wait_set::WaitSetError;
 use horus_ros_rmw::{
-    DdsError, DiscoveredEndpoint, DiscoveredParticipant, DiscoveryEvent, DiscoveryFeedError, Gid,
-    RawEndpointSpec, RawSample, SampleId, VendorId,
+    unix_time_ns, DdsError, DiscoveredEndpoint, DiscoveredParticipant, DiscoveryEvent,
+    DiscoveryFeedError, Gid, RawEndpointSpec, RawSample, SampleId, VendorId,
 };
 
 /// The vendor id its participants announce: none of the DDS vendors, so the services layer
@@ -506,6 +506,8 @@ impl WriterBackend for MemoryWriter {
             id,
             related,
             publication_handle: None,
+            source_timestamp: Some(unix_time_ns()),
+            received_timestamp: 0,
         };
         if writer.transient_local {
             if writer.history.len() >= writer.depth {
@@ -575,7 +577,11 @@ struct MemoryReader {
 
 impl ReaderBackend for MemoryReader {
     fn take(&mut self) -> Result<Option<RawSample>, DdsError> {
-        Ok(lock(&self.queue.state).samples.pop_front())
+        let sample = lock(&self.queue.state).samples.pop_front();
+        Ok(sample.map(|s| RawSample {
+            received_timestamp: unix_time_ns(),
+            ..s
+        }))
     }
 
     fn wait(&mut self, timeout: Option<Duration>) -> bool {

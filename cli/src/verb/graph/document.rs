@@ -1,24 +1,19 @@
 //! The whole graph as one document: nodes with their endpoints, topics and services, as text
 //! or JSON (`docs/cli-json.md`).
 
-use horus_ros_graph::{Gid, GraphCache, NamesAndTypes, ServiceEndpointInfo, TopicEndpointInfo};
-use horus_ros_rmw::names::is_hidden_name;
+use horus_ros_graph::{Gid, GraphCache, ServiceEndpointInfo, TopicEndpointInfo};
 use horus_ros_rmw::qos::Qos;
 use serde_json::{json, Value};
 
 use crate::verb::names;
+use crate::verb::node::info::NodeDetails;
 
 /// One node and what it publishes, subscribes to, serves and calls (as `node info` reads it).
 pub(super) struct NodeDoc {
     name: String,
     namespace: String,
     enclave: Option<String>,
-    subscribers: NamesAndTypes,
-    publishers: NamesAndTypes,
-    service_servers: NamesAndTypes,
-    service_clients: NamesAndTypes,
-    action_servers: NamesAndTypes,
-    action_clients: NamesAndTypes,
+    sections: NodeDetails,
 }
 
 /// One topic with its endpoints (as `topic info -v` reads it).
@@ -46,49 +41,17 @@ pub(super) struct GraphDoc {
     services: Vec<ServiceDoc>,
 }
 
-/// Keeps the names that are not hidden (all of them with `all`).
-pub(super) fn visible(names_and_types: NamesAndTypes, all: bool) -> NamesAndTypes {
-    if all {
-        return names_and_types;
-    }
-    names_and_types
-        .into_iter()
-        .filter(|(name, _)| !is_hidden_name(name))
-        .collect()
-}
-
 impl GraphDoc {
     pub(super) fn read(cache: &GraphCache, all: bool) -> Self {
         let nodes = cache
             .node_names()
             .into_iter()
             .filter(|n| all || !names::is_hidden_node(&n.name))
-            .map(|n| {
-                let get = |r: Result<NamesAndTypes, _>| r.unwrap_or_default();
-                let publishers =
-                    get(cache.publisher_names_and_types_by_node(&n.name, &n.namespace));
-                let subscribers =
-                    get(cache.subscription_names_and_types_by_node(&n.name, &n.namespace));
-                NodeDoc {
-                    action_servers: visible(horus_ros_graph::filter_action_names(&publishers), all),
-                    action_clients: visible(
-                        horus_ros_graph::filter_action_names(&subscribers),
-                        all,
-                    ),
-                    service_servers: visible(
-                        get(cache.service_names_and_types_by_node(&n.name, &n.namespace)),
-                        all,
-                    ),
-                    service_clients: visible(
-                        get(cache.client_names_and_types_by_node(&n.name, &n.namespace)),
-                        all,
-                    ),
-                    publishers: visible(publishers, all),
-                    subscribers: visible(subscribers, all),
-                    name: n.name,
-                    namespace: n.namespace,
-                    enclave: n.enclave,
-                }
+            .map(|n| NodeDoc {
+                sections: NodeDetails::read(cache, &n.name, &n.namespace, all).unwrap_or_default(),
+                name: n.name,
+                namespace: n.namespace,
+                enclave: n.enclave,
             })
             .collect();
         let topics = cache
@@ -131,18 +94,16 @@ impl GraphDoc {
             .nodes
             .iter()
             .map(|n| {
-                json!({
+                let mut j = json!({
                     "full_name": names::node_full_name(&n.namespace, &n.name),
                     "name": n.name,
                     "namespace": n.namespace,
                     "enclave": n.enclave,
-                    "subscribers": names::names_and_types_json(&n.subscribers),
-                    "publishers": names::names_and_types_json(&n.publishers),
-                    "service_servers": names::names_and_types_json(&n.service_servers),
-                    "service_clients": names::names_and_types_json(&n.service_clients),
-                    "action_servers": names::names_and_types_json(&n.action_servers),
-                    "action_clients": names::names_and_types_json(&n.action_clients),
-                })
+                });
+                if let Value::Object(object) = &mut j {
+                    n.sections.add_json(object);
+                }
+                j
             })
             .collect();
         let topics: Vec<Value> = self
@@ -195,14 +156,7 @@ impl GraphDoc {
                 "  {}\n",
                 names::node_full_name(&n.namespace, &n.name)
             ));
-            for (title, list) in [
-                ("Subscribers", &n.subscribers),
-                ("Publishers", &n.publishers),
-                ("Service Servers", &n.service_servers),
-                ("Service Clients", &n.service_clients),
-                ("Action Servers", &n.action_servers),
-                ("Action Clients", &n.action_clients),
-            ] {
+            for (title, _, list) in n.sections.sections() {
                 if list.is_empty() {
                     continue;
                 }

@@ -1,8 +1,8 @@
 //! `horus-ros node info` (ros2node `verb/info.py`).
 
-use horus_ros_graph::{GraphCache, NamesAndTypes};
+use horus_ros_graph::{GraphCache, GraphError, NamesAndTypes};
 use horus_ros_rmw::names::is_hidden_name;
-use serde_json::json;
+use serde_json::{json, Map, Value};
 
 use crate::session::GraphSource;
 use crate::verb::names;
@@ -18,14 +18,63 @@ pub struct InfoArgs {
     pub include_hidden: bool,
 }
 
-/// The six sections, in ros2cli's order.
-struct NodeDetails {
+/// A node's six sections, in ros2cli's order (`node info`, and each node of `graph`).
+#[derive(Default)]
+pub(crate) struct NodeDetails {
     subscribers: NamesAndTypes,
     publishers: NamesAndTypes,
     service_servers: NamesAndTypes,
     service_clients: NamesAndTypes,
     action_servers: NamesAndTypes,
     action_clients: NamesAndTypes,
+}
+
+impl NodeDetails {
+    /// The sections of node `name` in `namespace` (ros2node `get_node_info`: actions are the
+    /// action topics among the publishers and subscribers); hidden names only with
+    /// `include_hidden`.
+    pub(crate) fn read(
+        cache: &GraphCache,
+        name: &str,
+        namespace: &str,
+        include_hidden: bool,
+    ) -> Result<Self, GraphError> {
+        let visible = |mut nt: NamesAndTypes| {
+            if !include_hidden {
+                nt.retain(|n, _| !is_hidden_name(n));
+            }
+            nt
+        };
+        let publishers = cache.publisher_names_and_types_by_node(name, namespace)?;
+        let subscribers = cache.subscription_names_and_types_by_node(name, namespace)?;
+        Ok(Self {
+            action_servers: visible(horus_ros_graph::filter_action_names(&publishers)),
+            action_clients: visible(horus_ros_graph::filter_action_names(&subscribers)),
+            service_servers: visible(cache.service_names_and_types_by_node(name, namespace)?),
+            service_clients: visible(cache.client_names_and_types_by_node(name, namespace)?),
+            subscribers: visible(subscribers),
+            publishers: visible(publishers),
+        })
+    }
+
+    /// Each section's title, JSON key and names with their types, in ros2cli's order.
+    pub(crate) fn sections(&self) -> [(&'static str, &'static str, &NamesAndTypes); 6] {
+        [
+            ("Subscribers", "subscribers", &self.subscribers),
+            ("Publishers", "publishers", &self.publishers),
+            ("Service Servers", "service_servers", &self.service_servers),
+            ("Service Clients", "service_clients", &self.service_clients),
+            ("Action Servers", "action_servers", &self.action_servers),
+            ("Action Clients", "action_clients", &self.action_clients),
+        ]
+    }
+
+    /// Adds each section to `object` under its JSON key (`docs/cli-json.md`).
+    pub(crate) fn add_json(&self, object: &mut Map<String, Value>) {
+        for (_, key, list) in self.sections() {
+            object.insert(key.to_owned(), names::names_and_types_json(list));
+        }
+    }
 }
 
 /// Runs `node info`: the node's full name then its sections. The name must be the node's exact
@@ -52,17 +101,15 @@ pub fn run(global: &Global, args: &InfoArgs) -> Result<(), CliError> {
     };
     if global.json {
         let (name, namespace) = names::parse_node_name(&args.node_name);
-        return names::print_json(&json!({
+        let mut j = json!({
             "full_name": args.node_name,
             "name": name,
             "namespace": namespace,
-            "subscribers": names::names_and_types_json(&details.subscribers),
-            "publishers": names::names_and_types_json(&details.publishers),
-            "service_servers": names::names_and_types_json(&details.service_servers),
-            "service_clients": names::names_and_types_json(&details.service_clients),
-            "action_servers": names::names_and_types_json(&details.action_servers),
-            "action_clients": names::names_and_types_json(&details.action_clients),
-        }));
+        });
+        if let Value::Object(object) = &mut j {
+            details.add_json(object);
+        }
+        return names::print_json(&j);
     }
     print!("{}", render(&args.node_name, &details));
     Ok(())
@@ -84,25 +131,8 @@ fn read(
         return (0, None);
     }
     let (name, namespace) = names::parse_node_name(full_name);
-    let visible = |mut nt: NamesAndTypes| {
-        if !include_hidden {
-            nt.retain(|n, _| !is_hidden_name(n));
-        }
-        nt
-    };
-    let details = (|| {
-        let publishers = cache.publisher_names_and_types_by_node(&name, &namespace)?;
-        let subscribers = cache.subscription_names_and_types_by_node(&name, &namespace)?;
-        Ok(NodeDetails {
-            action_servers: visible(horus_ros_graph::filter_action_names(&publishers)),
-            action_clients: visible(horus_ros_graph::filter_action_names(&subscribers)),
-            service_servers: visible(cache.service_names_and_types_by_node(&name, &namespace)?),
-            service_clients: visible(cache.client_names_and_types_by_node(&name, &namespace)?),
-            subscribers: visible(subscribers),
-            publishers: visible(publishers),
-        })
-    })()
-    .map_err(|e: horus_ros_graph::GraphError| CliError::new(e.to_string()));
+    let details = NodeDetails::read(cache, &name, &namespace, include_hidden)
+        .map_err(|e| CliError::new(e.to_string()));
     (count, Some(details))
 }
 
@@ -124,11 +154,8 @@ fn section(out: &mut String, title: &str, items: &NamesAndTypes) {
 
 fn render(full_name: &str, d: &NodeDetails) -> String {
     let mut out = format!("{full_name}\n");
-    section(&mut out, "  Subscribers:", &d.subscribers);
-    section(&mut out, "  Publishers:", &d.publishers);
-    section(&mut out, "  Service Servers:", &d.service_servers);
-    section(&mut out, "  Service Clients:", &d.service_clients);
-    section(&mut out, "  Action Servers:", &d.action_servers);
-    section(&mut out, "  Action Clients:", &d.action_clients);
+    for (title, _, list) in d.sections() {
+        section(&mut out, &format!("  {title}:"), list);
+    }
     out
 }

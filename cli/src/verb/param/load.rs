@@ -174,16 +174,7 @@ pub fn run(global: &Global, args: &LoadArgs) -> Result<(), CliError> {
         } else {
             "failed"
         };
-        let mut msg = format!("Set parameter {name} {verdict}");
-        if !result.reason.is_empty() {
-            msg.push_str(": ");
-            msg.push_str(&result.reason);
-        }
-        if result.successful {
-            println!("{msg}");
-        } else {
-            eprintln!("{msg}");
-        }
+        super::print_result(&format!("Set parameter {name} {verdict}"), result);
     }
     Ok(())
 }

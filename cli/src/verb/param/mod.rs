@@ -29,7 +29,7 @@ pub mod set;
 use std::time::{Duration, Instant};
 
 use clap::Subcommand;
-use horus_ros_msgs::rcl_interfaces::msg::{ParameterType, ParameterValue};
+use horus_ros_msgs::rcl_interfaces::msg::{ParameterType, ParameterValue, SetParametersResult};
 use horus_ros_msgs::Service;
 use horus_ros_services::{EndpointBuilder, ServiceClient, ServiceError};
 use serde_json::{json, Value};
@@ -176,6 +176,22 @@ pub fn call_error(node: &str, e: &ServiceError) -> CliError {
     CliError::new(format!(
         "Exception while calling service of node {node}: {e}"
     ))
+}
+
+/// ros2param's report of one set: `msg`, then `: {reason}` when the node gave one, on stdout
+/// when it succeeded, else on stderr (ros2param 0.32.2 `verb/set.py`, `verb/delete.py` and
+/// `api/__init__.py` `load_parameter_file`).
+pub fn print_result(msg: &str, result: &SetParametersResult) {
+    let mut msg = msg.to_owned();
+    if !result.reason.is_empty() {
+        msg.push_str(": ");
+        msg.push_str(&result.reason);
+    }
+    if result.successful {
+        println!("{msg}");
+    } else {
+        eprintln!("{msg}");
+    }
 }
 
 /// ros2param's `get_parameter_type_string`; `None` for a type it does not know.

@@ -104,15 +104,6 @@ fn report(
             "reason": result.reason,
         }));
     }
-    let mut msg = if result.successful { ok } else { failed }.to_owned();
-    if !result.reason.is_empty() {
-        msg.push_str(": ");
-        msg.push_str(&result.reason);
-    }
-    if result.successful {
-        println!("{msg}");
-    } else {
-        eprintln!("{msg}");
-    }
+    super::print_result(if result.successful { ok } else { failed }, result);
     Ok(())
 }

@@ -26,6 +26,7 @@ use horus_ros_rmw::names::ServiceName;
 
 use crate::dynamic::{ServiceType, Value};
 use crate::session::Session;
+use crate::verb::type_name::normalize_service_type;
 use crate::{CliError, Global};
 use horus_ros_services::{
     DynamicCallError, DynamicServiceClient, EndpointBuilder, RawResponse, ServiceError,
@@ -59,22 +60,6 @@ pub struct CallArgs {
     /// Stop after this many calls (with -r; for tests).
     #[arg(long, hide = true, value_name = "N")]
     pub count: Option<u64>,
-}
-
-/// `pkg/srv/Name`, or ros2cli's `pkg/Name` shorthand.
-pub(crate) fn normalize_type(t: &str) -> Result<String, CliError> {
-    let parts: Vec<&str> = t.split('/').collect();
-    let valid = |s: &str| {
-        !s.is_empty()
-            && s.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
-            && !s.starts_with(|c: char| c.is_ascii_digit())
-    };
-    match parts.as_slice() {
-        [pkg, name] if valid(pkg) && valid(name) => Ok(format!("{pkg}/srv/{name}")),
-        [pkg, "srv", name] if valid(pkg) && valid(name) => Ok(t.to_owned()),
-        [_, _, _] => Err(CliError::new("The passed type is not a service")),
-        _ => Err(CliError::new("The passed service type is invalid")),
-    }
 }
 
 /// Runs `service call`.
@@ -127,7 +112,7 @@ impl Target {
     /// Checks the type and, when it is compiled in, the request — before joining the graph, as
     /// ros2cli does.
     pub(crate) fn prepare(service_type: &str, values: &str) -> Result<Self, CliError> {
-        let service_type = normalize_type(service_type)?;
+        let service_type = normalize_service_type(service_type)?;
         // ros2cli loads the YAML before anything else.
         if let Err(e) = yaml_rust2::YamlLoader::load_from_str(values) {
             return Err(CliError::new(format!(
@@ -330,29 +315,4 @@ pub(crate) fn call_error(e: ServiceError, service: &ServiceName, timeout: Durati
         }
         ServiceError::Transport(cause) => format!("Calling {service} failed: {cause}"),
     })
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn service_types_are_normalized_as_ros2cli_does() {
-        assert_eq!(
-            normalize_type("example_interfaces/AddTwoInts").expect("short"),
-            "example_interfaces/srv/AddTwoInts"
-        );
-        assert_eq!(
-            normalize_type("std_srvs/srv/Empty").expect("full"),
-            "std_srvs/srv/Empty"
-        );
-        assert_eq!(
-            normalize_type("std_msgs/msg/String").map_err(|e| e.message),
-            Err("The passed type is not a service".to_owned())
-        );
-        assert_eq!(
-            normalize_type("nonsense").map_err(|e| e.message),
-            Err("The passed service type is invalid".to_owned())
-        );
-    }
 }

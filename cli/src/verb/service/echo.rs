@@ -34,16 +34,15 @@ use horus_ros_services::SERVICE_EVENT_TOPIC_POSTFIX;
 use serde_json::{json, Value as Json};
 
 use super::call::describe;
-use super::call::normalize_type;
-use crate::dynamic::convert::{to_csv, to_ordereddict, ConvertOptions};
+use crate::dynamic::convert::{to_csv, to_ordereddict};
 use crate::dynamic::json::to_json;
 use crate::dynamic::pyyaml::{dump, PyValue};
-use crate::dynamic::{cdr, Schema, ServiceType, Value};
+use crate::dynamic::{Schema, ServiceType, Value};
 use crate::session::Session;
+use crate::verb::echo_options::EchoOptions;
+use crate::verb::topic::subscribe::{decode, drain, print_report};
+use crate::verb::type_name::normalize_service_type;
 use crate::{CliError, Global};
-
-/// ros2service `DEFAULT_TRUNCATE_LENGTH`.
-const DEFAULT_TRUNCATE_LENGTH: usize = 128;
 
 /// Longest wait for the server's node to describe a type that is not compiled in.
 const DESCRIBE_TIMEOUT: Duration = Duration::from_secs(5);
@@ -58,22 +57,8 @@ pub struct EchoArgs {
     /// Output all recursive fields separated by commas (e.g. for plotting).
     #[arg(long)]
     pub csv: bool,
-    /// Output all elements for arrays, bytes, and string with a length > '--truncate-length',
-    /// by default they are truncated after '--truncate-length' elements with '...'.
-    #[arg(short = 'f', long)]
-    pub full_length: bool,
-    /// The length to truncate arrays, bytes, and string to (default: 128).
-    #[arg(short = 'l', long, default_value_t = DEFAULT_TRUNCATE_LENGTH, value_name = "TRUNCATE_LENGTH")]
-    pub truncate_length: usize,
-    /// Don't print array fields of messages.
-    #[arg(long)]
-    pub no_arr: bool,
-    /// Don't print string fields of messages.
-    #[arg(long)]
-    pub no_str: bool,
-    /// Print collections in the block style (not available with csv format).
-    #[arg(long)]
-    pub flow_style: bool,
+    #[command(flatten)]
+    pub output: EchoOptions,
     /// Read the service's request and reply topics instead of its event topic: print requests
     /// and replies, paired, with the time between them, whether or not introspection is on
     /// (no server or client is created).
@@ -111,7 +96,7 @@ pub fn run(global: &Global, args: &EchoArgs) -> Result<(), CliError> {
         .service_type
         .as_deref()
         .map(|t| {
-            normalize_type(t)
+            normalize_service_type(t)
                 .map_err(|_| CliError::new(format!("The service type '{t}' is invalid")))
         })
         .transpose()?;
@@ -131,11 +116,7 @@ pub fn run(global: &Global, args: &EchoArgs) -> Result<(), CliError> {
         Some(t) => t,
         None => type_from_graph(&session, &args.service_name, &service)?,
     };
-    let options = ConvertOptions {
-        truncate_length: (!args.full_length).then_some(args.truncate_length),
-        no_arr: args.no_arr,
-        no_str: args.no_str,
-    };
+    let options = args.output.convert();
     if args.passive {
         if args.csv {
             return Err(CliError::new("--csv is not available with --passive"));
@@ -156,7 +137,7 @@ pub fn run(global: &Global, args: &EchoArgs) -> Result<(), CliError> {
             &info,
             passive::PassiveOptions {
                 json: global.json,
-                flow_style: args.flow_style,
+                flow_style: args.output.flow_style,
                 convert: options,
                 reply_timeout,
                 max_outstanding: args.max_outstanding,
@@ -206,23 +187,10 @@ pub fn run(global: &Global, args: &EchoArgs) -> Result<(), CliError> {
         }
         // Woken by data, or by the watcher above: no time limit, no periodic wake-up.
         reader.wait(None);
-        loop {
-            let sample = match reader.take() {
-                Ok(Some(s)) => s,
-                Ok(None) => break,
-                Err(e) => {
-                    tracing::warn!("dropped a service event: {e}");
-                    continue;
-                }
+        for sample in drain(&mut reader) {
+            let Some(value) = decode(&event.schema, &event.name, &sample) else {
+                continue;
             };
-            let value =
-                match cdr::decode(&event.schema, &event.name, &sample.body, sample.big_endian) {
-                    Ok(v) => v,
-                    Err(e) => {
-                        tracing::warn!("could not decode a service event: {e}");
-                        continue;
-                    }
-                };
             let text = if global.json {
                 serde_json::to_string(&event_json(&event.schema, &event.name, &value))
                     .unwrap_or_default()
@@ -231,12 +199,11 @@ pub fn run(global: &Global, args: &EchoArgs) -> Result<(), CliError> {
             } else {
                 let mut d = to_ordereddict(&event.schema, &event.name, &value, options);
                 name_event_type(&mut d);
-                let mut t = dump(&d, args.flow_style);
+                let mut t = dump(&d, args.output.flow_style);
                 t.push_str("---");
                 t
             };
-            let mut out = stdout.lock();
-            if writeln!(out, "{text}").and_then(|()| out.flush()).is_err() {
+            if !print_report(&text) {
                 // stdout closed (e.g. `| head`): nothing more to do.
                 return Ok(());
             }

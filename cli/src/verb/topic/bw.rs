@@ -9,13 +9,13 @@
 //! With the global `--json`, each report is one JSON object on one line (sizes in bytes).
 
 use std::collections::VecDeque;
-use std::time::{Duration, Instant};
 
 use serde_json::json;
 
 use super::subscribe::{
-    announced_hash, expand, now_ns, positive_int, print_report, subscribe, wait_for_type,
+    announced_hash, drain, expand, now_ns, print_report, subscribe, wait_for_type,
 };
+use super::window::Ticker;
 use crate::session::Session;
 use crate::{CliError, Global};
 use horus_ros_rmw::qos::Qos;
@@ -30,7 +30,7 @@ pub struct BwArgs {
     pub topic: String,
     /// maximum window size, in # of messages, for calculating rate (default: 100)
     #[arg(short = 'w', long, value_name = "WINDOW", default_value_t = DEFAULT_WINDOW_SIZE,
-          value_parser = positive_int)]
+          value_parser = crate::args::positive_int)]
     pub window: usize,
 }
 
@@ -57,29 +57,19 @@ pub fn run(global: &Global, args: &BwArgs) -> Result<(), CliError> {
     }
     // (receive time in ns, serialized size)
     let mut window: VecDeque<(i64, usize)> = VecDeque::new();
-    let mut tick = Instant::now() + Duration::from_secs(1);
+    let mut ticker = Ticker::start();
     loop {
-        let left = tick.saturating_duration_since(Instant::now());
-        if !left.is_zero() {
-            reader.wait(left);
-        }
-        loop {
-            match reader.take() {
-                Ok(Some(s)) => {
-                    // `len(data)` of the serialized message: header and body.
-                    window.push_back((now_ns(), 4 + s.body.len()));
-                    if window.len() > args.window {
-                        window.pop_front();
-                    }
-                }
-                Ok(None) => break,
-                Err(e) => tracing::warn!("dropped a message: {e}"),
+        ticker.wait(&mut reader);
+        for s in drain(&mut reader) {
+            // `len(data)` of the serialized message: header and body.
+            window.push_back((now_ns(), 4 + s.body.len()));
+            if window.len() > args.window {
+                window.pop_front();
             }
         }
-        if Instant::now() < tick {
+        if !ticker.due() {
             continue;
         }
-        tick += Duration::from_secs(1);
         if window.len() < 2 {
             continue;
         }

@@ -9,16 +9,14 @@
 //! (ros2cli: `msg does not have header`) when the verb starts rather than at the first message.
 //! With the global `--json`, each report is one JSON object on one line.
 
-use std::collections::VecDeque;
-use std::time::{Duration, Instant};
-
 use serde_json::json;
 
 use super::subscribe::{
-    expand, now_ns, positive_int, print_report, resolve_type, select, stats, subscribe,
-    wait_for_type, Part,
+    decode, drain, expand, now_ns, print_report, resolve_type, select, subscribe, wait_for_type,
+    Part,
 };
-use crate::dynamic::{cdr, Value};
+use super::window::{Ticker, Window};
+use crate::dynamic::Value;
 use crate::session::Session;
 use crate::{CliError, Global};
 use horus_ros_rmw::qos::Qos;
@@ -32,7 +30,7 @@ pub struct DelayArgs {
     /// Topic name to calculate the delay for
     pub topic: String,
     /// window size, in # of messages, for calculating rate, string to (default: 10000)
-    #[arg(short = 'w', long, default_value_t = DEFAULT_WINDOW_SIZE, value_parser = positive_int)]
+    #[arg(short = 'w', long, default_value_t = DEFAULT_WINDOW_SIZE, value_parser = crate::args::positive_int)]
     pub window: usize,
 }
 
@@ -61,98 +59,42 @@ pub fn run(global: &Global, args: &DelayArgs) -> Result<(), CliError> {
         return Err(CliError::new("msg does not have header"));
     }
     let mut reader = subscribe(&session, &topic, &type_name, t.hash, Qos::sensor_data())?;
-    let mut msg_t0: i64 = -1;
-    let mut msg_tn: i64 = 0;
+    let mut delays = Window::new(args.window);
     let mut last_msg_tn: i64 = 0;
-    let mut delays: VecDeque<i64> = VecDeque::new();
-    let mut tick = Instant::now() + Duration::from_secs(1);
+    let mut ticker = Ticker::start();
     loop {
-        let left = tick.saturating_duration_since(Instant::now());
-        if !left.is_zero() {
-            reader.wait(left);
-        }
-        loop {
-            let sample = match reader.take() {
-                Ok(Some(s)) => s,
-                Ok(None) => break,
-                Err(e) => {
-                    tracing::warn!("dropped a message: {e}");
-                    continue;
-                }
-            };
-            let value = match cdr::decode(&t.schema, &t.name, &sample.body, sample.big_endian) {
-                Ok(v) => v,
-                Err(e) => {
-                    tracing::warn!("could not decode a message: {e}");
-                    continue;
-                }
+        ticker.wait(&mut reader);
+        for sample in drain(&mut reader) {
+            let Some(value) = decode(&t.schema, &t.name, &sample) else {
+                continue;
             };
             // delay.py `callback_delay`.
             let curr = now_ns();
-            if curr == 0 {
-                if !delays.is_empty() {
-                    println!("time has reset, resetting counters");
-                    delays.clear();
-                }
-                continue;
-            }
-            if msg_t0 < 0 || msg_t0 > curr {
-                msg_t0 = curr;
-                msg_tn = curr;
-                delays.clear();
-            } else {
-                let Some(s) = stamp(&t.schema, &t.name, &value) else {
-                    return Err(CliError::new("msg does not have header"));
-                };
-                delays.push_back(curr - s);
-                msg_tn = curr;
-            }
-            if delays.len() > args.window {
-                delays.pop_front();
-            }
+            delays.message(curr, |_| match stamp(&t.schema, &t.name, &value) {
+                Some(s) => Ok(curr - s),
+                None => Err(CliError::new("msg does not have header")),
+            })?;
         }
-        if Instant::now() < tick {
+        if !ticker.due() {
             continue;
         }
-        tick += Duration::from_secs(1);
         // delay.py `print_delay`.
         if delays.is_empty() {
             continue;
         }
-        let text = if msg_tn == last_msg_tn {
+        let text = if delays.last() == last_msg_tn {
             if global.json {
                 json!({ "topic": args.topic, "new_messages": false }).to_string()
             } else {
                 "no new messages".to_owned()
             }
         } else {
-            let Some((mean, min, max, std_dev)) = stats(&delays) else {
+            let Some(text) = delays.report(global.json, &args.topic, "delay", |mean| mean * 1e-9)
+            else {
                 continue;
             };
-            last_msg_tn = msg_tn;
-            let (delay, min, max, std_dev) = (
-                mean * 1e-9,
-                min as f64 * 1e-9,
-                max as f64 * 1e-9,
-                std_dev * 1e-9,
-            );
-            let window = delays.len();
-            if global.json {
-                json!({
-                    "topic": args.topic,
-                    "average_delay": delay,
-                    "min": min,
-                    "max": max,
-                    "std_dev": std_dev,
-                    "window": window,
-                })
-                .to_string()
-            } else {
-                format!(
-                    "average delay: {delay:.3}\n\tmin: {min:.3}s max: {max:.3}s std dev: \
-                     {std_dev:.5}s window: {window}"
-                )
-            }
+            last_msg_tn = delays.last();
+            text
         };
         if !print_report(&text) {
             return Ok(());

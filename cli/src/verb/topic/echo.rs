@@ -8,49 +8,42 @@
 //! `message_to_yaml(…)` followed by `---` (`--csv`: `message_to_csv`, one line), a `--field`
 //! that selects no message as Python's `str()` followed by `---`, `--raw` as the Python `repr`
 //! of the serialized message followed by `---`; `--include-message-info` prints the message
-//! info first (YAML: `yaml.dump(info)` and `---`; CSV: its values prepended). With the global
-//! `--json`, each message is one JSON object on one line (docs/cli-json.md).
+//! info first (YAML: `yaml.dump(info)` and `---`; CSV: its values prepended): rclpy's dict
+//! (rclpy jazzy `src/rclpy/subscription.cpp` `take_message`: `source_timestamp`,
+//! `received_timestamp`, `publication_sequence_number`, `reception_sequence_number`) filled as
+//! rmw_fastrtps_cpp fills it (the writer's source timestamp, the reception time, the sample's
+//! sequence number at its writer; no reception sequence number). Unless `--no-lost-messages`,
+//! samples lost before a message are reported first as `_message_lost_event_callback` prints
+//! them ([`super::lost`]). With the global `--json`, each message is one JSON object on one line
+//! (docs/cli-json.md).
 //!
 //! Types are resolved as [`super::subscribe::resolve_type`] does: compiled in, interface files on
 //! `AMENT_PREFIX_PATH`, else the `~/get_type_description` of a node on the topic.
 //!
 //! Differences, for lack of support below: `--filter` evaluates a subset of Python
-//! ([`Filter`]); the message info's `source_timestamp` is 0 (the DDS layers do not hand it over
-//! here) and `reception_sequence_number` is `None` (as rmw_fastrtps_cpp reports it); lost messages
-//! are not reported (`--no-lost-messages` is accepted and changes nothing).
+//! ([`Filter`]); on the Cyclone backend the sequence numbers are not known (Cyclone DDS does not
+//! report them), so `publication_sequence_number` is `None` there and no loss is reported.
 
-use std::io::Write;
 use std::time::{Duration, Instant};
 
 use horus_ros_rmw::SampleId;
 use serde_json::{json, Map, Value as Json};
 
+use super::lost::LostSamples;
+use super::qos::QosArgs;
 use super::subscribe::{
-    expand, graph_type, normalize_message_type, now_ns, numeric, publisher_qos, resolve_type,
-    select, subscribe, Filter, MessageType, Part, QosArgs,
+    decode, drain, expand, graph_type, numeric, print_report, publisher_qos, resolve_type, select,
+    subscribe, Filter, MessageType, Part,
 };
 use crate::dynamic::convert::{to_csv, to_ordereddict, ConvertOptions};
 use crate::dynamic::json::to_json;
 use crate::dynamic::pyyaml::{dump, PyValue};
 use crate::dynamic::repr::{py_bytes, py_float, py_str, repr};
-use crate::dynamic::{cdr, Container, Elem, Schema, Value};
+use crate::dynamic::{Container, Elem, Schema, Value};
 use crate::session::Session;
+use crate::verb::echo_options::EchoOptions;
+use crate::verb::type_name::normalize_message_type;
 use crate::{CliError, Global};
-
-/// ros2topic echo `DEFAULT_TRUNCATE_LENGTH`.
-const DEFAULT_TRUNCATE_LENGTH: usize = 128;
-
-/// ros2topic `positive_float`.
-fn positive_float(value: &str) -> Result<f64, String> {
-    let v: f64 = value
-        .trim()
-        .parse()
-        .map_err(|_| "Expects a floating point number".to_owned())?;
-    if v.is_nan() || v <= 0.0 {
-        return Err("Value must be positive".to_owned());
-    }
-    Ok(v)
-}
 
 /// Arguments of `topic echo`.
 #[derive(Debug, clap::Args)]
@@ -72,22 +65,8 @@ pub struct EchoArgs {
     /// pose.pose.position'
     #[arg(long)]
     pub field: Option<String>,
-    /// Output all elements for arrays, bytes, and string with a length > '--truncate-length', by
-    /// default they are truncated after '--truncate-length' elements with '...''
-    #[arg(short = 'f', long)]
-    pub full_length: bool,
-    /// The length to truncate arrays, bytes, and string to (default: 128)
-    #[arg(short = 'l', long, default_value_t = DEFAULT_TRUNCATE_LENGTH)]
-    pub truncate_length: usize,
-    /// Don't print array fields of messages
-    #[arg(long)]
-    pub no_arr: bool,
-    /// Don't print string fields of messages
-    #[arg(long)]
-    pub no_str: bool,
-    /// Print collections in the block style (not available with csv format)
-    #[arg(long)]
-    pub flow_style: bool,
+    #[command(flatten)]
+    pub output: EchoOptions,
     /// Don't report when a message is lost
     #[arg(long)]
     pub no_lost_messages: bool,
@@ -104,7 +83,7 @@ pub struct EchoArgs {
     #[arg(long)]
     pub once: bool,
     /// Set a timeout in seconds for waiting
-    #[arg(long, value_name = "N", value_parser = positive_float)]
+    #[arg(long, value_name = "N", value_parser = crate::args::positive_float)]
     pub timeout: Option<f64>,
     /// Shows the associated message info.
     #[arg(short = 'i', long)]
@@ -202,11 +181,7 @@ pub fn run(global: &Global, args: &EchoArgs) -> Result<(), CliError> {
             })
         })
         .transpose()?;
-    let options = ConvertOptions {
-        truncate_length: (!args.full_length).then_some(args.truncate_length),
-        no_arr: args.no_arr,
-        no_str: args.no_str,
-    };
+    let options = args.output.convert();
     let deadline = args
         .timeout
         .map(|t| Instant::now() + Duration::from_secs_f64(t));
@@ -244,7 +219,7 @@ pub fn run(global: &Global, args: &EchoArgs) -> Result<(), CliError> {
     };
     let mut reader = subscribe(&session, &topic, &type_name, hash, qos)?;
 
-    let stdout = std::io::stdout();
+    let mut lost = LostSamples::default();
     loop {
         let left = match deadline {
             Some(d) => match d.checked_duration_since(Instant::now()) {
@@ -254,18 +229,26 @@ pub fn run(global: &Global, args: &EchoArgs) -> Result<(), CliError> {
             None => None,
         };
         reader.wait(left);
-        loop {
-            let sample = match reader.take() {
-                Ok(Some(s)) => s,
-                Ok(None) => break,
-                Err(e) => {
-                    tracing::warn!("dropped a message: {e}");
-                    continue;
+        for sample in drain(&mut reader) {
+            if !args.no_lost_messages {
+                if let Some(status) = lost.observe(sample.id) {
+                    let text = if global.json {
+                        json!({ "message_lost": {
+                            "total_count_change": status.total_count_change,
+                            "total_count": status.total_count,
+                        }})
+                        .to_string()
+                    } else {
+                        status.text()
+                    };
+                    if !print_report(&text) {
+                        return Ok(());
+                    }
                 }
-            };
+            }
             let info = MessageInfo {
-                source_timestamp: 0,
-                received_timestamp: now_ns(),
+                source_timestamp: sample.source_timestamp.unwrap_or(0),
+                received_timestamp: sample.received_timestamp,
                 publication_sequence_number: (sample.id.sequence_number
                     != SampleId::UNKNOWN_SEQUENCE_NUMBER)
                     .then_some(sample.id.sequence_number),
@@ -288,14 +271,9 @@ pub fn run(global: &Global, args: &EchoArgs) -> Result<(), CliError> {
                     raw_text(global, args, &info, &bytes)
                 }
                 Some(t) => {
-                    let value =
-                        match cdr::decode(&t.schema, &t.name, &sample.body, sample.big_endian) {
-                            Ok(v) => v,
-                            Err(e) => {
-                                tracing::warn!("could not decode a message: {e}");
-                                continue;
-                            }
-                        };
+                    let Some(value) = decode(&t.schema, &t.name, &sample) else {
+                        continue;
+                    };
                     let part = match &field {
                         None => Part::Message(&t.name, &value),
                         Some(f) => select(&t.schema, &t.name, &value, f).map_err(|e| {
@@ -325,8 +303,7 @@ pub fn run(global: &Global, args: &EchoArgs) -> Result<(), CliError> {
                     )
                 }
             };
-            let mut out = stdout.lock();
-            if writeln!(out, "{text}").and_then(|()| out.flush()).is_err() {
+            if !print_report(&text) {
                 // stdout closed (e.g. `| head`): nothing more to do.
                 return Ok(());
             }
@@ -408,7 +385,7 @@ fn message_text(
         s.push_str("---\n");
     }
     let d: PyValue = to_ordereddict(&t.schema, type_name, v, options);
-    s.push_str(&dump(&d, args.flow_style));
+    s.push_str(&dump(&d, args.output.flow_style));
     s.push_str("---");
     s
 }

@@ -12,15 +12,11 @@
 //! without `/clock`), so `--wall-time` changes nothing. With the global `--json`, each report is
 //! one JSON object on one line.
 
-use std::collections::VecDeque;
-
-use serde_json::json;
-
 use super::subscribe::{
-    announced_hash, expand, now_ns, positive_int, print_report, resolve_type, stats, subscribe,
+    announced_hash, decode, drain, expand, now_ns, print_report, resolve_type, subscribe,
     wait_for_type, Filter, Part,
 };
-use crate::dynamic::cdr;
+use super::window::Window;
 use crate::session::Session;
 use crate::{CliError, Global};
 use horus_ros_rmw::qos::Qos;
@@ -35,7 +31,7 @@ pub struct HzArgs {
     pub topic_name: String,
     /// window size, in # of messages, for calculating rate (default: 10000)
     #[arg(short = 'w', long = "window", value_name = "WINDOW", default_value_t = DEFAULT_WINDOW_SIZE,
-          value_parser = positive_int)]
+          value_parser = crate::args::positive_int)]
     pub window_size: usize,
     /// only measure messages matching the specified Python expression (here a subset of
     /// Python: paths from m, len(), literals, comparisons, and/or/not)
@@ -47,60 +43,44 @@ pub struct HzArgs {
     pub use_wtime: bool,
 }
 
-/// ros2topic hz `ROSTopicHz` for one topic.
+/// ros2topic hz `ROSTopicHz` for one topic: the intervals between arrivals, and the arrival
+/// last reported on.
 struct Hz {
-    window: usize,
-    msg_t0: i64,
-    msg_tn: i64,
-    times: VecDeque<i64>,
+    times: Window,
     last_printed_tn: i64,
 }
 
 impl Hz {
     /// `callback_hz` at time `curr` (ns).
     fn message(&mut self, curr: i64) {
-        if curr == 0 {
-            if !self.times.is_empty() {
-                println!("time has reset, resetting counters");
-                self.times.clear();
-            }
-            return;
-        }
-        if self.msg_t0 < 0 || self.msg_t0 > curr {
-            self.msg_t0 = curr;
-            self.msg_tn = curr;
-            self.times.clear();
-        } else {
-            self.times.push_back(curr - self.msg_tn);
-            self.msg_tn = curr;
-        }
-        if self.times.len() > self.window {
-            self.times.pop_front();
-        }
+        let _ = self
+            .times
+            .message(curr, |last| Ok::<_, std::convert::Infallible>(curr - last));
     }
 
-    /// `get_hz`: (rate in Hz, min, max, std dev in s, window), when due.
-    fn report(&mut self) -> Option<(f64, f64, f64, f64, usize)> {
+    /// `get_hz` + `print_hz`: the report, once a second of messages has passed since the last
+    /// one (the first time only marks where counting starts).
+    fn report(&mut self, json: bool, topic: &str) -> Option<String> {
         if self.times.is_empty() {
             return None;
         }
+        let msg_tn = self.times.last();
         if self.last_printed_tn == 0 {
-            self.last_printed_tn = self.msg_tn;
+            self.last_printed_tn = msg_tn;
             return None;
         }
-        if (self.msg_tn as f64) < self.last_printed_tn as f64 + 1e9 {
+        if (msg_tn as f64) < self.last_printed_tn as f64 + 1e9 {
             return None;
         }
-        let (mean, min, max, std_dev) = stats(&self.times)?;
-        let rate = if mean > 0.0 { 1.0 / mean } else { 0.0 };
-        self.last_printed_tn = self.msg_tn;
-        Some((
-            rate * 1e9,
-            min as f64 * 1e-9,
-            max as f64 * 1e-9,
-            std_dev * 1e-9,
-            self.times.len(),
-        ))
+        let text = self.times.report(json, topic, "rate", |mean| {
+            if mean > 0.0 {
+                1e9 / mean
+            } else {
+                0.0
+            }
+        })?;
+        self.last_printed_tn = msg_tn;
+        Some(text)
     }
 }
 
@@ -128,31 +108,16 @@ pub fn run(global: &Global, args: &HzArgs) -> Result<(), CliError> {
     };
     let mut reader = subscribe(&session, &topic, &type_name, hash, Qos::sensor_data())?;
     let mut hz = Hz {
-        window: args.window_size,
-        msg_t0: -1,
-        msg_tn: 0,
-        times: VecDeque::new(),
+        times: Window::new(args.window_size),
         last_printed_tn: 0,
     };
     loop {
         reader.wait(None);
-        loop {
-            let sample = match reader.take() {
-                Ok(Some(s)) => s,
-                Ok(None) => break,
-                Err(e) => {
-                    tracing::warn!("dropped a message: {e}");
-                    continue;
-                }
-            };
+        for sample in drain(&mut reader) {
             let now = now_ns();
             if let (Some(f), Some(t)) = (&filter, &message_type) {
-                let value = match cdr::decode(&t.schema, &t.name, &sample.body, sample.big_endian) {
-                    Ok(v) => v,
-                    Err(e) => {
-                        tracing::warn!("could not decode a message: {e}");
-                        continue;
-                    }
+                let Some(value) = decode(&t.schema, &t.name, &sample) else {
+                    continue;
                 };
                 let pass = f
                     .matches(&t.schema, Part::Message(&t.name, &value))
@@ -162,23 +127,7 @@ pub fn run(global: &Global, args: &HzArgs) -> Result<(), CliError> {
                 }
             }
             hz.message(now);
-            if let Some((rate, min, max, std_dev, window)) = hz.report() {
-                let text = if global.json {
-                    json!({
-                        "topic": args.topic_name,
-                        "average_rate": rate,
-                        "min": min,
-                        "max": max,
-                        "std_dev": std_dev,
-                        "window": window,
-                    })
-                    .to_string()
-                } else {
-                    format!(
-                        "average rate: {rate:.3}\n\tmin: {min:.3}s max: {max:.3}s std dev: \
-                         {std_dev:.5}s window: {window}"
-                    )
-                };
+            if let Some(text) = hz.report(global.json, &args.topic_name) {
                 if !print_report(&text) {
                     return Ok(());
                 }

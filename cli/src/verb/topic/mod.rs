@@ -7,10 +7,14 @@ pub mod find;
 pub mod hz;
 pub mod info;
 pub mod list;
+pub mod lost;
+pub mod message_type;
 pub mod pub_;
 pub mod publish;
+pub mod qos;
 pub mod subscribe;
 pub mod type_;
+pub mod window;
 
 use clap::Subcommand;
 

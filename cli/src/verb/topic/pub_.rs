@@ -30,10 +30,13 @@ use horus_ros_rmw::names::TopicName;
 use horus_ros_rmw::raw::{RawEndpointSpec, RawWriter};
 use yaml_rust2::{Yaml, YamlLoader};
 
-use super::publish::{normalize_type, MessageType, QosArgs, Stamps};
+use super::message_type::MessageType;
+use super::publish::Stamps;
+use super::qos::{publishing, QosArgs};
 use crate::dynamic::json::to_json;
 use crate::dynamic::{cdr, repr, yaml, Value};
 use crate::session::Session;
+use crate::verb::type_name::normalize_message_type;
 use crate::{CliError, Global};
 use serde_json::json;
 
@@ -41,8 +44,9 @@ use serde_json::json;
 /// How often pub.py repeats its "Waiting for …" line (every tenth 0.1 s check).
 const WAIT_LOG_PERIOD: Duration = Duration::from_secs(1);
 
-/// Arguments of `topic pub`.
+/// Arguments of `topic pub` (its QoS options worded for publishing).
 #[derive(Debug, clap::Args)]
+#[command(mut_args(publishing))]
 pub struct PubArgs {
     /// Name of the ROS topic to publish to (e.g. '/chatter').
     pub topic_name: String,
@@ -56,7 +60,7 @@ pub struct PubArgs {
     #[arg(long)]
     pub stdin: bool,
     /// Publishing rate in Hz (default: 1).
-    #[arg(short = 'r', long, value_name = "N", default_value_t = 1.0, value_parser = positive_float)]
+    #[arg(short = 'r', long, value_name = "N", default_value_t = 1.0, value_parser = crate::args::positive_float)]
     pub rate: f64,
     /// Only print every N-th published message (default: 1).
     #[arg(
@@ -79,10 +83,10 @@ pub struct PubArgs {
     pub wait_matching_subscriptions: Option<u64>,
     /// This sets the maximum wait time in seconds if --wait-until-matching-subscriptions is
     /// set. By default, this flag is not set meaning the subscriber will wait endlessly.
-    #[arg(long, value_parser = positive_float)]
+    #[arg(long, value_parser = crate::args::positive_float)]
     pub max_wait_time_secs: Option<f64>,
     /// Keep publishing node alive for N seconds after the last msg (default: 0.1).
-    #[arg(long, value_name = "N", default_value_t = 0.1, value_parser = positive_float)]
+    #[arg(long, value_name = "N", default_value_t = 0.1, value_parser = crate::args::positive_float)]
     pub keep_alive: f64,
     /// Name of the created publishing node.
     #[arg(short = 'n', long)]
@@ -101,18 +105,6 @@ pub struct PubArgs {
     pub type_timeout: f64,
 }
 
-/// ros2topic's `positive_float`.
-fn positive_float(s: &str) -> Result<f64, String> {
-    let v: f64 = s
-        .trim()
-        .parse()
-        .map_err(|_| "Expects a floating point number".to_owned())?;
-    if v.is_nan() || v <= 0.0 {
-        return Err("Value must be positive".to_owned());
-    }
-    Ok(v)
-}
-
 /// Runs `topic pub`.
 pub fn run(global: &Global, args: &PubArgs) -> Result<(), CliError> {
     let times = if args.once { 1 } else { args.times };
@@ -125,8 +117,13 @@ pub fn run(global: &Global, args: &PubArgs) -> Result<(), CliError> {
     } else {
         args.values.clone()
     };
-    let type_name = normalize_type(&args.message_type)?;
-    let known = MessageType::without_graph(&type_name)?;
+    let type_name = normalize_message_type(&args.message_type)?;
+    let unusable = |e: String| {
+        CliError::new(format!(
+            "The message type '{type_name}' cannot be used: {e}"
+        ))
+    };
+    let known = MessageType::installed(&type_name, unusable)?.ok();
     let mut doc = load_values(&values)?;
 
     let mut session = match &args.node_name {
@@ -140,6 +137,14 @@ pub fn run(global: &Global, args: &PubArgs) -> Result<(), CliError> {
             &session,
             &type_name,
             Duration::from_secs_f64(args.type_timeout),
+            |why| {
+                CliError::new(format!(
+                    "The passed message type is invalid: '{type_name}' is not built into \
+                     horus-ros nor in a package on AMENT_PREFIX_PATH, and the graph does not \
+                     describe it: {why}"
+                ))
+            },
+            unusable,
         )?,
     };
     let stamps = Stamps::take(&message_type.schema, &message_type.name, &mut doc);
@@ -152,11 +157,11 @@ pub fn run(global: &Global, args: &PubArgs) -> Result<(), CliError> {
         session.node.namespace(),
     )
     .map_err(|e| CliError::new(format!("Invalid topic name '{}': {e}", args.topic_name)))?;
-    let qos = resolve_qos(&session, topic.as_str(), args.qos.qos());
+    let qos = resolve_qos(&session, topic.as_str(), args.qos.profile());
     let writer = session.node.create_raw_writer(&RawEndpointSpec {
         dds_topic_name: topic.to_dds_topic_name(qos.avoid_ros_namespace_conventions),
-        dds_type_name: message_type.dds_type_name.clone(),
-        type_hash: message_type.type_hash,
+        dds_type_name: message_type.dds_type_name(),
+        type_hash: message_type.hash,
         qos,
         service_id: None,
     })?;

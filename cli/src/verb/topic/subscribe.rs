@@ -1,248 +1,23 @@
 //! What `topic echo | hz | bw | delay` share: the topic's type as ros2topic finds it
 //! (`api/__init__.py` `get_msg_class`), the type's description (compiled in, else an interface
 //! file on `AMENT_PREFIX_PATH`, else the `~/get_type_description` of a node that publishes or
-//! subscribes to it), the QoS as ros2topic chooses it (`qos_profile_from_short_keys`, echo's
-//! `choose_qos`), and a raw reader of the topic.
+//! subscribes to it), the publishers' QoS (for echo's `choose_qos`, [`super::qos`]), and a raw
+//! reader of the topic.
 
-use std::time::{Duration, SystemTime, UNIX_EPOCH};
+use std::time::Duration;
 
 use horus_ros_msgs::{dds_type_name, TypeHash};
 use horus_ros_rmw::names::TopicName;
-use horus_ros_rmw::qos::{
-    DurabilityPolicy, HistoryPolicy, LivelinessPolicy, Qos, QosDuration, ReliabilityPolicy,
-};
-use horus_ros_rmw::{RawEndpointSpec, RawReader};
+use horus_ros_rmw::qos::Qos;
+use horus_ros_rmw::{RawEndpointSpec, RawReader, RawSample};
 
-use crate::dynamic::compiled::compiled_type;
-use crate::dynamic::{Container, Elem, FieldTy, Schema, Value};
+pub use super::message_type::MessageType;
+use crate::dynamic::{cdr, Container, Elem, FieldTy, Schema, Value};
 use crate::session::Session;
-use crate::verb::interface::catalog::Catalog;
-use crate::verb::interface::definition::describe_files;
-use crate::verb::service::call::describe;
 use crate::CliError;
-
-/// rclpy `QoSPresetProfiles.short_keys()` (jazzy).
-pub const PROFILES: [&str; 9] = [
-    "unknown",
-    "default",
-    "system_default",
-    "sensor_data",
-    "services_default",
-    "parameters",
-    "parameter_events",
-    "action_status_default",
-    "best_available",
-];
-/// rclpy `QoSHistoryPolicy.short_keys()`.
-const HISTORIES: [&str; 4] = ["system_default", "keep_last", "keep_all", "unknown"];
-/// rclpy `QoSReliabilityPolicy.short_keys()`.
-const RELIABILITIES: [&str; 5] = [
-    "system_default",
-    "reliable",
-    "best_effort",
-    "unknown",
-    "best_available",
-];
-/// rclpy `QoSDurabilityPolicy.short_keys()`.
-const DURABILITIES: [&str; 5] = [
-    "system_default",
-    "transient_local",
-    "volatile",
-    "unknown",
-    "best_available",
-];
-/// rclpy `QoSLivelinessPolicy.short_keys()`.
-const LIVELINESSES: [&str; 5] = [
-    "system_default",
-    "automatic",
-    "manual_by_topic",
-    "unknown",
-    "best_available",
-];
 
 /// Longest wait for a node's answer when a type is read off the graph.
 pub const DESCRIBE_TIMEOUT: Duration = Duration::from_secs(5);
-
-/// ros2topic `add_qos_arguments(parser, 'subscribe', 'sensor_data')`.
-#[derive(Debug, clap::Args)]
-pub struct QosArgs {
-    /// Quality of service preset profile to subscribe with (default: sensor_data)
-    #[arg(long, default_value = "sensor_data", value_parser = PROFILES)]
-    pub qos_profile: String,
-    /// Queue size setting to subscribe with (overrides depth value of --qos-profile option)
-    #[arg(long, value_name = "N", allow_negative_numbers = true)]
-    pub qos_depth: Option<i64>,
-    /// History of samples setting to subscribe with (overrides history value of --qos-profile
-    /// option, default: keep_last)
-    #[arg(long, value_parser = HISTORIES)]
-    pub qos_history: Option<String>,
-    /// Quality of service reliability setting to subscribe with (overrides reliability value of
-    /// --qos-profile option, default: Compatible profile with running endpoints )
-    #[arg(long, value_parser = RELIABILITIES)]
-    pub qos_reliability: Option<String>,
-    /// Quality of service durability setting to subscribe with (overrides durability value of
-    /// --qos-profile option, default: Compatible profile with running endpoints )
-    #[arg(long, value_parser = DURABILITIES)]
-    pub qos_durability: Option<String>,
-    /// Quality of service liveliness setting to subscribe with (overrides liveliness value of
-    /// --qos-profile option
-    #[arg(long, value_parser = LIVELINESSES)]
-    pub qos_liveliness: Option<String>,
-    /// Quality of service liveliness lease duration setting to subscribe with (overrides
-    /// liveliness lease duration value of --qos-profile option
-    #[arg(
-        long,
-        allow_negative_numbers = true,
-        value_name = "QOS_LIVELINESS_LEASE_DURATION_SECONDS"
-    )]
-    pub qos_liveliness_lease_duration_seconds: Option<f64>,
-}
-
-/// rclpy `QoSPresetProfiles.get_from_short_key`.
-pub fn preset(name: &str) -> Qos {
-    match name {
-        "unknown" => Qos::unknown(),
-        "system_default" => Qos::system_default(),
-        "sensor_data" => Qos::sensor_data(),
-        "services_default" => Qos::services_default(),
-        "parameters" => Qos::parameters(),
-        "parameter_events" => Qos::parameter_events(),
-        "action_status_default" => Qos::action_status_default(),
-        "best_available" => Qos::best_available(),
-        _ => Qos::default_profile(),
-    }
-}
-
-fn history(key: &str) -> HistoryPolicy {
-    match key {
-        "keep_last" => HistoryPolicy::KeepLast,
-        "keep_all" => HistoryPolicy::KeepAll,
-        "unknown" => HistoryPolicy::Unknown,
-        _ => HistoryPolicy::SystemDefault,
-    }
-}
-
-fn reliability(key: &str) -> ReliabilityPolicy {
-    match key {
-        "reliable" => ReliabilityPolicy::Reliable,
-        "best_effort" => ReliabilityPolicy::BestEffort,
-        "unknown" => ReliabilityPolicy::Unknown,
-        "best_available" => ReliabilityPolicy::BestAvailable,
-        _ => ReliabilityPolicy::SystemDefault,
-    }
-}
-
-fn durability(key: &str) -> DurabilityPolicy {
-    match key {
-        "transient_local" => DurabilityPolicy::TransientLocal,
-        "volatile" => DurabilityPolicy::Volatile,
-        "unknown" => DurabilityPolicy::Unknown,
-        "best_available" => DurabilityPolicy::BestAvailable,
-        _ => DurabilityPolicy::SystemDefault,
-    }
-}
-
-fn liveliness(key: &str) -> LivelinessPolicy {
-    match key {
-        "automatic" => LivelinessPolicy::Automatic,
-        "manual_by_topic" => LivelinessPolicy::ManualByTopic,
-        "unknown" => LivelinessPolicy::Unknown,
-        "best_available" => LivelinessPolicy::BestAvailable,
-        _ => LivelinessPolicy::SystemDefault,
-    }
-}
-
-impl QosArgs {
-    /// Whether any policy is given (echo's `choose_qos` then adapts nothing).
-    fn overridden(&self) -> bool {
-        self.qos_reliability.is_some()
-            || self.qos_durability.is_some()
-            || self.qos_depth.is_some()
-            || self.qos_history.is_some()
-            || self.qos_liveliness.is_some()
-            || self.qos_liveliness_lease_duration_seconds.is_some()
-    }
-
-    /// ros2topic `qos_profile_from_short_keys` (with `profile_configure_short_keys`).
-    pub fn profile(&self) -> Qos {
-        let mut p = preset(&self.qos_profile);
-        if let Some(h) = &self.qos_history {
-            p.history = history(h);
-        }
-        if let Some(d) = &self.qos_durability {
-            p.durability = durability(d);
-        }
-        if let Some(r) = &self.qos_reliability {
-            p.reliability = reliability(r);
-        }
-        if let Some(l) = &self.qos_liveliness {
-            p.liveliness = liveliness(l);
-        }
-        // `if liveliness_lease_duration_s and liveliness_lease_duration_s >= 0`: 0 is falsy.
-        if let Some(s) = self.qos_liveliness_lease_duration_seconds {
-            if s > 0.0 && s.is_finite() {
-                p.liveliness_lease_duration = QosDuration::from_nanos((s * 1e9) as i64);
-            }
-        }
-        match self.qos_depth {
-            Some(d) if d > 0 => p.depth = usize::try_from(d).unwrap_or(usize::MAX),
-            _ => {
-                if p.durability == DurabilityPolicy::TransientLocal && p.depth == 0 {
-                    p.depth = 1;
-                }
-            }
-        }
-        p
-    }
-
-    /// ros2topic echo `choose_qos`: the options as given when any policy is; else the preset
-    /// with reliability and durability adapted to the topic's publishers (reliable /
-    /// transient-local when all of them are). Returns the QoS and the lines ros2cli prints when
-    /// only some publishers offer reliable or transient-local.
-    pub fn choose(&self, publishers: &[Qos]) -> (Qos, Vec<&'static str>) {
-        if self.overridden() {
-            return (self.profile(), Vec::new());
-        }
-        let mut qos = preset(&self.qos_profile);
-        let mut notes = Vec::new();
-        if publishers.is_empty() {
-            return (qos, notes);
-        }
-        let reliable = publishers
-            .iter()
-            .filter(|q| q.reliability == ReliabilityPolicy::Reliable)
-            .count();
-        let transient = publishers
-            .iter()
-            .filter(|q| q.durability == DurabilityPolicy::TransientLocal)
-            .count();
-        if reliable == publishers.len() {
-            qos.reliability = ReliabilityPolicy::Reliable;
-        } else {
-            if reliable > 0 {
-                notes.push(
-                    "Some, but not all, publishers are offering QoSReliabilityPolicy.RELIABLE. \
-                     Falling back to QoSReliabilityPolicy.BEST_EFFORT as it will connect to all \
-                     publishers",
-                );
-            }
-            qos.reliability = ReliabilityPolicy::BestEffort;
-        }
-        if transient == publishers.len() {
-            qos.durability = DurabilityPolicy::TransientLocal;
-        } else {
-            if transient > 0 {
-                notes.push(
-                    "Some, but not all, publishers are offering \
-                     QoSDurabilityPolicy.TRANSIENT_LOCAL. Falling back to \
-                     QoSDurabilityPolicy.VOLATILE as it will connect to all publishers",
-                );
-            }
-            qos.durability = DurabilityPolicy::Volatile;
-        }
-        (qos, notes)
-    }
-}
 
 /// A topic name as given, expanded for the CLI's node (rclpy `expand_topic_name` +
 /// `validate_full_topic_name`, whose errors ros2cli raises as they are).
@@ -318,66 +93,31 @@ pub fn announced_hash(session: &Session, topic: &TopicName, type_name: &str) -> 
     })
 }
 
-/// ros2cli's `'The passed message type is invalid'` check: `pkg/msg/Name`, or `pkg/Name`
-/// (rosidl_runtime_py `get_message` takes both).
-pub fn normalize_message_type(t: &str) -> Result<String, CliError> {
-    let valid = |s: &str| {
-        !s.is_empty()
-            && s.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
-            && !s.starts_with(|c: char| c.is_ascii_digit())
-    };
-    match t.split('/').collect::<Vec<_>>().as_slice() {
-        [pkg, name] if valid(pkg) && valid(name) => Ok(format!("{pkg}/msg/{name}")),
-        [pkg, "msg", name] if valid(pkg) && valid(name) => Ok(t.to_owned()),
-        _ => Err(CliError::new("The passed message type is invalid")),
-    }
-}
-
-/// A message type known at run time.
-pub struct MessageType {
-    /// `pkg/msg/Name`.
-    pub name: String,
-    /// Its structs.
-    pub schema: Schema,
-    /// Its RIHS01 hash.
-    pub hash: TypeHash,
-}
-
-/// The description of message type `type_name`: compiled in, else its interface file on
-/// `AMENT_PREFIX_PATH`, else from a node that publishes or subscribes to it
-/// (`~/get_type_description`). The error says why each source failed, naming the nodes asked.
+/// The message type `type_name` ([`MessageType`]: compiled in, else its interface file on
+/// `AMENT_PREFIX_PATH`, else from a node that publishes or subscribes to it). The error says why
+/// each source failed, naming the nodes asked.
 pub fn resolve_type(session: &Session, type_name: &str) -> Result<MessageType, CliError> {
     let failed = |why: String| {
         CliError::new(format!(
             "Could not load the type '{type_name}' of the passed topic: {why}"
         ))
     };
-    let description = if let Some(t) = compiled_type(type_name) {
-        (t.describe)()
-    } else {
-        let catalog = Catalog::from_env();
-        let package = type_name.split('/').next().unwrap_or_default();
-        match catalog.index.find_interface(type_name) {
-            Ok(path) => describe_files(&catalog, package, &path, type_name)?,
-            Err(file_error) => {
-                describe::fetch_message(&session.node, &session.graph, type_name, DESCRIBE_TIMEOUT)
-                    .map_err(|node_error| {
-                        failed(format!(
-                            "not compiled in, not on AMENT_PREFIX_PATH ({file_error}), and not \
-                             described by the graph: {node_error}"
-                        ))
-                    })?
-            }
-        }
-    };
-    let schema = Schema::from_description(&description)
-        .and_then(|s| s.check(type_name).map(|()| s))
-        .map_err(|e| failed(format!("its description is not usable: {e}")))?;
-    Ok(MessageType {
-        name: type_name.to_owned(),
-        schema,
-        hash: description.compute_type_hash(),
-    })
+    let unusable = |e: String| failed(format!("its description is not usable: {e}"));
+    match MessageType::installed(type_name, unusable)? {
+        Ok(t) => Ok(t),
+        Err(file_error) => MessageType::from_graph(
+            session,
+            type_name,
+            DESCRIBE_TIMEOUT,
+            |node_error| {
+                failed(format!(
+                    "not compiled in, not on AMENT_PREFIX_PATH ({file_error}), and not \
+                     described by the graph: {node_error}"
+                ))
+            },
+            unusable,
+        ),
+    }
 }
 
 /// A raw reader of `topic` with type `type_name` (announced with `hash`) and `qos`.
@@ -398,12 +138,26 @@ pub fn subscribe(
     Ok(session.node.create_raw_reader(&spec)?)
 }
 
-/// Nanoseconds since the epoch (what rclpy's ROS clock reads when no `/clock` drives it).
-pub fn now_ns() -> i64 {
-    SystemTime::now()
-        .duration_since(UNIX_EPOCH)
-        .map_or(0, |d| i64::try_from(d.as_nanos()).unwrap_or(i64::MAX))
+/// The samples `reader` holds now, in order; one the DDS layer could not hand over is logged and
+/// skipped.
+pub fn drain(reader: &mut RawReader) -> impl Iterator<Item = RawSample> + '_ {
+    std::iter::from_fn(move || loop {
+        match reader.take() {
+            Ok(sample) => return sample,
+            Err(e) => tracing::warn!("dropped a message: {e}"),
+        }
+    })
 }
+
+/// `sample` decoded as `type_name` of `schema`; one that does not decode is logged and `None`.
+pub fn decode(schema: &Schema, type_name: &str, sample: &RawSample) -> Option<Value> {
+    cdr::decode(schema, type_name, &sample.body, sample.big_endian)
+        .map_err(|e| tracing::warn!("could not decode a message: {e}"))
+        .ok()
+}
+
+/// Nanoseconds since the epoch (what rclpy's ROS clock reads when no `/clock` drives it).
+pub use horus_ros_rmw::unix_time_ns as now_ns;
 
 /// A value inside a message, with its type: a whole message, or a field's value.
 #[derive(Clone, Copy)]
@@ -965,29 +719,6 @@ fn compare(a: &Lit, op: CmpOp, b: &Lit) -> Result<bool, String> {
         CmpOp::Gt => ord == Ordering::Greater,
         CmpOp::Ge => ord != Ordering::Less,
     })
-}
-
-/// ros2topic `positive_int` (`--window`).
-pub fn positive_int(value: &str) -> Result<usize, String> {
-    match value.trim().parse::<i64>() {
-        Ok(v) if v > 0 => usize::try_from(v).map_err(|_| "value must be a positive integer".into()),
-        _ => Err("value must be a positive integer".to_owned()),
-    }
-}
-
-/// Mean, minimum, maximum and population standard deviation of `values` (nanoseconds), as
-/// ros2topic hz.py / delay.py compute them; `None` when empty.
-pub fn stats(values: &std::collections::VecDeque<i64>) -> Option<(f64, i64, i64, f64)> {
-    let n = values.len() as f64;
-    let min = *values.iter().min()?;
-    let max = *values.iter().max()?;
-    let mean = values.iter().map(|v| *v as f64).sum::<f64>() / n;
-    let var = values
-        .iter()
-        .map(|v| (*v as f64 - mean).powi(2))
-        .sum::<f64>()
-        / n;
-    Some((mean, min, max, var.sqrt()))
 }
 
 /// Prints one report (a line or a few) and flushes; false when stdout is closed.

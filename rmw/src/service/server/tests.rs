@@ -112,6 +112,8 @@ fn cyclone_reply(server: &Server, writer: Gid, now: Instant) -> Readiness {
         },
         related: None,
         publication_handle: Some(9),
+        source_timestamp: None,
+        received_timestamp: 0,
     };
     let request = server.request_from(sample).expect("a request");
     let response = server
@@ -265,6 +267,8 @@ fn an_rmw_fastrtps_request_without_reader_waits_for_its_participant() {
         },
         related: None,
         publication_handle: None,
+        source_timestamp: None,
+        received_timestamp: 0,
     };
     let request = server.request_from(sample).expect("a request");
     let response = server

@@ -632,6 +632,8 @@ mod tests {
             },
             related,
             publication_handle: None,
+            source_timestamp: None,
+            received_timestamp: 0,
         }
     }
 
