@@ -1,8 +1,18 @@
 //! Output tests of `lifecycle nodes|list|get|set` against a real rclpy 7.1
 //! `rclpy.lifecycle.LifecycleNode` (`lifecycle/tests/peers/jazzy_lifecycle.py`, Fast DDS), and
-//! against a horus-ros `LifecycleNode`. ros2cli is not installed: each output is compared with
-//! `peers/jazzy_ros2lifecycle_reference.py`, ros2lifecycle 0.32's verb bodies transcribed onto
-//! rclpy. Stdout, stderr and the exit status are compared whole.
+//! against a horus-ros `LifecycleNode`. ros2cli is not installed: each output (stdout, stderr,
+//! exit status) is compared whole with a checked-in transcript,
+//! `tests/expected/lifecycle/<test>.txt`, recorded once from ros2lifecycle 0.32's verb bodies
+//! run on rclpy (the suite's Jazzy wheels) against the same node, and reviewed against
+//! ros2lifecycle 0.32.2 (ros2/ros2cli tag 0.32.2), whose lines define each format:
+//!
+//! - `nodes`: `ros2lifecycle/verb/nodes.py` 33-42 (the count with `-c`, else the sorted full
+//!   names of the nodes offering `~/get_state`, one a line);
+//! - `list`: `verb/list.py` 44-65 (`Node not found` on stderr, exit 1; `- {label} [{id}]` then
+//!   `\tStart: …` and `\tGoal: …`);
+//! - `get`: `verb/get.py` 41-76 (`{label} [{id}]`, prefixed by `{node}: ` without a node);
+//! - `set`: `verb/set.py` 45-89 (`Transitioning successful` on stdout, `Transitioning failed` on
+//!   stderr with exit 0, an unknown transition lists the available ones, exit 1).
 //!
 //! Each test has its own DDS domain (141-142). Run inside the private network namespace:
 //! `scripts/isolated cargo test -p horus-ros-cli --test jazzy_lifecycle`.
@@ -10,10 +20,9 @@
 mod common;
 
 use std::path::PathBuf;
-use std::process::{Command, Stdio};
-use std::time::Duration;
 
-use common::{cli_peer_script, horus, python, Peer, Run, PEER_START};
+use common::expected::Transcript;
+use common::{horus, Peer, Run, PEER_START};
 use horus_ros_lifecycle::{CallbackReturn, LifecycleCallbacks, LifecycleNode, State};
 use serde_json::{json, Value};
 
@@ -37,33 +46,6 @@ fn peer(domain: u32) -> Peer {
     Peer::start_path(&script, &[spec.as_str()], PEER_START * 2)
 }
 
-/// What ros2lifecycle prints for `ros2 lifecycle <args>` (the transcription run on rclpy),
-/// once `wait_for` nodes offer their lifecycle services.
-fn reference(domain: u32, wait_for: &[&str], args: &[&str]) -> Run {
-    let mut command = Command::new(python());
-    command
-        .arg(cli_peer_script("jazzy_ros2lifecycle_reference.py"))
-        .arg(domain.to_string());
-    for node in wait_for {
-        command.args(["--wait-for", node]);
-    }
-    let mut child = command
-        .args(args)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("start the reference");
-    let pid = child.id();
-    let out = horus_ros_test_support::wait_with_output(&mut child, Duration::from_secs(60))
-        .expect("reference output");
-    Run {
-        code: out.code(),
-        stdout: out.stdout,
-        stderr: out.stderr,
-        pid,
-    }
-}
-
 /// Runs `horus-ros [--backend rustdds] lifecycle <args>`. The rclpy peer runs on Fast DDS,
 /// whose service convention only the rustdds backend speaks (as rmw_cyclonedds, the Cyclone
 /// backend cannot call it), so the verbs that call services run on rustdds against it.
@@ -77,19 +59,14 @@ fn lifecycle(domain: u32, rustdds: bool, args: &[&str]) -> Run {
     horus(domain, &all)
 }
 
-/// Asserts `horus-ros lifecycle <args>` prints what ros2lifecycle prints; returns our run.
-fn same_as_ros2lifecycle(domain: u32, wait_for: &[&str], args: &[&str]) -> Run {
-    let ours = lifecycle(domain, true, args);
-    let theirs = reference(domain, wait_for, args);
-    let what = format!("`lifecycle {}`", args.join(" "));
-    assert_eq!(
-        ours.stdout, theirs.stdout,
-        "{what} stdout\n--- ours stderr:\n{}\n--- reference stderr:\n{}",
-        ours.stderr, theirs.stderr
-    );
-    assert_eq!(ours.stderr, theirs.stderr, "{what} stderr");
-    assert_eq!(ours.code, theirs.code, "{what} exit status");
-    ours
+/// Asserts `horus-ros lifecycle <args>` prints what ros2lifecycle prints: the transcript's next
+/// case (stdout, stderr and exit status); returns our run.
+fn same_as_ros2lifecycle(expected: &mut Transcript, domain: u32, args: &[&str]) -> Run {
+    let run = lifecycle(domain, true, args);
+    let mut all = vec!["lifecycle"];
+    all.extend_from_slice(args);
+    expected.check(&all, &run);
+    run
 }
 
 /// The run's stdout as JSON (a failure shows its stderr).
@@ -110,12 +87,13 @@ fn verbs_print_what_ros2lifecycle_prints_for_an_rclpy_node() {
     let _serial = one_at_a_time();
     let domain = 141;
     let mut peer = peer(domain);
-    let w = &[NODE];
+    let mut expected =
+        Transcript::load("lifecycle/verbs_print_what_ros2lifecycle_prints_for_an_rclpy_node.txt");
 
-    let nodes = same_as_ros2lifecycle(domain, w, &["nodes"]);
+    let nodes = same_as_ros2lifecycle(&mut expected, domain, &["nodes"]);
     assert_eq!(nodes.stdout, "/py_managed\n");
-    same_as_ros2lifecycle(domain, w, &["nodes", "-c"]);
-    same_as_ros2lifecycle(domain, w, &["nodes", "--all"]);
+    same_as_ros2lifecycle(&mut expected, domain, &["nodes", "-c"]);
+    same_as_ros2lifecycle(&mut expected, domain, &["nodes", "--all"]);
     // Graph only: the same on the backend the environment chooses.
     expect(
         &lifecycle(domain, false, &["nodes"]),
@@ -124,26 +102,30 @@ fn verbs_print_what_ros2lifecycle_prints_for_an_rclpy_node() {
         0,
     );
 
-    let get = same_as_ros2lifecycle(domain, w, &["get", "py_managed"]);
+    let get = same_as_ros2lifecycle(&mut expected, domain, &["get", "py_managed"]);
     assert_eq!(get.stdout, "unconfigured [1]\n");
-    same_as_ros2lifecycle(domain, w, &["get"]);
-    let missing = same_as_ros2lifecycle(domain, w, &["get", "/no_such_node"]);
+    same_as_ros2lifecycle(&mut expected, domain, &["get"]);
+    let missing = same_as_ros2lifecycle(&mut expected, domain, &["get", "/no_such_node"]);
     expect(&missing, "", "Node not found\n", 1);
-    same_as_ros2lifecycle(domain, w, &["list", "/no_such_node"]);
-    same_as_ros2lifecycle(domain, w, &["set", "/no_such_node", "configure"]);
+    same_as_ros2lifecycle(&mut expected, domain, &["list", "/no_such_node"]);
+    same_as_ros2lifecycle(
+        &mut expected,
+        domain,
+        &["set", "/no_such_node", "configure"],
+    );
 
-    let list = same_as_ros2lifecycle(domain, w, &["list", "py_managed"]);
+    let list = same_as_ros2lifecycle(&mut expected, domain, &["list", "py_managed"]);
     assert_eq!(
         list.stdout,
         "- configure [1]\n\tStart: unconfigured\n\tGoal: configuring\n\
          - shutdown [5]\n\tStart: unconfigured\n\tGoal: shuttingdown\n"
     );
-    let all = same_as_ros2lifecycle(domain, w, &["list", NODE, "-a"]);
+    let all = same_as_ros2lifecycle(&mut expected, domain, &["list", NODE, "-a"]);
     assert_eq!(
         all.stdout.lines().filter(|l| l.starts_with("- ")).count(),
         25
     );
-    let unknown = same_as_ros2lifecycle(domain, w, &["set", NODE, "activate"]);
+    let unknown = same_as_ros2lifecycle(&mut expected, domain, &["set", NODE, "activate"]);
     expect(
         &unknown,
         "",
@@ -151,16 +133,16 @@ fn verbs_print_what_ros2lifecycle_prints_for_an_rclpy_node() {
         1,
     );
 
-    // A successful transition (ours, then the reference's way back) prints the same line.
+    // A successful transition, and the way back, print ros2lifecycle's line.
     expect(
         &lifecycle(domain, true, &["set", NODE, "configure"]),
         "Transitioning successful\n",
         "",
         0,
     );
-    same_as_ros2lifecycle(domain, w, &["get", NODE]);
-    same_as_ros2lifecycle(domain, w, &["list", NODE]);
-    let back = reference(domain, w, &["set", NODE, "cleanup"]);
+    same_as_ros2lifecycle(&mut expected, domain, &["get", NODE]);
+    same_as_ros2lifecycle(&mut expected, domain, &["list", NODE]);
+    let back = lifecycle(domain, true, &["set", NODE, "cleanup"]);
     expect(&back, "Transitioning successful\n", "", 0);
     // By id: 1 (configure), 3 (activate).
     expect(
@@ -179,14 +161,14 @@ fn verbs_print_what_ros2lifecycle_prints_for_an_rclpy_node() {
         lifecycle(domain, true, &["get", NODE]).stdout,
         "active [3]\n"
     );
-    same_as_ros2lifecycle(domain, w, &["list", NODE]);
+    same_as_ros2lifecycle(&mut expected, domain, &["list", NODE]);
 
     // A failing callback: "Transitioning failed" on stderr, exit status 0; the node stays active,
     // so both sides see the same failure.
     peer.send(&json!({"behave": {"on_deactivate": "failure"}}).to_string());
-    let failed = same_as_ros2lifecycle(domain, w, &["set", NODE, "deactivate"]);
+    let failed = same_as_ros2lifecycle(&mut expected, domain, &["set", NODE, "deactivate"]);
     expect(&failed, "", "Transitioning failed\n", 0);
-    same_as_ros2lifecycle(domain, w, &["get"]);
+    same_as_ros2lifecycle(&mut expected, domain, &["get"]);
 
     // --json.
     let run = lifecycle(domain, true, &["--json", "get", NODE]);
@@ -226,8 +208,9 @@ fn verbs_print_what_ros2lifecycle_prints_for_an_rclpy_node() {
         v,
         json!({"node": NODE, "transition": {"id": 7, "label": "shutdown"}, "success": true})
     );
-    same_as_ros2lifecycle(domain, w, &["get", NODE]);
-    same_as_ros2lifecycle(domain, w, &["list", NODE]);
+    same_as_ros2lifecycle(&mut expected, domain, &["get", NODE]);
+    same_as_ros2lifecycle(&mut expected, domain, &["list", NODE]);
+    expected.finish();
 }
 
 /// Configure fails once, then succeeds.
