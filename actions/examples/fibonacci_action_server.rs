@@ -74,8 +74,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                     break;
                 }
             }
-            // The result goes out reliably; give the client's get_result its answer.
-            std::thread::sleep(Duration::from_millis(500));
+            // A result is sent once, reliably: stay until the clients have left (they leave
+            // once they have it), woken by graph changes, at most a minute.
+            let graph = horus_ros_graph::Graph::of(&context)?;
+            graph.wait_until(Duration::from_secs(60), |c| {
+                c.count_subscribers("/fibonacci/_action/feedback") == 0
+            });
         }
     }
     Ok(())
