@@ -9,12 +9,12 @@
 
 mod common;
 
-use std::path::PathBuf;
-use std::process::{Child, Command, Stdio};
+use std::process::{Command, Stdio};
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
-use common::{cli_peer_script, expect, expect_json, Peer, Run};
+use common::streaming::Streaming;
+use common::{cli_peer_script, expect, expect_json, jazzy_prefix, Peer, Run};
 use serde_json::Value;
 
 /// Python start-up and rclpy's first discovery on a loaded machine.
@@ -31,21 +31,12 @@ fn peer(domain: u32, role: &str, node: &str, step: &str) -> Peer {
     )
 }
 
-/// The prefix of the Jazzy install (its `share/` holds test_msgs' `.action` files).
-fn jazzy_prefix() -> PathBuf {
-    let python = common::python();
-    python
-        .parent()
-        .and_then(|bin| bin.parent())
-        .map(PathBuf::from)
-        .unwrap_or_default()
-}
-
 /// `horus-ros --domain-id <domain> action send_goal <args…>`, started, its stdout read line
 /// by line; with `AMENT_PREFIX_PATH` the Jazzy install when `installed`, else unset.
 struct SendGoal {
-    child: Child,
-    lines: mpsc::Receiver<String>,
+    process: Streaming,
+    /// Its stderr, read as it comes.
+    stderr: mpsc::Receiver<String>,
     /// What it printed so far, each line with its newline.
     stdout: String,
 }
@@ -72,26 +63,24 @@ impl SendGoal {
         if installed {
             command.env("AMENT_PREFIX_PATH", jazzy_prefix());
         }
-        let mut child = command
+        command
             .env("RUST_LOG", "error")
             .stdin(Stdio::null())
-            .stdout(Stdio::piped())
-            .stderr(Stdio::piped())
-            .spawn()
-            .expect("start horus-ros action send_goal");
-        let stdout = child.stdout.take().expect("piped stdout");
+            .stderr(Stdio::piped());
+        let mut process = Streaming::spawn(&mut command).expect("start horus-ros action send_goal");
+        let stderr = process.child().stderr.take().expect("piped stderr");
         Self {
-            child,
-            lines: horus_ros_test_support::line_reader(stdout),
+            process,
+            stderr: horus_ros_test_support::read_all(stderr),
             stdout: String::new(),
         }
     }
 
     /// The next line, within [`LINE`].
     fn line(&mut self) -> String {
-        let line = self.lines.recv_timeout(LINE).unwrap_or_else(|e| {
+        let line = self.process.next_line(LINE).unwrap_or_else(|| {
             panic!(
-                "send_goal printed no further line ({e}); so far:\n{}",
+                "send_goal printed no further line; so far:\n{}",
                 self.stdout
             )
         });
@@ -100,19 +89,19 @@ impl SendGoal {
         line
     }
 
+    /// Its process id.
+    fn pid(&mut self) -> u32 {
+        self.process.child().id()
+    }
+
     /// The remaining output and the exit code.
     fn finish(mut self) -> Run {
-        let pid = self.child.id();
-        let out = horus_ros_test_support::wait_with_output(&mut self.child, common::RUN_LIMIT)
-            .expect("horus-ros output");
-        while let Ok(line) = self.lines.try_recv() {
-            self.stdout.push_str(&line);
-            self.stdout.push('\n');
-        }
+        let pid = self.pid();
+        let (rest, code) = self.process.finish(common::RUN_LIMIT);
         Run {
-            code: out.code(),
-            stdout: self.stdout + &out.stdout,
-            stderr: out.stderr,
+            code,
+            stdout: self.stdout + &rest,
+            stderr: self.stderr.recv_timeout(LINE).unwrap_or_default(),
             pid,
         }
     }
@@ -339,7 +328,7 @@ fn an_interrupt_cancels_the_goal() {
     goal_sent(&mut send, 40);
     // Executing: a feedback came, so the server has published the status EXECUTING.
     assert_eq!(send.line(), "Feedback:", "{}", send.stdout);
-    let pid = nix::unistd::Pid::from_raw(send.child.id() as i32);
+    let pid = nix::unistd::Pid::from_raw(send.pid() as i32);
     nix::sys::signal::kill(pid, nix::sys::signal::Signal::SIGINT).expect("SIGINT");
     let run = send.finish();
     assert!(
