@@ -34,6 +34,8 @@ pub struct ServiceType {
     schema: Schema,
     request: TypeDescription,
     response: TypeDescription,
+    /// The RIHS01 hash of the service type itself (ZERO when the descriptions lack it).
+    service_hash: TypeHash,
 }
 
 impl ServiceType {
@@ -57,6 +59,10 @@ impl ServiceType {
         schema.add(&response)?;
         schema.check(&req_name)?;
         schema.check(&resp_name)?;
+        let service_hash = descriptions
+            .iter()
+            .find_map(|d| sub_description(d, service_type).ok())
+            .map_or(TypeHash::ZERO, |d| d.compute_type_hash());
         Ok(Self {
             name: service_type.to_owned(),
             request_type: req_name,
@@ -64,6 +70,7 @@ impl ServiceType {
             schema,
             request,
             response,
+            service_hash,
         })
     }
 
@@ -101,6 +108,13 @@ impl ServiceType {
     /// The response type's full description.
     pub fn response_description(&self) -> &TypeDescription {
         &self.response
+    }
+
+    /// The RIHS01 hash of the service type itself (`pkg/srv/Name`), which rmw_zenoh's service keys
+    /// carry; [`TypeHash::ZERO`] when the descriptions it was made from lack the service's own
+    /// (e.g. only its request and response).
+    pub fn service_hash(&self) -> TypeHash {
+        self.service_hash
     }
 
     /// The RIHS01 hashes of the request and response types.

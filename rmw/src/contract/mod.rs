@@ -58,6 +58,15 @@ pub struct Capabilities {
     /// The discovery feed reads other participants' USER_DATA (so a participant reported
     /// without an enclave announced none).
     pub reads_participant_user_data: bool,
+    /// A service's request writer and reply reader (client), or request reader and reply writer
+    /// (server), are one entity of the backend's own request/reply (rmw_zenoh's queryable and
+    /// `get`), paired by their [`ServiceEndpointId`]: a request carries its client's identity
+    /// (the client's GID and its own sequence number from 1) as its [`RawSample::id`] and as its
+    /// `related` identity (with [`HORUS_CLIENT_MARKER`](crate::service::HORUS_CLIENT_MARKER)); a
+    /// reply is written with `related` = that identity (a negated sequence number: an error
+    /// reply) and goes back through the request it answers, so it needs no matched reader; a
+    /// reply taken carries the request's identity as `related`.
+    pub service_queries: bool,
 }
 
 /// What a participant is created with.

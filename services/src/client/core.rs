@@ -173,14 +173,10 @@ impl<C: Codec> ClientCore<C> {
         // the client id announced as `clientid=` on rmw_cyclonedds (jazzy `rmw_node.cpp`:
         // `cli->client.id`). A backend that carries related_sample_identity speaks the former's
         // convention, one that does not the latter's.
+        // rmw_zenoh: the client's GID (the hash of its token), which our request writer has.
+        let capabilities = runtime.node.context().capabilities();
         let client_gid = match topics.request.service_id {
-            Some(id)
-                if !runtime
-                    .node
-                    .context()
-                    .capabilities()
-                    .carries_sample_identity =>
-            {
+            Some(id) if !capabilities.carries_sample_identity && !capabilities.service_queries => {
                 id.id
             }
             _ => *endpoints.request_writer().as_bytes(),
