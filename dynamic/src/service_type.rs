@@ -175,6 +175,25 @@ mod tests {
     use horus_ros_msgs::Message;
 
     #[test]
+    fn the_service_hash_is_the_service_types_own() {
+        use horus_ros_msgs::Service;
+        let ty = ServiceType::compiled("example_interfaces/srv/AddTwoInts").expect("compiled");
+        assert_eq!(
+            ty.service_hash(),
+            example_interfaces::srv::AddTwoInts::type_hash()
+        );
+        let parts_only = ServiceType::from_descriptions(
+            "example_interfaces/srv/AddTwoInts",
+            &[
+                ty.request_description().clone(),
+                ty.response_description().clone(),
+            ],
+        )
+        .expect("parts");
+        assert_eq!(parts_only.service_hash(), TypeHash::ZERO);
+    }
+
+    #[test]
     fn a_compiled_service_type_is_filled_from_yaml_or_json_and_answers_in_json() {
         let ty = ServiceType::compiled("example_interfaces/srv/AddTwoInts").expect("compiled");
         let from_yaml = ty.request_from_yaml("{a: 2, b: 3}").expect("yaml");

@@ -302,6 +302,35 @@ fn two_contexts_through_a_router() {
         answers.take().expect("take").is_none(),
         "one reply per request"
     );
+    // A client in the server's own context reaches it too (its queryable answers local gets).
+    let (request, reply) = service_specs(&talker, ServiceEndpointRole::Client);
+    let local_calls = node
+        .create_raw_writer(&request)
+        .expect("local request writer");
+    let mut local_answers = node.create_raw_reader(&reply).expect("local reply reader");
+    let local = local_calls
+        .write(vec![0; 16], None, None)
+        .expect("local request");
+    assert_eq!(
+        local.sequence_number, 1,
+        "each client numbers its own requests"
+    );
+    let taken = next_sample(&mut requests, "local request");
+    assert_eq!(taken.id, local);
+    replies
+        .write(0i64.to_le_bytes().to_vec(), Some(local), None)
+        .expect("local reply");
+    assert_eq!(
+        next_sample(&mut local_answers, "local reply").related,
+        Some(local)
+    );
+    assert!(
+        answers.take().expect("take").is_none(),
+        "not the other client's"
+    );
+    drop(local_calls);
+    drop(local_answers);
+
     // The server's end takes it off the client's graph.
     let server_gid = requests.gid();
     drop(requests);

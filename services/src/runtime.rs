@@ -47,8 +47,9 @@ impl Runtime {
     }
 
     /// This runtime, and the topics on its node of an endpoint in `role` of the service type
-    /// `service_type` (`pkg/srv/Name`, with its RIHS01 hash) whose request and response have these
-    /// DDS type names and hashes, as `options` set it: its name (default: the type's name in snake case) and QoS.
+    /// `service_type` (`pkg/srv/Name`, with its RIHS01 hash) whose request and response have
+    /// these DDS type names and hashes, as `options` set it: its name (default: the type's name
+    /// in snake case) and QoS.
     /// [`endpoint`](Self::endpoint) for a compiled type; on [`for_node`](Self::for_node) for a
     /// type known at run time.
     pub(crate) fn with_topics(
