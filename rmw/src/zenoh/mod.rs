@@ -295,25 +295,29 @@ impl ZenohParticipant {
             type_hash: id.service_type_hash,
             qos: spec.qos,
         };
-        let (token, token_key) =
-            match owner.and_then(|o| self.entity_token(o, kind, entity_id, topic)) {
-                Some(token) => {
-                    let key = token.key();
-                    (self.declare_token(&key), key)
-                }
-                None => (None, format!("{}/{entity_id}", self.zid)),
-            };
+        let token = owner.and_then(|o| self.entity_token(o, kind, entity_id, topic));
+        let token_key = token
+            .as_ref()
+            .map_or_else(|| format!("{}/{entity_id}", self.zid), Token::key);
         let gids = (
             liveliness::gid_of_key(&token_key),
             liveliness::gid_of_key(&format!("{token_key}#reply")),
         );
+        // The token after the queryable (the entity declares it): a client that sees it finds
+        // the queryable.
+        let declare = || {
+            token
+                .is_some()
+                .then(|| self.declare_token(&token_key))
+                .flatten()
+        };
         let queue = ReaderQueue::new(services::MAX_HELD_QUERIES, &spec.dds_topic_name);
         let entity = Arc::new(match id.role {
             ServiceEndpointRole::Server => {
-                ServiceEntity::server(&self.session, key, gids, token, queue)?
+                ServiceEntity::server(&self.session, key, gids, declare, queue)?
             }
             ServiceEndpointRole::Client => {
-                ServiceEntity::client(&self.session, key, gids, token, queue)?
+                ServiceEntity::client(&self.session, key, gids, declare, queue)?
             }
         });
         services.insert(id.id, Arc::downgrade(&entity));

@@ -96,12 +96,13 @@ enum EntityKind {
 }
 
 impl ServiceEntity {
-    /// A server: the queryable (`complete=true`) on `key`, its requests going to `queue`.
+    /// A server: the queryable (`complete=true`) on `key`, its requests going to `queue`; then
+    /// its token (`declare_token`), so that a client that sees the token finds the queryable.
     pub(crate) fn server(
         session: &zenoh::Session,
         key: String,
         (gid, reply_gid): (Gid, Gid),
-        token: Option<LivelinessToken>,
+        declare_token: impl FnOnce() -> Option<LivelinessToken>,
         queue: Arc<ReaderQueue>,
     ) -> Result<Self, DdsError> {
         let key = zenoh::key_expr::KeyExpr::try_from(key)
@@ -148,7 +149,7 @@ impl ServiceEntity {
                 queries,
                 _queryable: queryable,
             },
-            _token: token,
+            _token: declare_token(),
         })
     }
 
@@ -157,11 +158,12 @@ impl ServiceEntity {
         session: &zenoh::Session,
         key: String,
         (gid, reply_gid): (Gid, Gid),
-        token: Option<LivelinessToken>,
+        declare_token: impl FnOnce() -> Option<LivelinessToken>,
         queue: Arc<ReaderQueue>,
     ) -> Result<Self, DdsError> {
         let key = zenoh::key_expr::KeyExpr::try_from(key)
             .map_err(|e| zenoh_error(DdsError::Create, e))?;
+        let token = declare_token();
         Ok(Self {
             key,
             gid,
