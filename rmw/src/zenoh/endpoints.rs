@@ -62,7 +62,8 @@ pub(crate) struct ZenohWriter {
 
 impl WriterBackend for ZenohWriter {
     /// Puts the sample with its attachment. `related` is refused (a Zenoh topic has no
-    /// related sample identity; replies are milestone 2's queryables); `only_to` is ignored.
+    /// related sample identity; service replies go through `services`' queries); `only_to` is
+    /// ignored.
     fn write(
         &self,
         body: Vec<u8>,
