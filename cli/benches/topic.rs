@@ -1082,7 +1082,7 @@ fn main() -> ExitCode {
     let mut failed = false;
     for (i, backend) in Backend::ALL.into_iter().enumerate() {
         if backend == Backend::Zenoh {
-            // Needs a router, and its services are not queryables yet (issue 29, milestone 2).
+            // Needs a router the bench does not start yet (issue 29).
             println!("backend {backend}: not measured yet");
             continue;
         }

@@ -34,6 +34,8 @@ pub struct ServiceType {
     schema: Schema,
     request: TypeDescription,
     response: TypeDescription,
+    /// The RIHS01 hash of the service type itself (ZERO when the descriptions lack it).
+    service_hash: TypeHash,
 }
 
 impl ServiceType {
@@ -57,6 +59,10 @@ impl ServiceType {
         schema.add(&response)?;
         schema.check(&req_name)?;
         schema.check(&resp_name)?;
+        let service_hash = descriptions
+            .iter()
+            .find_map(|d| sub_description(d, service_type).ok())
+            .map_or(TypeHash::ZERO, |d| d.compute_type_hash());
         Ok(Self {
             name: service_type.to_owned(),
             request_type: req_name,
@@ -64,6 +70,7 @@ impl ServiceType {
             schema,
             request,
             response,
+            service_hash,
         })
     }
 
@@ -101,6 +108,13 @@ impl ServiceType {
     /// The response type's full description.
     pub fn response_description(&self) -> &TypeDescription {
         &self.response
+    }
+
+    /// The RIHS01 hash of the service type itself (`pkg/srv/Name`), which rmw_zenoh's service keys
+    /// carry; [`TypeHash::ZERO`] when the descriptions it was made from lack the service's own
+    /// (e.g. only its request and response).
+    pub fn service_hash(&self) -> TypeHash {
+        self.service_hash
     }
 
     /// The RIHS01 hashes of the request and response types.
@@ -159,6 +173,25 @@ mod tests {
     use super::*;
     use horus_ros_msgs::example_interfaces;
     use horus_ros_msgs::Message;
+
+    #[test]
+    fn the_service_hash_is_the_service_types_own() {
+        use horus_ros_msgs::Service;
+        let ty = ServiceType::compiled("example_interfaces/srv/AddTwoInts").expect("compiled");
+        assert_eq!(
+            ty.service_hash(),
+            example_interfaces::srv::AddTwoInts::type_hash()
+        );
+        let parts_only = ServiceType::from_descriptions(
+            "example_interfaces/srv/AddTwoInts",
+            &[
+                ty.request_description().clone(),
+                ty.response_description().clone(),
+            ],
+        )
+        .expect("parts");
+        assert_eq!(parts_only.service_hash(), TypeHash::ZERO);
+    }
 
     #[test]
     fn a_compiled_service_type_is_filled_from_yaml_or_json_and_answers_in_json() {

@@ -120,6 +120,7 @@ impl Backend {
             carries_sample_identity: self.carries_sample_identity(),
             announces_user_data: self.announces_user_data(),
             reads_participant_user_data: self.reads_participant_user_data(),
+            service_queries: self.service_queries(),
         }
     }
 
@@ -136,6 +137,12 @@ impl Backend {
     /// that follow the rmw_fastrtps service convention). Cyclone DDS has no API for it.
     pub const fn carries_sample_identity(self) -> bool {
         matches!(self, Self::RustDds)
+    }
+
+    /// Whether services are the backend's own request/reply rather than request and reply topics
+    /// (Zenoh's queryables and queries; see [`Capabilities::service_queries`]).
+    pub const fn service_queries(self) -> bool {
+        matches!(self, Self::Zenoh)
     }
 
     /// Whether participants and endpoints announce USER_DATA (`enclave=`, `typehash=`,

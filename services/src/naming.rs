@@ -46,12 +46,14 @@ pub(crate) struct ServiceTopics {
 impl ServiceTopics {
     /// Resolves `name` (relative names, `~`, substitutions) for `node` and names the topics:
     /// `rq/<name>Request` with the request's DDS type name (`pkg::srv::dds_::Name_Request_`) and
-    /// hash, `rr/<name>Reply` with the response's (`pkg::srv::dds_::Name_Response_`).
+    /// hash, `rr/<name>Reply` with the response's (`pkg::srv::dds_::Name_Response_`); both carry
+    /// one [`ServiceEndpointId`](horus_ros_rmw::ServiceEndpointId) with the service type's hash.
     pub(crate) fn resolve(
         node: &Node,
         name: &str,
         qos: &Qos,
         role: ServiceEndpointRole,
+        service_hash: TypeHash,
         request: (String, TypeHash),
         response: (String, TypeHash),
     ) -> Result<Self, SetupError> {
@@ -101,7 +103,7 @@ impl ServiceTopics {
             ServiceEndpointRole::Server => (reader_qos, writer_qos),
         };
         // One id for both endpoints (announced as `clientid=`/`serviceid=` where USER_DATA is).
-        let service_id = Some(node.context().new_service_endpoint_id(role));
+        let service_id = Some(node.context().new_service_endpoint_id(role, service_hash));
         Ok(Self {
             request: RawEndpointSpec {
                 dds_topic_name: name.to_dds_request_topic_name(avoid),

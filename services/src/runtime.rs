@@ -40,22 +40,23 @@ impl Runtime {
         Self::for_service::<S>(options.node.as_ref())?.with_topics(
             options,
             role,
-            S::TYPE_NAME,
+            (S::TYPE_NAME, S::type_hash()),
             (S::Request::dds_type_name(), S::Request::type_hash()),
             (S::Response::dds_type_name(), S::Response::type_hash()),
         )
     }
 
     /// This runtime, and the topics on its node of an endpoint in `role` of the service type
-    /// `service_type` (`pkg/srv/Name`) whose request and response have these DDS type names and
-    /// hashes, as `options` set it: its name (default: the type's name in snake case) and QoS.
+    /// `service_type` (`pkg/srv/Name`, with its RIHS01 hash) whose request and response have
+    /// these DDS type names and hashes, as `options` set it: its name (default: the type's name
+    /// in snake case) and QoS.
     /// [`endpoint`](Self::endpoint) for a compiled type; on [`for_node`](Self::for_node) for a
     /// type known at run time.
     pub(crate) fn with_topics(
         self,
         options: &EndpointOptions,
         role: ServiceEndpointRole,
-        service_type: &str,
+        (service_type, service_hash): (&str, TypeHash),
         request: (String, TypeHash),
         response: (String, TypeHash),
     ) -> Result<(Self, ServiceTopics), SetupError> {
@@ -63,8 +64,15 @@ impl Runtime {
             .name
             .clone()
             .unwrap_or_else(|| default_name_of_type(service_type));
-        let topics =
-            ServiceTopics::resolve(&self.node, &name, &options.qos, role, request, response)?;
+        let topics = ServiceTopics::resolve(
+            &self.node,
+            &name,
+            &options.qos,
+            role,
+            service_hash,
+            request,
+            response,
+        )?;
         Ok((self, topics))
     }
 

@@ -9,11 +9,19 @@ rmw_zenoh_cpp's liveliness_utils.cpp, rmw_publisher_data.cpp, attachment_helpers
 - a publisher on /chatter (MP, entity 10 as in rclpy): every 100 ms a sample on
   <domain>/chatter/<type>/<hash>, CDR with the 00 01 00 00 header, and the 33-byte attachment
   (seq from 1, source timestamp ns, 0x10, GID = XXH3-128 of the MP token, low64 LE then high64 LE);
-- a service server token for /add_two_ints (SS, entity 12; no queryable yet);
+- an AddTwoInts server of /add_two_ints (SS, entity 12; rmw_service_data.cpp): a queryable on
+  <domain>/add_two_ints/<srv type>/<srv hash> with complete=true; each query's sum is replied on
+  the query's key with an attachment echoing the query's sequence number and GID under a new
+  timestamp, and printed as a JSON line {"served": …} (with whether the query's GID is the
+  XXH3-128 of an SC token of /add_two_ints seen in the graph); {a: 0, b: 0} is held unanswered;
 - a subscription on /back (MS, entity 11): each sample received is printed as a JSON line, with
-  whether its attachment GID is the XXH3-128 of a publisher token of /back seen in the graph.
+  whether its attachment GID is the XXH3-128 of a publisher token of /back seen in the graph;
+- with a fourth argument <service>, an AddTwoInts client of it (SC, entity 13;
+  rmw_client_data.cpp): once an SS token of that service is in the graph, one get on its key with
+  {a: 2, b: 3}, the attachment (seq 1, timestamp, GID = XXH3-128 of the SC token), target
+  ALL_COMPLETE and consolidation NONE; each reply is printed as a JSON line {"reply": …}.
 
-Usage: zenoh_rclpy_talker.py <router port> <domain> <linger seconds>
+Usage: zenoh_rclpy_talker.py <router port> <domain> <linger seconds> [<service to call>]
 Prints one JSON line when its tokens are declared: zid, the tokens and the publisher's GID.
 """
 
@@ -46,6 +54,7 @@ def cdr_string(text):
 
 def main():
     port, domain, linger = int(sys.argv[1]), int(sys.argv[2]), float(sys.argv[3])
+    call = sys.argv[4] if len(sys.argv) > 4 else None
     conf = zenoh.Config()
     conf.insert_json5("mode", '"peer"')
     conf.insert_json5("connect/endpoints", json.dumps([f"tcp/127.0.0.1:{port}"]))
@@ -57,8 +66,11 @@ def main():
     node_token = f"{prefix}/0/NN/%/%/talker"
     pub_token = f"{prefix}/10/MP/%/%/talker/%chatter/{STRING_TYPE}/{STRING_HASH}/{QOS}"
     sub_token = f"{prefix}/11/MS/%/%/talker/%back/{STRING_TYPE}/{STRING_HASH}/{QOS}"
-    # A server's token only (the graph's view of a service; its queryable is milestone 2's).
     srv_token = f"{prefix}/12/SS/%/%/talker/%add_two_ints/{SRV_TYPE}/{SRV_HASH}/{QOS}"
+    cli_token = None
+    if call is not None:
+        mangled = call.replace("/", "%")
+        cli_token = f"{prefix}/13/SC/%/%/talker/{mangled}/{SRV_TYPE}/{SRV_HASH}/{QOS}"
     gid = gid_of(pub_token)
 
     # The graph, as rmw_zenoh's graph cache learns it: tokens with history.
@@ -114,7 +126,52 @@ def main():
 
     back_key = f"{domain}/back/{STRING_TYPE}/{STRING_HASH}"
     sub = session.declare_subscriber(back_key, on_back)
-    tokens = [session.liveliness().declare_token(k) for k in (node_token, pub_token, sub_token, srv_token)]
+
+    def add_two_ints_clients():
+        return [t for t in graph if "/SC/" in t and "/%add_two_ints/" in t and f"/{zid}/" not in t]
+
+    # The server: queries are answered on a thread of their own (the check of the client's
+    # token may wait for it, bounded, as for samples).
+    queries = queue.Queue()
+    held = []
+
+    def serve():
+        while True:
+            query = queries.get()
+            if query is None:
+                return
+            payload = query.payload.to_bytes() if query.payload is not None else b""
+            attachment = query.attachment.to_bytes() if query.attachment is not None else b""
+            out = {"served": {"key": str(query.key_expr), "payload": payload.hex(), "attachment": attachment.hex()}}
+            if len(attachment) != 33 or len(payload) != 20:
+                # rmw_service_data.cpp: a query without an attachment is not taken.
+                print(json.dumps(out), flush=True)
+                continue
+            seq, _ = struct.unpack_from("<qq", attachment)
+            client_gid = attachment[17:]
+            a, b = struct.unpack_from("<qq", payload, 4)
+            match = lambda: any(gid_of(t) == client_gid for t in add_two_ints_clients())
+            with changed:
+                changed.wait_for(match, timeout=10)
+                out["served"]["gid_is_token_hash"] = match()
+            out["served"].update({"seq": seq, "gid": client_gid.hex(), "a": a, "b": b})
+            if a == 0 and b == 0:
+                # {a: 0, b: 0} is held unanswered (a server that dies while serving it).
+                held.append(query)
+                print(json.dumps(out), flush=True)
+                continue
+            reply_attachment = struct.pack("<qq", seq, time.time_ns()) + b"\x10" + client_gid
+            query.reply(query.key_expr, b"\x00\x01\x00\x00" + struct.pack("<q", a + b), attachment=reply_attachment)
+            del query
+            print(json.dumps(out), flush=True)
+
+    serve_thread = threading.Thread(target=serve, daemon=True)
+    serve_thread.start()
+    srv_key = f"{domain}/add_two_ints/{SRV_TYPE}/{SRV_HASH}"
+    queryable = session.declare_queryable(srv_key, queries.put, complete=True)
+
+    declared = [node_token, pub_token, sub_token, srv_token] + ([cli_token] if cli_token else [])
+    tokens = [session.liveliness().declare_token(k) for k in declared]
     pub = session.declare_publisher(f"{domain}/chatter/{STRING_TYPE}/{STRING_HASH}")
     print(
         json.dumps(
@@ -126,10 +183,41 @@ def main():
                 "pub_gid": gid.hex(),
                 "srv_token": srv_token,
                 "srv_gid": gid_of(srv_token).hex(),
+                "cli_gid": gid_of(cli_token).hex() if cli_token else None,
             }
         ),
         flush=True,
     )
+
+    def call_ours():
+        mangled = call.replace("/", "%")
+        servers = lambda: [t for t in graph if "/SS/" in t and f"/{mangled}/{SRV_TYPE}/" in t]
+        with changed:
+            if not changed.wait_for(servers, timeout=linger):
+                return
+        attachment = struct.pack("<qq", 1, time.time_ns()) + b"\x10" + gid_of(cli_token)
+        request = b"\x00\x01\x00\x00" + struct.pack("<qq", 2, 3)
+        replies = session.get(
+            f"{domain}/{call.lstrip('/')}/{SRV_TYPE}/{SRV_HASH}",
+            target=zenoh.QueryTarget.ALL_COMPLETE,
+            consolidation=zenoh.ConsolidationMode.NONE,
+            payload=request,
+            attachment=attachment,
+        )
+        for reply in replies:
+            if reply.ok is None:
+                print(json.dumps({"reply": {"error": True}}), flush=True)
+                continue
+            sample = reply.ok
+            att = sample.attachment.to_bytes() if sample.attachment is not None else b""
+            out = {"key": str(sample.key_expr), "payload": sample.payload.to_bytes().hex(), "attachment": att.hex()}
+            if len(att) == 33:
+                seq, ts = struct.unpack_from("<qq", att)
+                out.update({"seq": seq, "timestamp": ts, "gid": att[17:].hex()})
+            print(json.dumps({"reply": out}), flush=True)
+
+    if call is not None:
+        threading.Thread(target=call_ours, daemon=True).start()
     end = time.monotonic() + linger
     seq = 0
     while time.monotonic() < end:
@@ -137,7 +225,7 @@ def main():
         attachment = struct.pack("<qq", seq, time.time_ns()) + b"\x10" + gid
         pub.put(cdr_string(f"Hello World: {seq}"), attachment=attachment)
         time.sleep(0.1)
-    del tokens, sub, tokens_sub
+    del tokens, sub, tokens_sub, queryable
     session.close()
 
 

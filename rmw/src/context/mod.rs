@@ -340,8 +340,13 @@ impl Context {
     /// A new id for one service client or server (its request and reply endpoints share it),
     /// announced in their USER_DATA as `clientid=…;` / `serviceid=…;` by backends that announce
     /// USER_DATA. As rmw_cyclonedds `get_unique_csid`: the participant's 12-byte GUID prefix
-    /// followed by a per-context counter (from 1), big-endian.
-    pub fn new_service_endpoint_id(&self, role: ServiceEndpointRole) -> ServiceEndpointId {
+    /// followed by a per-context counter (from 1), big-endian. `service_type_hash` is the RIHS01
+    /// hash of the service type ([`TypeHash::ZERO`](horus_ros_msgs::TypeHash::ZERO) if unknown).
+    pub fn new_service_endpoint_id(
+        &self,
+        role: ServiceEndpointRole,
+        service_type_hash: horus_ros_msgs::TypeHash,
+    ) -> ServiceEndpointId {
         let n = self
             .inner
             .service_endpoint_ids
@@ -350,7 +355,11 @@ impl Context {
         let mut id = [0u8; 16];
         id[..12].copy_from_slice(&self.inner.gid.as_bytes()[..12]);
         id[12..].copy_from_slice(&n.to_be_bytes());
-        ServiceEndpointId { role, id }
+        ServiceEndpointId {
+            role,
+            id,
+            service_type_hash,
+        }
     }
 
     /// The domain this context is in.

@@ -88,13 +88,17 @@ pub enum ServiceEndpointRole {
 }
 
 /// The id shared by the two endpoints of one service client or server (rmw_cyclonedds
-/// `client_service_id_t`); see [`Context::new_service_endpoint_id`](crate::Context::new_service_endpoint_id).
+/// `client_service_id_t`), with the service type's hash; see
+/// [`Context::new_service_endpoint_id`](crate::Context::new_service_endpoint_id).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct ServiceEndpointId {
     /// Client or server.
     pub role: ServiceEndpointRole,
     /// The 16 bytes: participant GUID prefix + big-endian counter.
     pub id: [u8; 16],
+    /// The RIHS01 hash of the service type (`pkg/srv/Name`, not its request or response), which
+    /// rmw_zenoh's service keys and tokens carry; [`TypeHash::ZERO`] where it is not known.
+    pub service_type_hash: TypeHash,
 }
 
 impl ServiceEndpointId {
@@ -128,6 +132,7 @@ mod tests {
         let client = ServiceEndpointId {
             role: ServiceEndpointRole::Client,
             id,
+            service_type_hash: TypeHash::ZERO,
         };
         assert_eq!(
             client.user_data(),
@@ -137,6 +142,7 @@ mod tests {
         let server = ServiceEndpointId {
             role: ServiceEndpointRole::Server,
             id,
+            service_type_hash: TypeHash::ZERO,
         };
         assert!(server.user_data().starts_with("serviceid=ab.10.a.ff."));
         let spec = RawEndpointSpec {

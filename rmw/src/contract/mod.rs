@@ -11,6 +11,7 @@
 //! | `rmw_context_t` (one participant per context) | [`ParticipantBackend`] |
 //! | `rmw_publisher_t`, a client's request / a server's reply writer | [`WriterBackend`] |
 //! | `rmw_subscription_t`, a server's request / a client's reply reader | [`ReaderBackend`] |
+//! | `rmw_service_t` / `rmw_client_t` | a request/reply [`ReaderBackend`] + [`WriterBackend`] pair sharing a [`ServiceEndpointId`] (one entity of the backend where [`Capabilities::service_queries`]) |
 //! | `rmw_wait_set_t` | [`WaitSetBackend`] |
 //! | `rmw_guard_condition_t` (a wake-up from another thread) | [`Wake`] |
 //! | the graph guard condition and `rmw_dds_common::GraphCache`'s inputs | [`FeedBackend`] |
@@ -23,7 +24,10 @@
 //! [`ContextBuilder::implementation`](crate::ContextBuilder::implementation).
 //!
 //! Endpoints are described by their DDS names ([`RawEndpointSpec`]): a backend that is not DDS
-//! maps them to its own keys, as rmw_zenoh maps ROS names to key expressions.
+//! maps them to its own keys, as rmw_zenoh maps ROS names to key expressions; one whose services
+//! are its own request/reply (Zenoh's queryables) makes a service's two endpoints one entity
+//! ([`Capabilities::service_queries`]), the identities the services layer correlates by
+//! travelling in its own form (rmw_zenoh's attachment).
 
 use std::any::Any;
 use std::sync::Arc;
@@ -58,6 +62,15 @@ pub struct Capabilities {
     /// The discovery feed reads other participants' USER_DATA (so a participant reported
     /// without an enclave announced none).
     pub reads_participant_user_data: bool,
+    /// A service's request writer and reply reader (client), or request reader and reply writer
+    /// (server), are one entity of the backend's own request/reply (rmw_zenoh's queryable and
+    /// `get`), paired by their [`ServiceEndpointId`]: a request carries its client's identity
+    /// (the client's GID and its own sequence number from 1) as its [`RawSample::id`] and as its
+    /// `related` identity (with [`HORUS_CLIENT_MARKER`](crate::service::HORUS_CLIENT_MARKER)); a
+    /// reply is written with `related` = that identity (a negated sequence number: an error
+    /// reply) and goes back through the request it answers, so it needs no matched reader; a
+    /// reply taken carries the request's identity as `related`.
+    pub service_queries: bool,
 }
 
 /// What a participant is created with.

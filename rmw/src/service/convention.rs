@@ -84,6 +84,11 @@ impl WireFlavour {
         vendor: Option<VendorId>,
         forced: Option<Self>,
     ) -> Result<Self, ConventionError> {
+        // A backend whose services are its own request/reply (Zenoh) carries the identities
+        // both ways, whoever the peer: its endpoints speak the rmw_fastrtps shape of them.
+        if capabilities.service_queries {
+            return Ok(Self::FastRtps);
+        }
         if capabilities.carries_sample_identity {
             return Ok(forced.unwrap_or_else(|| Self::for_vendor(vendor)));
         }

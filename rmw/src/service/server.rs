@@ -602,6 +602,10 @@ impl Server {
     /// participant has had [`CYCLONE_FIRST_HEARTBEAT_SETTLE`] to see our writer's first
     /// HEARTBEAT.
     fn readiness(&self, recipient: Recipient, now: Instant) -> Readiness {
+        // A reply that goes back through its request (Zenoh's query) has no reader to wait for.
+        if self.capabilities.service_queries {
+            return Readiness::Now;
+        }
         let writer = self.reply_writer;
         let heard = match recipient {
             Recipient::Reader(reader) => self.peers.is_matched(writer, reader),

@@ -23,7 +23,7 @@ use crate::raw::RawSample;
 use crate::Gid;
 
 /// CDR little-endian encapsulation (`00 01 00 00`), what rmw_zenoh writes.
-const CDR_LE_HEADER: [u8; 4] = [0x00, 0x01, 0x00, 0x00];
+pub(crate) const CDR_LE_HEADER: [u8; 4] = [0x00, 0x01, 0x00, 0x00];
 
 /// Most samples a reader queues (KEEP_ALL, or a larger depth): the oldest go first.
 pub(crate) const MAX_SAMPLES: usize = 10_000;
@@ -62,7 +62,8 @@ pub(crate) struct ZenohWriter {
 
 impl WriterBackend for ZenohWriter {
     /// Puts the sample with its attachment. `related` is refused (a Zenoh topic has no
-    /// related sample identity; replies are milestone 2's queryables); `only_to` is ignored.
+    /// related sample identity; service replies go through `services`' queries); `only_to` is
+    /// ignored.
     fn write(
         &self,
         body: Vec<u8>,
@@ -112,11 +113,15 @@ impl Drop for ZenohWriter {
 }
 
 /// A sample as received: the payload and what its attachment said.
-struct Incoming {
-    payload: Vec<u8>,
-    attachment: Attachment,
+pub(crate) struct Incoming {
+    /// The payload (encapsulation header included).
+    pub(crate) payload: Vec<u8>,
+    /// Its attachment.
+    pub(crate) attachment: Attachment,
     /// When it arrived, in ns since the UNIX epoch.
-    received: i64,
+    pub(crate) received: i64,
+    /// The identity it is related to (a service request's client, a reply's request).
+    pub(crate) related: Option<SampleId>,
 }
 
 /// A reader's bounded queue and whom it wakes.
@@ -151,31 +156,41 @@ impl ReaderQueue {
     /// What the subscriber's callback does with a sample: one without a valid attachment is
     /// dropped, as rmw_zenoh drops it ("Unable to obtain attachment"), logged once per reader.
     pub(crate) fn receive(&self, sample: &zenoh::sample::Sample) {
-        let attachment = match sample
-            .attachment()
-            .map(|a| Attachment::parse(&a.to_bytes()))
-        {
-            Some(Ok(a)) => a,
+        let Some(attachment) = self.attachment_of(sample.attachment(), sample.key_expr()) else {
+            return;
+        };
+        self.deliver(Incoming {
+            payload: sample.payload().to_bytes().into_owned(),
+            attachment,
+            received: crate::contract::unix_time_ns(),
+            related: None,
+        });
+    }
+
+    /// The attachment `raw` of a sample, query or reply on `key`; `None` (logged once per
+    /// reader) if it has none or a malformed one.
+    pub(crate) fn attachment_of(
+        &self,
+        raw: Option<&zenoh::bytes::ZBytes>,
+        key: &zenoh::key_expr::KeyExpr<'_>,
+    ) -> Option<Attachment> {
+        match raw.map(|a| Attachment::parse(&a.to_bytes())) {
+            Some(Ok(a)) => Some(a),
             problem => {
                 if !self.warned.swap(true, Ordering::Relaxed) {
                     let why = match problem {
                         Some(Err(e)) => e.to_string(),
                         _ => "no attachment".to_owned(),
                     };
-                    tracing::warn!(topic = %self.topic, key = %sample.key_expr(), "zenoh: dropped a sample: {why} (further ones of this subscription are dropped silently)");
+                    tracing::warn!(topic = %self.topic, %key, "zenoh: dropped a message: {why} (further ones of this endpoint are dropped silently)");
                 }
-                return;
+                None
             }
-        };
-        self.deliver(Incoming {
-            payload: sample.payload().to_bytes().into_owned(),
-            attachment,
-            received: crate::contract::unix_time_ns(),
-        });
+        }
     }
 
     /// Queues a sample (the oldest goes when full) and wakes the reader or its wait set.
-    fn deliver(&self, sample: Incoming) {
+    pub(crate) fn deliver(&self, sample: Incoming) {
         let mut state = lock(&self.state);
         if state.samples.len() >= self.depth {
             state.samples.pop_front();
@@ -204,6 +219,9 @@ pub(crate) enum Subscription {
 pub(crate) struct ZenohReader {
     pub(crate) token: Option<LivelinessToken>,
     pub(crate) subscriber: Option<Subscription>,
+    /// The service server or client whose request or reply reader this is (its queue is fed
+    /// by the queryable or the queries' replies).
+    pub(crate) service: Option<Arc<dyn std::any::Any + Send + Sync>>,
     pub(crate) queue: Arc<ReaderQueue>,
     pub(crate) gid: Gid,
     pub(crate) graph: Arc<Graph>,
@@ -233,7 +251,7 @@ impl ReaderBackend for ZenohReader {
                 writer: sample.attachment.gid,
                 sequence_number: sample.attachment.sequence_number,
             },
-            related: None,
+            related: sample.related,
             publication_handle: None,
             // The attachment's timestamp (rmw_zenoh's `source_timestamp`).
             source_timestamp: Some(sample.attachment.source_timestamp),
@@ -267,6 +285,7 @@ impl Drop for ZenohReader {
     fn drop(&mut self) {
         drop(self.token.take());
         drop(self.subscriber.take());
+        drop(self.service.take());
         self.graph.remove_local(self.gid);
     }
 }

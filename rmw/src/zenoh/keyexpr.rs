@@ -3,14 +3,57 @@
 //! expressions"; wire facts §3): `<domain>/<name without its leading '/'>/<type>/<type_hash>`,
 //! the name keeping its slashes (`0/robot1/chatter/…`).
 //!
-//! Endpoints that are not topics (the `rq/`/`rr/` request and reply topics of the DDS service
-//! conventions, or plain DDS topic names) are not rmw_zenoh's: until services are queryables
-//! (milestone 2) they travel between horus-ros processes under `<domain>/@horus/<DDS topic
-//! name>/<type>/<type_hash>`, which no rmw_zenoh key matches (`@horus` is a hermetic chunk).
+//! A service's key is its name with the service's DDS type name (`pkg::srv::dds_::Name_`) and
+//! the service type's hash (`service_key`); a plain DDS topic name (no `rt/` prefix, as with
+//! `avoid_ros_namespace_conventions`) is keyed as it is.
 
 use horus_ros_msgs::TypeHash;
 
-use crate::names::ROS_TOPIC_PREFIX;
+use crate::names::{
+    ROS_SERVICE_REQUESTER_PREFIX, ROS_SERVICE_RESPONSE_PREFIX, ROS_TOPIC_PREFIX,
+    SERVICE_REPLY_SUFFIX, SERVICE_REQUEST_SUFFIX,
+};
+
+/// The service of a request or reply endpoint: its ROS name (`/add_two_ints`) and the DDS type
+/// name of the service (`pkg::srv::dds_::Name_`), from the endpoint's DDS topic
+/// (`rq/add_two_intsRequest`, `rr/add_two_intsReply`) and type
+/// (`pkg::srv::dds_::Name_Request_`, `…_Response_`); `None` for other endpoints.
+pub(crate) fn service_of(dds_topic_name: &str, dds_type_name: &str) -> Option<(String, String)> {
+    let (prefix, suffix, type_suffix) = if dds_topic_name.starts_with(ROS_SERVICE_REQUESTER_PREFIX)
+    {
+        (
+            ROS_SERVICE_REQUESTER_PREFIX,
+            SERVICE_REQUEST_SUFFIX,
+            "_Request_",
+        )
+    } else {
+        (
+            ROS_SERVICE_RESPONSE_PREFIX,
+            SERVICE_REPLY_SUFFIX,
+            "_Response_",
+        )
+    };
+    let name = dds_topic_name
+        .strip_prefix(prefix)?
+        .strip_prefix('/')?
+        .strip_suffix(suffix)?;
+    let base = dds_type_name.strip_suffix(type_suffix)?;
+    (!name.is_empty()).then(|| (format!("/{name}"), format!("{base}_")))
+}
+
+/// The key of the service `name` (`/add_two_ints`) of the DDS service type `type_name` with
+/// the service type's hash (wire facts §3).
+pub(crate) fn service_key(
+    domain: u32,
+    name: &str,
+    type_name: &str,
+    type_hash: &TypeHash,
+) -> String {
+    format!(
+        "{domain}/{}/{type_name}/{type_hash}",
+        name.trim_start_matches('/')
+    )
+}
 
 /// The ROS topic name (`/chatter`) of a DDS topic name `rt/chatter`; `None` for other names.
 pub(crate) fn ros_topic_of(dds_topic_name: &str) -> Option<String> {
@@ -29,7 +72,7 @@ pub(crate) fn data_key(
 ) -> String {
     match ros_topic_of(dds_topic_name) {
         Some(topic) => format!("{domain}/{}/{type_name}/{type_hash}", &topic[1..]),
-        None => format!("{domain}/@horus/{dds_topic_name}/{type_name}/{type_hash}"),
+        None => format!("{domain}/{dds_topic_name}/{type_name}/{type_hash}"),
     }
 }
 
@@ -50,8 +93,30 @@ mod tests {
         assert!(
             data_key(7, "rt/robot1/chatter", "T", &hash).starts_with("7/robot1/chatter/T/RIHS01_")
         );
-        assert!(data_key(0, "rq/add_two_intsRequest", "T", &hash)
-            .starts_with("0/@horus/rq/add_two_intsRequest/T/"));
+        assert!(data_key(0, "plain", "T", &hash).starts_with("0/plain/T/"));
+        let service = "example_interfaces::srv::dds_::AddTwoInts_";
+        let (name, ty) = service_of(
+            "rq/add_two_intsRequest",
+            "example_interfaces::srv::dds_::AddTwoInts_Request_",
+        )
+        .expect("request");
+        assert_eq!((name.as_str(), ty.as_str()), ("/add_two_ints", service));
+        let (name, ty) = service_of(
+            "rr/ns/add_two_intsReply",
+            "example_interfaces::srv::dds_::AddTwoInts_Response_",
+        )
+        .expect("reply");
+        assert_eq!((name.as_str(), ty.as_str()), ("/ns/add_two_ints", service));
+        assert_eq!(service_of("rt/chatter", "T_"), None);
+        let hash = TypeHash::parse(
+            "RIHS01_e118de6bf5eeb66a2491b5bda11202e7b68f198d6f67922cf30364858239c81a",
+        )
+        .expect("hash");
+        assert_eq!(
+            service_key(0, "/add_two_ints", service, &hash),
+            "0/add_two_ints/example_interfaces::srv::dds_::AddTwoInts_/RIHS01_e118de6bf5eeb66a2491b5bda11202e7b68f198d6f67922cf30364858239c81a"
+        );
+
         assert_eq!(ros_topic_of("rt/a/b").as_deref(), Some("/a/b"));
         assert_eq!(ros_topic_of("rt/"), None);
         assert_eq!(ros_topic_of("ros_discovery_info"), None);

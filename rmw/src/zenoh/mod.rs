@@ -9,13 +9,14 @@
 //! - `keyexpr`: data keys `<domain>/<name>/<type>/<hash>`.
 //! - `attachment`: the 33-byte attachment of every sample.
 //! - `endpoints`: publishers and subscriptions (TRANSIENT_LOCAL ones on zenoh-ext's advanced
-//!   publisher and subscriber, as rmw_zenoh's); `feed`: the graph from tokens, as the
+//!   publisher and subscriber, as rmw_zenoh's); `services`: servers (queryables) and clients
+//!   (queries), each with its `SS`/`SC` token; `feed`: the graph from tokens, as the
 //!   DDS-shaped [`DiscoveryEvent`](crate::DiscoveryEvent)s; `wait_set`: waiting.
 //!
 //! One Zenoh session per context (rmw_zenoh's `rmw_context_impl_s`); nodes and entities are
 //! numbered by one per-context counter, the node first (rmw_zenoh's `get_next_entity_id`).
-//! Services are not yet queryables (milestone 2): their DDS request/reply endpoints travel
-//! between horus-ros processes on keys of their own, without tokens. `ROS_AUTOMATIC_DISCOVERY_RANGE`
+//! A service's request and reply endpoints (the contract's, paired by their service id) are one
+//! queryable or client, as rmw_zenoh's. `ROS_AUTOMATIC_DISCOVERY_RANGE`
 //! and `ROS_STATIC_PEERS` are not used, as rmw_zenoh 0.2.10 does not use them
 //! (ros2/rmw_zenoh#241): the Zenoh configuration decides whom a session reaches.
 
@@ -26,11 +27,12 @@ mod endpoints;
 mod feed;
 mod keyexpr;
 mod liveliness;
+mod services;
 mod wait_set;
 
 use std::collections::HashMap;
 use std::sync::atomic::{AtomicBool, AtomicI64, AtomicU64, Ordering};
-use std::sync::{Arc, Mutex};
+use std::sync::{Arc, Mutex, Weak};
 use std::time::Duration;
 
 use horus_ros_msgs::rmw_dds_common::ParticipantEntitiesInfo;
@@ -41,7 +43,7 @@ use zenoh::Wait;
 use crate::contract::{
     Capabilities, DiscoveryFeedError, EndpointOwner, FeedBackend, Implementation, LocalEvents,
     NodeDescription, ParticipantBackend, ParticipantConfig, RawEndpointSpec, ReaderBackend,
-    WaitSetBackend, WaitSetError, WriterBackend,
+    ServiceEndpointId, ServiceEndpointRole, WaitSetBackend, WaitSetError, WriterBackend,
 };
 use crate::dds_error::DdsError;
 use crate::discovery::VendorId;
@@ -50,6 +52,7 @@ use crate::Gid;
 use endpoints::{zenoh_error, Publication, ReaderQueue, Subscription, ZenohReader, ZenohWriter};
 use feed::Graph;
 use liveliness::{EntityKind, Token, TopicInfo, ADMIN_SPACE, DEFAULT_DEPTH};
+use services::{ServiceEntity, ServiceWriter};
 use wait_set::{lock, WaitSet};
 use zenoh_ext::{
     AdvancedPublisherBuilderExt, AdvancedSubscriberBuilderExt, CacheConfig, HistoryConfig,
@@ -137,6 +140,9 @@ pub(crate) struct ZenohParticipant {
     /// rmw_zenoh's per-context entity counter: nodes and entities alike.
     next_id: AtomicU64,
     nodes: Mutex<HashMap<u64, NodeEntry>>,
+    /// The service servers and clients whose first endpoint was made, by service id, until the
+    /// second one takes it.
+    services: Mutex<HashMap<[u8; 16], Weak<ServiceEntity>>>,
     graph: Arc<Graph>,
     _graph_subscriber: zenoh::pubsub::Subscriber<()>,
     deleted: Arc<AtomicBool>,
@@ -182,6 +188,7 @@ impl ZenohParticipant {
             enclave: enclave.to_owned(),
             next_id: AtomicU64::new(0),
             nodes: Mutex::new(HashMap::new()),
+            services: Mutex::new(HashMap::new()),
             graph,
             _graph_subscriber: graph_subscriber,
             deleted: Arc::new(AtomicBool::new(false)),
@@ -208,24 +215,22 @@ impl ZenohParticipant {
         }
     }
 
-    /// The token of a node's endpoint, if it has one: a listed endpoint of a known node on a
-    /// ROS topic (`rt/…`); the request/reply topics of services get theirs in milestone 2.
-    fn endpoint_token(
+    /// The token of a node's entity, if it has one: a listed entity of a known node.
+    fn entity_token(
         &self,
         owner: EndpointOwner,
-        spec: &RawEndpointSpec,
         kind: EntityKind,
         entity_id: u64,
+        topic: TopicInfo,
     ) -> Option<Token> {
-        let topic = keyexpr::ros_topic_of(&spec.dds_topic_name)?;
         if !owner.listed {
             return None;
         }
         let nodes = lock(&self.nodes);
         let node = nodes.get(&owner.node)?;
-        let mut qos = spec.qos;
-        if qos.depth == 0 && qos.history != HistoryPolicy::KeepAll {
-            qos.depth = DEFAULT_DEPTH;
+        let mut topic = topic;
+        if topic.qos.depth == 0 && topic.qos.history != HistoryPolicy::KeepAll {
+            topic.qos.depth = DEFAULT_DEPTH;
         }
         Some(Token {
             domain: self.domain,
@@ -236,13 +241,154 @@ impl ZenohParticipant {
             enclave: self.enclave.clone(),
             namespace: node.namespace.clone(),
             node_name: node.name.clone(),
-            topic: Some(TopicInfo {
+            topic: Some(topic),
+        })
+    }
+
+    /// The token of a node's endpoint on a ROS topic (`rt/…`), if it has one.
+    fn endpoint_token(
+        &self,
+        owner: EndpointOwner,
+        spec: &RawEndpointSpec,
+        kind: EntityKind,
+        entity_id: u64,
+    ) -> Option<Token> {
+        let topic = keyexpr::ros_topic_of(&spec.dds_topic_name)?;
+        self.entity_token(
+            owner,
+            kind,
+            entity_id,
+            TopicInfo {
                 name: topic,
                 type_name: spec.dds_type_name.clone(),
                 type_hash: spec.type_hash,
-                qos,
+                qos: spec.qos,
+            },
+        )
+    }
+
+    /// The service server or client that the request/reply endpoint `spec` belongs to: the one
+    /// its other endpoint made, or a new one (its queryable or client, and its `SS`/`SC` token,
+    /// whose hash is the request endpoint's GID; the reply endpoint's is the hash of the key
+    /// followed by `#reply`, as the graph maps remote tokens).
+    fn service_entity(
+        &self,
+        owner: Option<EndpointOwner>,
+        spec: &RawEndpointSpec,
+        id: ServiceEndpointId,
+        (name, type_name): (String, String),
+    ) -> Result<Arc<ServiceEntity>, DdsError> {
+        let mut services = lock(&self.services);
+        if let Some(entity) = services.remove(&id.id).and_then(|w| w.upgrade()) {
+            return Ok(entity);
+        }
+        services.retain(|_, w| w.strong_count() > 0);
+        let entity_id = self.next_id();
+        let kind = match id.role {
+            ServiceEndpointRole::Server => EntityKind::Service,
+            ServiceEndpointRole::Client => EntityKind::Client,
+        };
+        let key = keyexpr::service_key(self.domain, &name, &type_name, &id.service_type_hash);
+        let topic = TopicInfo {
+            name,
+            type_name,
+            type_hash: id.service_type_hash,
+            qos: spec.qos,
+        };
+        let token = owner.and_then(|o| self.entity_token(o, kind, entity_id, topic));
+        let token_key = token
+            .as_ref()
+            .map_or_else(|| format!("{}/{entity_id}", self.zid), Token::key);
+        let gids = (
+            liveliness::gid_of_key(&token_key),
+            liveliness::gid_of_key(&format!("{token_key}#reply")),
+        );
+        // The token after the queryable (the entity declares it): a client that sees it finds
+        // the queryable.
+        let declare = || {
+            token
+                .is_some()
+                .then(|| self.declare_token(&token_key))
+                .flatten()
+        };
+        let queue = ReaderQueue::new(services::MAX_HELD_QUERIES, &spec.dds_topic_name);
+        let entity = Arc::new(match id.role {
+            ServiceEndpointRole::Server => {
+                ServiceEntity::server(&self.session, key, gids, declare, queue)?
+            }
+            ServiceEndpointRole::Client => {
+                ServiceEntity::client(&self.session, key, gids, declare, queue)?
+            }
+        });
+        services.insert(id.id, Arc::downgrade(&entity));
+        Ok(entity)
+    }
+
+    /// The service and its endpoint id, for an endpoint of a service's request or reply topic.
+    fn service_of(spec: &RawEndpointSpec) -> Option<(ServiceEndpointId, (String, String))> {
+        let id = spec.service_id?;
+        let service = keyexpr::service_of(&spec.dds_topic_name, &spec.dds_type_name)?;
+        Some((id, service))
+    }
+
+    /// A request writer (client) or reply writer (server).
+    fn service_writer(
+        &self,
+        owner: Option<EndpointOwner>,
+        spec: &RawEndpointSpec,
+        (id, service): (ServiceEndpointId, (String, String)),
+    ) -> Result<(Box<dyn WriterBackend>, Gid), DdsError> {
+        let entity = self.service_entity(owner, spec, id, service)?;
+        let gid = match id.role {
+            ServiceEndpointRole::Client => entity.gid,
+            ServiceEndpointRole::Server => entity.reply_gid,
+        };
+        self.graph.add_local(
+            gid,
+            EndpointKind::Writer,
+            &spec.dds_topic_name,
+            &spec.dds_type_name,
+        );
+        Ok((
+            Box::new(ServiceWriter {
+                entity,
+                gid,
+                graph: Arc::clone(&self.graph),
+                deleted: Arc::clone(&self.deleted),
             }),
-        })
+            gid,
+        ))
+    }
+
+    /// A request reader (server) or reply reader (client).
+    fn service_reader(
+        &self,
+        owner: Option<EndpointOwner>,
+        spec: &RawEndpointSpec,
+        (id, service): (ServiceEndpointId, (String, String)),
+    ) -> Result<(Box<dyn ReaderBackend>, Gid), DdsError> {
+        let entity = self.service_entity(owner, spec, id, service)?;
+        let gid = match id.role {
+            ServiceEndpointRole::Server => entity.gid,
+            ServiceEndpointRole::Client => entity.reply_gid,
+        };
+        self.graph.add_local(
+            gid,
+            EndpointKind::Reader,
+            &spec.dds_topic_name,
+            &spec.dds_type_name,
+        );
+        Ok((
+            Box::new(ZenohReader {
+                token: None,
+                subscriber: None,
+                queue: Arc::clone(&entity.queue),
+                service: Some(entity as Arc<dyn std::any::Any + Send + Sync>),
+                gid,
+                graph: Arc::clone(&self.graph),
+            }),
+            gid,
+        ))
     }
 
     /// The key, token and GID of a new endpoint: with a token, the GID is its hash (as
@@ -270,7 +416,7 @@ impl ZenohParticipant {
                 )
             }
             None => {
-                let gid = liveliness::gid_of_key(&format!("@horus/{}/{entity_id}", self.zid));
+                let gid = liveliness::gid_of_key(&format!("{}/{entity_id}", self.zid));
                 (data_key, None, gid)
             }
         }
@@ -283,6 +429,9 @@ impl ZenohParticipant {
     ) -> Result<(Box<dyn WriterBackend>, Gid), DdsError> {
         if self.deleted.load(Ordering::SeqCst) {
             return Err(DdsError::ParticipantDeleted);
+        }
+        if let Some(service) = Self::service_of(spec) {
+            return self.service_writer(owner, spec, service);
         }
         let (key, token, gid) = self.endpoint_identity(owner, spec, EntityKind::Publisher);
         // rmw_publisher_data.cpp: BLOCK only for RELIABLE + KEEP_ALL, DROP otherwise.
@@ -345,6 +494,9 @@ impl ZenohParticipant {
         if self.deleted.load(Ordering::SeqCst) {
             return Err(DdsError::ParticipantDeleted);
         }
+        if let Some(service) = Self::service_of(spec) {
+            return self.service_reader(owner, spec, service);
+        }
         let (key, token, gid) = self.endpoint_identity(owner, spec, EntityKind::Subscription);
         let queue = ReaderQueue::new(history_depth(&spec.qos), &spec.dds_topic_name);
         let builder = {
@@ -375,6 +527,7 @@ impl ZenohParticipant {
             Box::new(ZenohReader {
                 token,
                 subscriber: Some(subscriber),
+                service: None,
                 queue,
                 gid,
                 graph: Arc::clone(&self.graph),
@@ -468,6 +621,7 @@ impl ParticipantBackend for ZenohParticipant {
     fn delete(&self) {
         if !self.deleted.swap(true, Ordering::SeqCst) {
             lock(&self.nodes).clear();
+            lock(&self.services).clear();
             if let Err(e) = self.session.close().wait() {
                 tracing::debug!("zenoh: closing the session: {e}");
             }

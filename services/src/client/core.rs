@@ -172,15 +172,11 @@ impl<C: Codec> ClientCore<C> {
         // writer's GUID on rmw_fastrtps (jazzy `rmw_get_gid_for_client.cpp`: `info->writer_guid_`),
         // the client id announced as `clientid=` on rmw_cyclonedds (jazzy `rmw_node.cpp`:
         // `cli->client.id`). A backend that carries related_sample_identity speaks the former's
-        // convention, one that does not the latter's.
+        // convention, one that does not the latter's. rmw_zenoh (`rmw_get_gid_for_client`): the
+        // client's GID, the hash of its SC token, which our request writer has.
+        let capabilities = runtime.node.context().capabilities();
         let client_gid = match topics.request.service_id {
-            Some(id)
-                if !runtime
-                    .node
-                    .context()
-                    .capabilities()
-                    .carries_sample_identity =>
-            {
+            Some(id) if !capabilities.carries_sample_identity && !capabilities.service_queries => {
                 id.id
             }
             _ => *endpoints.request_writer().as_bytes(),

@@ -100,6 +100,8 @@ impl From<ServiceType> for DynamicServiceType {
 pub struct DynamicServiceClientBuilder {
     options: ClientOptions,
     service_type: String,
+    /// The service type's RIHS01 hash (ZERO for [`DynamicServiceType::Parts`]).
+    service_hash: TypeHash,
     request: DynamicPart,
     response: DynamicPart,
     schema: Option<Arc<ServiceType>>,
@@ -118,7 +120,7 @@ impl DynamicServiceClientBuilder {
             .with_topics(
                 &self.options.endpoint,
                 horus_ros_rmw::ServiceEndpointRole::Client,
-                &self.service_type,
+                (&self.service_type, self.service_hash),
                 (self.request.dds_type_name, self.request.type_hash),
                 (self.response.dds_type_name, self.response.type_hash),
             )?;
@@ -198,9 +200,11 @@ impl DynamicServiceClient {
                 response,
             } => (service_type, request, response, None),
         };
+        let service_hash = schema.as_ref().map_or(TypeHash::ZERO, |s| s.service_hash());
         DynamicServiceClientBuilder {
             options: ClientOptions::default(),
             service_type,
+            service_hash,
             request,
             response,
             schema,

@@ -301,6 +301,7 @@ impl Implementation for Memory {
             carries_sample_identity: true,
             announces_user_data: false,
             reads_participant_user_data: false,
+            service_queries: false,
         }
     }
 
