@@ -1,5 +1,5 @@
 //! The zenoh backend against an independent peer: an rclpy node on rmw_zenoh_cpp 0.2.10 written
-//! by hand with the eclipse-zenoh Python package (`tests/peers/zenoh_rclpy_talker.py`, to the
+//! by hand with the eclipse-zenoh Python package (`tests/peers/zenoh_rmw_peer.py`, to the
 //! wire facts: tokens, keys, attachments), through our router (`horus-ros router`), and our own
 //! publisher and subscription in two processes.
 //!

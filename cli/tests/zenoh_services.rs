@@ -1,4 +1,4 @@
-//! Services on the zenoh backend against the rmw_zenoh peer (`peers/zenoh_rclpy_talker.py`: an
+//! Services on the zenoh backend against the rmw_zenoh peer (`peers/zenoh_rmw_peer.py`: an
 //! AddTwoInts server as a queryable with its SS token, and a client with its SC token calling
 //! ours with `get`), through our router: `service call` of the peer's server prints its response
 //! as on DDS and the request carries our SC token's GID and a sequence number from 1; the

@@ -1,5 +1,5 @@
 //! HORUS talker and listener against real ROS 2 Jazzy: an rclpy 7.1.6 node on rmw_fastrtps_cpp
-//! 8.4.3 / Fast DDS 2.14.5 (`interop-tests/peers/rclpy_node.py`) acting as demo_nodes' listener
+//! 8.4.3 / Fast DDS 2.14.5 (`interop-tests/peers/jazzy_node.py`) acting as demo_nodes' listener
 //! and talker on `/chatter` (std_msgs/msg/String, rclpy's default QoS: KEEP_LAST 10, RELIABLE,
 //! VOLATILE), both directions, inside the test network namespace. Each test has its own domain.
 

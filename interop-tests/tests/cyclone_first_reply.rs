@@ -11,7 +11,7 @@
 //!   cannot address one Cyclone DDS reader) and loses its own once ten newer ones arrive before
 //!   it takes it, whatever the server: those rounds keep to ten replies per reader. Clients
 //!   created with a deeper history then make several calls each, more of them at once.
-//! - real rclpy clients (rmw_fastrtps_cpp, `peers/rclpy_set_bool_clients.py`), four processes
+//! - real rclpy clients (rmw_fastrtps_cpp, `peers/jazzy_set_bool_clients.py`), four processes
 //!   started together and four clients in one process, against a server on the rustdds backend
 //!   (Fast DDS peers need it, as they need rmw_fastrtps).
 
@@ -208,7 +208,7 @@ fn every_first_call_of_rclpy_clients_started_together_is_answered() {
             PEER_TIMEOUT_S.to_string(),
         ];
         let peers: Vec<PeerProcess> = (0..processes)
-            .map(|_| spawn("rclpy_set_bool_clients.py", &args, DOMAIN))
+            .map(|_| spawn("jazzy_set_bool_clients.py", &args, DOMAIN))
             .collect();
         let (first_replies, failures) = collect(peers);
         assert!(

@@ -1,5 +1,5 @@
 //! What the zenoh tests share: a router of our own, `horus-ros --backend zenoh` joining it, the
-//! rmw_zenoh peer (`peers/zenoh_rclpy_talker.py`), and processes read line by line.
+//! rmw_zenoh peer (`peers/zenoh_rmw_peer.py`), and processes read line by line.
 
 #![allow(dead_code)]
 
@@ -138,13 +138,13 @@ pub fn horus(port: u16, domain: u32, args: &[&str]) -> String {
 /// The peer, once it printed its tokens.
 pub fn talker(port: u16, domain: u32, extra: &[&str]) -> (Proc, Value) {
     let script =
-        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/peers/zenoh_rclpy_talker.py");
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/peers/zenoh_rmw_peer.py");
     let mut command = Command::new(python());
     command
         .arg(&script)
         .args([port.to_string(), domain.to_string(), "60".to_owned()])
         .args(extra);
-    let mut peer = Proc::spawn(command, "zenoh_rclpy_talker.py");
+    let mut peer = Proc::spawn(command, "zenoh_rmw_peer.py");
     let line = peer.line_where("of JSON", |l| l.starts_with('{'));
     let created: Value = serde_json::from_str(&line).expect("the peer's JSON line");
     (peer, created)

@@ -1,4 +1,4 @@
-//! rclpy's own CDR of messages (`peers/rclpy_cdr.py`): what `serialize_message` writes for a
+//! rclpy's own CDR of messages (`peers/jazzy_cdr.py`): what `serialize_message` writes for a
 //! default-constructed message and for one filled with a value in every field, and whether
 //! `deserialize_message` reads bytes as those messages.
 
@@ -7,11 +7,11 @@ use std::process::{Command, Stdio};
 
 use serde_json::Value;
 
-/// Runs `rclpy_cdr.py` on one request (`{"make": [...]}` or `{"compare": {...}}`, see the
+/// Runs `jazzy_cdr.py` on one request (`{"make": [...]}` or `{"compare": {...}}`, see the
 /// script) and returns its answer.
 pub fn ask(request: &Value) -> Result<Value, String> {
     let mut child = Command::new(crate::python())
-        .arg(crate::peer_script("rclpy_cdr.py"))
+        .arg(crate::peer_script("jazzy_cdr.py"))
         .stdin(Stdio::piped())
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
@@ -22,17 +22,17 @@ pub fn ask(request: &Value) -> Result<Value, String> {
         .take()
         .ok_or("no piped stdin")?
         .write_all(request.to_string().as_bytes())
-        .map_err(|e| format!("writing to rclpy_cdr.py: {e}"))?;
+        .map_err(|e| format!("writing to jazzy_cdr.py: {e}"))?;
     let out = child
         .wait_with_output()
-        .map_err(|e| format!("reading rclpy_cdr.py: {e}"))?;
+        .map_err(|e| format!("reading jazzy_cdr.py: {e}"))?;
     if !out.status.success() {
         return Err(format!(
-            "rclpy_cdr.py failed: {}",
+            "jazzy_cdr.py failed: {}",
             String::from_utf8_lossy(&out.stderr)
         ));
     }
-    serde_json::from_slice(&out.stdout).map_err(|e| format!("rclpy_cdr.py printed no JSON: {e}"))
+    serde_json::from_slice(&out.stdout).map_err(|e| format!("jazzy_cdr.py printed no JSON: {e}"))
 }
 
 /// Bytes from the script's hex.

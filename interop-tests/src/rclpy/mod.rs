@@ -1,6 +1,6 @@
 //! Real ROS 2 Jazzy as a peer: rclpy 7.1.6 on rmw_fastrtps_cpp 8.4.3 / Fast DDS 2.14.5, the
 //! PyPI wheels `scripts/setup` installs into the test environment (their rcl is linked to
-//! rmw_fastrtps_cpp). A peer is one rclpy node, `peers/rclpy_node.py`, given a JSON spec of its
+//! rmw_fastrtps_cpp). A peer is one rclpy node, `peers/jazzy_node.py`, given a JSON spec of its
 //! servers, clients, publishers, subscriptions and parameters ([`RclpyPeer`]); it can print
 //! rclpy's own view of the graph, which [`wait_for_same_view`] compares with ours. [`wheels`]
 //! reads the type descriptions and hashes the wheels install.

@@ -1,4 +1,4 @@
-//! One rclpy node as a peer process: `peers/rclpy_node.py`, given a JSON spec (see that file),
+//! One rclpy node as a peer process: `peers/jazzy_node.py`, given a JSON spec (see that file),
 //! read line by line as it prints.
 
 use std::io::Read;
@@ -52,7 +52,7 @@ impl RclpyPeer {
     /// the interpreter of [`crate::python`].
     pub fn start(spec: &Value) -> Result<Self, String> {
         let mut child = Command::new(crate::python())
-            .arg(crate::peer_script("rclpy_node.py"))
+            .arg(crate::peer_script("jazzy_node.py"))
             .arg(spec.to_string())
             .stdin(Stdio::piped())
             .stdout(Stdio::piped())

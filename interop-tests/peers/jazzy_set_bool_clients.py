@@ -9,7 +9,7 @@ Output: one JSON line per client when it ends ({"client", "available", "first_re
 then a summary ({"summary": true, "clients", "first_replies", "complete"}). Exit status 0 iff every
 client got all CALLS correct replies within TIMEOUT seconds from start; else 3.
 
-usage: rclpy_set_bool_clients.py SERVICE CLIENTS CALLS TIMEOUT    (domain from ROS_DOMAIN_ID)
+usage: jazzy_set_bool_clients.py SERVICE CLIENTS CALLS TIMEOUT    (domain from ROS_DOMAIN_ID)
 """
 
 import json

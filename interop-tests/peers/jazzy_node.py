@@ -28,7 +28,7 @@ line:
   answered within timeout_s, {"calls_done": {"service", "available", "answered", "calls"}};
 - {"echoed": {"type", "equal"}} per message an echo took on its "in" topic (RELIABLE,
   TRANSIENT_LOCAL, depth 1, as its "out" publisher) and published again on "out": "equal" says
-  whether it is the message rclpy_cdr.py's Filler makes for that type;
+  whether it is the message jazzy_cdr.py's Filler makes for that type;
 - {"published": data} per message published, {"heard": {"topic", "data", "publisher_gid"}} per
   message taken;
 - {"parameters": {"list": [...], "get": [...], "set": [...]}} with what the parameter client got
@@ -43,7 +43,7 @@ its node, then its context, so that peers see it go) when its standard input end
 SIGTERM, or once its clients and publishers are done if leave_when_done. Exit status 0 iff every
 call was answered (and the parameter client got its answers).
 
-usage: rclpy_node.py SPEC_JSON
+usage: jazzy_node.py SPEC_JSON
 """
 
 import array
@@ -235,7 +235,7 @@ class Peer:
 
     def add_echo(self, e):
         sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-        from rclpy_cdr import Filler, message_class
+        from jazzy_cdr import Filler, message_class
         cls = message_class(e['type'])
         qos = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE,
                          durability=DurabilityPolicy.TRANSIENT_LOCAL)

@@ -21,7 +21,7 @@ rmw_zenoh_cpp's liveliness_utils.cpp, rmw_publisher_data.cpp, attachment_helpers
   {a: 2, b: 3}, the attachment (seq 1, timestamp, GID = XXH3-128 of the SC token), target
   ALL_COMPLETE and consolidation NONE; each reply is printed as a JSON line {"reply": …}.
 
-Usage: zenoh_rclpy_talker.py <router port> <domain> <linger seconds> [<service to call>]
+Usage: zenoh_rmw_peer.py <router port> <domain> <linger seconds> [<service to call>]
 Prints one JSON line when its tokens are declared: zid, the tokens and the publisher's GID.
 """
 
