@@ -137,8 +137,7 @@ pub fn horus(port: u16, domain: u32, args: &[&str]) -> String {
 
 /// The peer, once it printed its tokens.
 pub fn talker(port: u16, domain: u32, extra: &[&str]) -> (Proc, Value) {
-    let script =
-        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/peers/zenoh_rmw_peer.py");
+    let script = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/peers/zenoh_rmw_peer.py");
     let mut command = Command::new(python());
     command
         .arg(&script)
