@@ -56,6 +56,13 @@ fn services_with_an_rmw_zenoh_peer() {
     assert_eq!(field(reply, "payload"), "000100000500000000000000", "sum 5");
     assert_eq!(reply["seq"], Value::from(1), "{reply}");
     assert_eq!(field(reply, "gid"), field(&created, "cli_gid"), "{reply}");
+    // Our SS token carries the QoS the server asked for (services_default), as rmw_zenoh's.
+    assert!(
+        reply["server_tokens"][0]
+            .as_str()
+            .is_some_and(|t| t.ends_with("/::,10:,:,:,,")),
+        "{reply}"
+    );
 
     // Our `service call` calls the peer's server, printing as on DDS; the request carries our
     // SC token's GID and sequence number 1.
@@ -83,6 +90,13 @@ fn services_with_an_rmw_zenoh_peer() {
     );
     assert_eq!(served["seq"], Value::from(1), "{served}");
     assert_eq!(served["gid_is_token_hash"], Value::Bool(true), "{served}");
+    // The SC token carries the QoS the client asked for (services_default: RELIABLE, VOLATILE,
+    // KEEP_LAST 10), not the deeper local history the services layer keeps.
+    let client_token = served["client_tokens"][0].as_str().unwrap_or_default();
+    assert!(
+        client_token.ends_with("/example_interfaces::srv::dds_::AddTwoInts_/RIHS01_e118de6bf5eeb66a2491b5bda11202e7b68f198d6f67922cf30364858239c81a/::,10:,:,:,,"),
+        "{served}"
+    );
 
     // Both servers and the peer's client on the graph.
     let services = horus(PORT, DOMAIN, &["service", "list", "-t"]);

@@ -97,7 +97,7 @@ impl Backend {
             #[cfg(not(feature = "cyclone"))]
             Self::Cyclone => Err(BackendError::NotBuiltIn { backend: self }),
             #[cfg(feature = "zenoh")]
-            Self::Zenoh => Ok(Arc::new(crate::zenoh::Zenoh)),
+            Self::Zenoh => Ok(Arc::new(crate::zenoh::Zenoh::default())),
             #[cfg(not(feature = "zenoh"))]
             Self::Zenoh => Err(BackendError::NotBuiltIn { backend: self }),
         }

@@ -134,9 +134,9 @@ impl Node {
     }
 
     fn raw_writer(&self, spec: &RawEndpointSpec, listed: bool) -> Result<RawWriter, EndpointError> {
-        let dds_qos =
-            spec.qos
-                .to_dds(EndpointKind::Writer)
+        let dds_qos = spec
+            .local_qos(EndpointKind::Writer)
+            .to_dds(EndpointKind::Writer)
                 .map_err(|source| EndpointError::InvalidQos {
                     name: spec.dds_topic_name.clone(),
                     cause: source,
@@ -212,9 +212,9 @@ impl Node {
         responses_of: Option<u64>,
         listed: bool,
     ) -> Result<RawReader, EndpointError> {
-        let dds_qos =
-            spec.qos
-                .to_dds(EndpointKind::Reader)
+        let dds_qos = spec
+            .local_qos(EndpointKind::Reader)
+            .to_dds(EndpointKind::Reader)
                 .map_err(|source| EndpointError::InvalidQos {
                     name: spec.dds_topic_name.clone(),
                     cause: source,

@@ -20,22 +20,6 @@ pub(crate) fn default_name_of_type(type_name: &str) -> String {
     format!("/{}", short.to_snake_case())
 }
 
-/// The history depth of every service writer at least: replies to many concurrent calls must
-/// not push each other out of a KEEP_LAST 10 history (services_default's depth) before they are
-/// acknowledged. History depth is not sent in DDS discovery, so peers see no difference.
-pub(crate) const MIN_SERVICE_HISTORY_DEPTH: usize = 256;
-
-/// The history depth of every service reader at least. A client's reply reader receives the
-/// replies to every client of the service from servers that cannot address one reader
-/// (rmw_cyclonedds' convention, and the Cyclone backend's: each reply goes to every reply
-/// reader and clients pick theirs by the header): with 64 clients waiting, a reader receives 64
-/// replies for each of its own, and a client thread that is not scheduled for a while found its
-/// reply pushed out of a KEEP_LAST 256 history by those of others (calls lost under load, see the
-/// `reliability` benchmark). A server's request reader holds the requests that arrive while its
-/// handler runs. The depth bounds memory (a full history is a few hundred KiB of small samples);
-/// it is allocated only as samples arrive.
-pub(crate) const MIN_SERVICE_READER_HISTORY_DEPTH: usize = 4096;
-
 /// A service's resolved name and the specs of its request and reply topics.
 pub(crate) struct ServiceTopics {
     pub(crate) name: ServiceName,
@@ -85,23 +69,9 @@ impl ServiceTopics {
             }
         };
         let avoid = qos.avoid_ros_namespace_conventions;
-        let keep_last = qos.history == horus_ros_rmw::qos::HistoryPolicy::KeepLast;
-        let deepen = |min: usize| {
-            let mut qos = *qos;
-            if keep_last {
-                qos.depth = qos.depth.max(min);
-            }
-            qos
-        };
-        let (writer_qos, reader_qos) = (
-            deepen(MIN_SERVICE_HISTORY_DEPTH),
-            deepen(MIN_SERVICE_READER_HISTORY_DEPTH),
-        );
-        // A client writes requests and reads replies; a server the other way round.
-        let (request_qos, reply_qos) = match role {
-            ServiceEndpointRole::Client => (writer_qos, reader_qos),
-            ServiceEndpointRole::Server => (reader_qos, writer_qos),
-        };
+        // The QoS as asked for is what the endpoints announce (rmw_zenoh's SS/SC tokens carry its
+        // depth); the rmw layer keeps deeper local histories for service endpoints
+        // (`RawEndpointSpec::local_qos`).
         // One id for both endpoints (announced as `clientid=`/`serviceid=` where USER_DATA is).
         let service_id = Some(node.context().new_service_endpoint_id(role, service_hash));
         Ok(Self {
@@ -109,14 +79,14 @@ impl ServiceTopics {
                 dds_topic_name: name.to_dds_request_topic_name(avoid),
                 dds_type_name: request.0,
                 type_hash: request.1,
-                qos: request_qos,
+                qos: *qos,
                 service_id,
             },
             reply: RawEndpointSpec {
                 dds_topic_name: name.to_dds_reply_topic_name(avoid),
                 dds_type_name: response.0,
                 type_hash: response.1,
-                qos: reply_qos,
+                qos: *qos,
                 service_id,
             },
             name,

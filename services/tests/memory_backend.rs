@@ -1,26 +1,15 @@
 //! The backend contract is complete: contexts on the in-memory test backend (`memory/`, no DDS
-//! at all) run the graph, publishers and subscriptions, wait sets, blocking and async service
-//! calls and the node services. Each test has its own domain (its own in-memory bus).
+//! at all) pass the contract's tests (`contract/`, which the Zenoh backend passes too:
+//! `zenoh_backend.rs`). Each test has its own domain (its own in-memory bus).
 
+mod contract;
 mod memory;
 
-use std::sync::Arc;
-use std::thread;
-use std::time::{Duration, Instant};
-
+use contract::SECOND;
 use horus_ros_graph::Graph;
-use horus_ros_msgs::rcl_interfaces::srv::{ListParameters, ListParametersRequest};
 use horus_ros_msgs::std_msgs::msg::String as StringMsg;
-use horus_ros_msgs::type_description_interfaces::srv::{
-    GetTypeDescription, GetTypeDescriptionRequest,
-};
-use horus_ros_msgs::TypeHash;
 use horus_ros_rmw::qos::Qos;
-use horus_ros_rmw::{RawEndpointSpec, WaitSet};
 use horus_ros_services::prelude::*;
-use horus_ros_services::{DdsServiceServer, NodeServices, ServiceServerTrait};
-
-const SECOND: Duration = Duration::from_secs(1);
 
 /// A context on the in-memory backend in `domain`.
 fn context(domain: u32) -> Context {
@@ -31,472 +20,81 @@ fn context(domain: u32) -> Context {
         .expect("context")
 }
 
-fn adder(node: &Node, name: &str) -> ServiceServer<AddTwoInts> {
-    ServiceServer::<AddTwoInts>::builder()
-        .node(node)
-        .name(name)
-        .on_request(|req| match req.a {
-            0 => Err("a must not be zero".to_owned()),
-            _ => Ok(AddTwoIntsResponse { sum: req.a + req.b }),
-        })
-        .build()
-        .expect("server")
-}
-
-fn client(node: &Node, name: &str) -> ServiceClient<AddTwoInts> {
-    ServiceClient::<AddTwoInts>::builder()
-        .node(node)
-        .name(name)
-        .build()
-        .expect("client")
-}
-
-/// Wakes a parked thread (the waker of a raw server's requests).
-struct Unparker(thread::Thread);
-
-impl std::task::Wake for Unparker {
-    fn wake(self: Arc<Self>) {
-        self.0.unpark();
-    }
-}
-
 #[test]
 fn the_graph_sees_another_contexts_nodes_topics_services_and_endpoints() {
-    let a = context(1);
-    let talker = a.create_node("talker", "/memory").expect("node");
-    let publisher = talker
-        .create_publisher::<StringMsg>("chatter", &Qos::default_profile())
-        .expect("publisher");
-    let server = adder(&talker, "add");
-    let b = context(1);
-    let listener = b.create_node("listener", "/").expect("node");
-    let subscription = listener
-        .create_subscription::<StringMsg>("/memory/chatter", &Qos::default_profile())
-        .expect("subscription");
-
-    // Opened after everything was created: the feed starts from what is already there.
-    let graph = Graph::of(&b).expect("graph");
-    let complete = |c: &horus_ros_graph::GraphCache| {
-        c.node_count() == 2
-            && c.count_publishers("/memory/chatter") == 1
-            && c.count_subscribers("/memory/chatter") == 1
-            && c.service_is_available("/memory/add")
-    };
-    assert!(graph.wait_until(10 * SECOND, complete), "graph incomplete");
-    graph.read(|c| {
-        let nodes: Vec<(String, String)> = c
-            .node_names()
-            .into_iter()
-            .map(|n| (n.namespace, n.name))
-            .collect();
-        assert_eq!(
-            nodes,
-            [
-                ("/".to_owned(), "listener".to_owned()),
-                ("/memory".to_owned(), "talker".to_owned())
-            ]
-        );
-        let topics = c.topic_names_and_types(false);
-        assert_eq!(
-            topics
-                .get("/memory/chatter")
-                .map(|t| t.iter().map(String::as_str).collect::<Vec<_>>()),
-            Some(vec!["std_msgs/msg/String"])
-        );
-        let services = c.service_names_and_types(false);
-        assert_eq!(
-            services
-                .get("/memory/add")
-                .map(|t| t.iter().map(String::as_str).collect::<Vec<_>>()),
-            Some(vec!["example_interfaces/srv/AddTwoInts"])
-        );
-        let publishers = c.publishers_info_by_topic("/memory/chatter", false);
-        assert_eq!(publishers.len(), 1);
-        assert_eq!(publishers[0].node_name, "talker");
-        assert_eq!(publishers[0].node_namespace, "/memory");
-        assert_eq!(publishers[0].endpoint_gid, publisher.gid());
-        assert_eq!(publishers[0].topic_type, "std_msgs/msg/String");
-        assert_eq!(publishers[0].topic_type_hash, StringMsg::type_hash());
-        let subscribers = c.subscriptions_info_by_topic("/memory/chatter", false);
-        assert_eq!(subscribers.len(), 1);
-        assert_eq!(subscribers[0].node_name, "listener");
-        assert_eq!(subscribers[0].endpoint_gid, subscription.gid());
-        let servers = c
-            .servers_info_by_service("/memory/add", false)
-            .expect("servers");
-        assert_eq!(servers.len(), 1);
-        assert_eq!(servers[0].node_name, "talker");
-        assert_eq!(servers[0].service_type, "example_interfaces/srv/AddTwoInts");
-        assert_eq!(servers[0].endpoint_count(), 2);
-    });
-    // The endpoint's participant is found from its GID's prefix.
-    assert_eq!(
-        graph.participant_vendor(publisher.gid()),
-        Some(memory::VENDOR)
-    );
-    assert!(graph.is_matched(subscription.gid(), publisher.gid()));
-
-    // A change wakes a waiter at once.
-    let seen = graph.generation();
-    let waiter = {
-        let graph = Arc::clone(&graph);
-        thread::spawn(move || {
-            let start = Instant::now();
-            (
-                graph.wait_for_graph_change_since(seen, 30 * SECOND),
-                start.elapsed(),
-            )
-        })
-    };
-    let extra = a.create_node("extra", "/memory").expect("node");
-    let (changed, took) = waiter.join().expect("waiter");
-    assert!(changed && took < 10 * SECOND, "{changed} after {took:?}");
-    assert!(graph.wait_until(10 * SECOND, |c| c.node_count() == 3));
-
-    // Endpoints and nodes withdrawn, then the whole participant gone.
-    let publisher_gid = publisher.gid();
-    drop(publisher);
-    assert!(graph.wait_until(10 * SECOND, |c| c.count_publishers("/memory/chatter") == 0));
-    assert!(!graph.is_matched(subscription.gid(), publisher_gid));
-    drop(extra);
-    assert!(graph.wait_until(10 * SECOND, |c| c.node_count() == 2));
-    drop((server, talker, a));
-    assert!(graph.wait_until(10 * SECOND, |c| c.node_count() == 1
-        && !c.service_is_available("/memory/add")));
-
-    // A feed opened again starts from a new snapshot.
-    drop(graph);
-    let graph = Graph::of(&b).expect("graph again");
-    assert!(graph.wait_until(10 * SECOND, |c| c.node_count() == 1
-        && c.count_subscribers("/memory/chatter") == 1));
+    contract::the_graph_sees_another_contexts_nodes_topics_services_and_endpoints(&context);
 }
 
 #[test]
 fn messages_reach_subscriptions_of_other_contexts_and_of_the_same_one() {
-    let a = context(2);
-    let talker = a.create_node("talker", "/").expect("node");
-    let publisher = talker
-        .create_publisher::<StringMsg>("chatter", &Qos::default_profile())
-        .expect("publisher");
-    let mut own = talker
-        .create_subscription::<StringMsg>("chatter", &Qos::default_profile())
-        .expect("own subscription");
-    let b = context(2);
-    let listener = b.create_node("listener", "/").expect("node");
-    let mut remote = listener
-        .create_subscription::<StringMsg>("/chatter", &Qos::default_profile())
-        .expect("subscription");
-    // Matched as discovery reports it, on the publisher's side.
-    let graph = Graph::of(&a).expect("graph");
-    assert!(graph.wait_for_match(publisher.gid(), remote.gid(), 10 * SECOND));
-    assert!(graph.wait_for_match(publisher.gid(), own.gid(), 10 * SECOND));
-    assert!(graph.wait_for_match(own.gid(), publisher.gid(), 10 * SECOND));
-    for i in 0..3 {
-        publisher
-            .publish(StringMsg {
-                data: format!("hello {i}"),
-            })
-            .expect("publish");
-    }
-    for subscription in [&mut remote, &mut own] {
-        for i in 0..3 {
-            let deadline = Instant::now() + 10 * SECOND;
-            let message = loop {
-                if let Some(m) = subscription.try_take().expect("take") {
-                    break m;
-                }
-                let left = deadline.saturating_duration_since(Instant::now());
-                assert!(subscription.wait(left), "message {i} never came");
-            };
-            assert_eq!(message.data, format!("hello {i}"));
-        }
-        assert_eq!(subscription.try_take().expect("take"), None);
-    }
-    // A reader's waker ends its wait with nothing to take.
-    let waker = remote.waker();
-    let woken = thread::spawn(move || waker.wake());
-    assert!(remote.wait(30 * SECOND));
-    woken.join().expect("waker");
+    contract::messages_reach_subscriptions_of_other_contexts_and_of_the_same_one(&context);
 }
 
 #[test]
 fn a_wait_set_reports_the_readers_with_data_and_its_own_wake_up() {
-    let a = context(3);
-    let n = a.create_node("raw", "/").expect("node");
-    let spec = |topic: &str| RawEndpointSpec {
-        dds_topic_name: format!("rt/{topic}"),
-        dds_type_name: "std_msgs::msg::dds_::String_".to_owned(),
-        type_hash: TypeHash::ZERO,
-        qos: Qos::default_profile(),
-        service_id: None,
-    };
-    let writer = n.create_raw_writer(&spec("one")).expect("writer");
-    let mut one = n.create_raw_reader(&spec("one")).expect("reader");
-    let mut two = n.create_raw_reader(&spec("two")).expect("reader");
-    let set = WaitSet::new(&a).expect("wait set");
-    set.attach(&mut one, 1).expect("attach");
-    set.attach(&mut two, 2).expect("attach");
-    let first = writer
-        .write(vec![1, 0, 0, 0, 0], None, None)
-        .expect("write");
-    let second = writer
-        .write(vec![1, 0, 0, 0, 0], Some(first), None)
-        .expect("write");
-    assert_eq!((first.writer, first.sequence_number), (writer.gid(), 1));
-    assert_eq!(second.sequence_number, 2);
-    let mut ready = Vec::new();
-    assert!(set.wait(10 * SECOND, &mut ready));
-    assert_eq!(ready, [1]);
-    let taken = one.take().expect("take").expect("first sample");
-    assert_eq!((taken.id, taken.related), (first, None));
-    let taken = one.take().expect("take").expect("second sample");
-    assert_eq!((taken.id, taken.related), (second, Some(first)));
-    assert_eq!(two.take().expect("take"), None);
-    // Addressed to one reader only.
-    let mut three = n.create_raw_reader(&spec("one")).expect("reader");
-    writer
-        .write(vec![1, 0, 0, 0, 0], None, Some(three.gid()))
-        .expect("write");
-    assert!(three.wait(10 * SECOND));
-    assert!(three.take().expect("take").is_some());
-    assert_eq!(one.take().expect("take"), None);
-    // The set's own waker.
-    let waker = set.waker();
-    thread::spawn(move || waker.wake()).join().expect("waker");
-    ready.clear();
-    assert!(set.wait(10 * SECOND, &mut ready));
-    assert!(ready.is_empty(), "{ready:?}");
-    ready.clear();
-    assert!(!set.wait(Duration::from_millis(50), &mut ready));
+    contract::a_wait_set_reports_the_readers_with_data_and_its_own_wake_up(&context);
 }
 
 #[test]
 fn blocking_calls_are_answered_and_their_failures_reported() {
-    let a = context(4);
-    let server_node = a.create_node("server", "/").expect("node");
-    let b = context(4);
-    let client_node = b.create_node("client", "/").expect("node");
-    let mut c = client(&client_node, "/add");
-    assert!(!c.server_available());
-    let start = Instant::now();
-    assert_eq!(
-        c.call(AddTwoIntsRequest { a: 1, b: 1 }, Duration::from_millis(300)),
-        Err(ServiceError::NoServer)
-    );
-    assert!(start.elapsed() >= Duration::from_millis(300));
-
-    let server = adder(&server_node, "/add");
-    assert!(c.wait_for_service(10 * SECOND));
-    assert!(c.server_available());
-    for i in 1..=20 {
-        assert_eq!(
-            c.call(AddTwoIntsRequest { a: i, b: 2 }, 10 * SECOND),
-            Ok(AddTwoIntsResponse { sum: i + 2 })
-        );
-    }
-    assert_eq!(
-        c.call(AddTwoIntsRequest { a: 0, b: 2 }, 10 * SECOND),
-        Err(ServiceError::ServiceFailed("a must not be zero".to_owned()))
-    );
-    assert_eq!((server.served_count(), server.failed_count()), (20, 1));
-    assert_eq!(c.pending_requests(), 0);
-
-    // A client and a server of the same context.
-    let mut local = client(&server_node, "/add");
-    assert!(local.wait_for_service(10 * SECOND));
-    assert_eq!(
-        local.call(AddTwoIntsRequest { a: 5, b: 5 }, 10 * SECOND),
-        Ok(AddTwoIntsResponse { sum: 10 })
-    );
-
-    // The server gone: the client sees it leave, and calls find no server.
-    drop(server);
-    let graph = Graph::of(&b).expect("graph");
-    assert!(graph.wait_until(10 * SECOND, |g| !g.service_is_available("/add")));
-    assert!(!c.server_available());
-    assert_eq!(
-        c.call(AddTwoIntsRequest { a: 1, b: 1 }, Duration::from_millis(300)),
-        Err(ServiceError::NoServer)
-    );
+    contract::blocking_calls_are_answered_and_their_failures_reported(&context);
 }
 
 #[test]
 fn a_server_that_leaves_ends_the_call_waiting_for_it() {
-    let a = context(5);
-    let server_node = a.create_node("leaving", "/").expect("node");
-    let mut server = DdsServiceServer::<AddTwoInts>::builder()
-        .node(&server_node)
-        .name("/leaving")
-        .build()
-        .expect("server");
-    let b = context(5);
-    let mut c = client(&b.create_node("abandoned", "/").expect("node"), "/leaving");
-    assert!(c.wait_for_service(10 * SECOND));
-    let caller = thread::spawn(move || c.call(AddTwoIntsRequest { a: 1, b: 2 }, 30 * SECOND));
-    // The server takes the request and never answers; then it leaves.
-    let mut buf = [0u8; 256];
-    let deadline = Instant::now() + 10 * SECOND;
-    while server.try_recv_request(&mut buf).expect("take").is_none() {
-        assert!(Instant::now() < deadline, "the request never came");
-        let waker = std::task::Waker::from(Arc::new(Unparker(thread::current())));
-        server.register_waker(&waker);
-        thread::park_timeout(SECOND);
-    }
-    let left = Instant::now();
-    drop(server);
-    let result = caller.join().expect("caller");
-    assert!(
-        matches!(
-            &result,
-            Err(ServiceError::Transport(TransportError::ServerGone))
-        ),
-        "{result:?}"
-    );
-    assert!(left.elapsed() < 10 * SECOND, "noticed late");
+    contract::a_server_that_leaves_ends_the_call_waiting_for_it(&context);
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn awaited_calls_are_answered_by_sync_and_async_servers() {
-    let a = context(6);
-    let server_node = a.create_node("server", "/").expect("node");
-    let _sync = adder(&server_node, "/sync_add");
-    let _async = AsyncServiceServer::<AddTwoInts>::builder()
-        .node(&server_node)
-        .name("/async_add")
-        .on_request(|req| async move {
-            tokio::task::yield_now().await;
-            Ok(AddTwoIntsResponse { sum: req.a * req.b })
-        })
-        .build()
-        .expect("async server");
-    let b = context(6);
-    let client_node = b.create_node("client", "/").expect("node");
-    for (name, sum) in [("/sync_add", 7), ("/async_add", 12)] {
-        let c = AsyncServiceClient::<AddTwoInts>::builder()
-            .node(&client_node)
-            .name(name)
-            .build()
-            .expect("client");
-        assert!(c.wait_for_service_async(10 * SECOND).await, "{name}");
-        assert_eq!(
-            c.call(AddTwoIntsRequest { a: 3, b: 4 }, 10 * SECOND).await,
-            Ok(AddTwoIntsResponse { sum }),
-            "{name}"
-        );
-    }
-    let nobody = AsyncServiceClient::<AddTwoInts>::builder()
-        .node(&client_node)
-        .name("/nobody")
-        .build()
-        .expect("client");
-    assert_eq!(
-        nobody
-            .call(AddTwoIntsRequest::default(), Duration::from_millis(200))
-            .await,
-        Err(ServiceError::NoServer)
-    );
+    contract::awaited_calls_are_answered_by_sync_and_async_servers(&context).await;
 }
 
 #[test]
-fn node_services_answer_over_the_memory_backend() {
-    let a = context(7);
-    let n = a.create_node("params_node", "/ns").expect("node");
-    let services = NodeServices::start(&n).expect("node services");
-    let hash = services.register_service::<AddTwoInts>();
-    let b = context(7);
-    let peer = b.create_node("caller", "/").expect("node");
-
-    let mut describe = ServiceClient::<GetTypeDescription>::builder()
-        .node(&peer)
-        .name("/ns/params_node/get_type_description")
-        .build()
-        .expect("client");
-    assert!(describe.wait_for_service(10 * SECOND));
-    let reply = describe
-        .call(
-            GetTypeDescriptionRequest {
-                type_name: "example_interfaces/srv/AddTwoInts".into(),
-                type_hash: hash.to_string(),
-                include_type_sources: false,
-            },
-            10 * SECOND,
-        )
-        .expect("get_type_description");
-    assert!(reply.successful, "{}", reply.failure_reason);
-    assert_eq!(reply.type_description.compute_type_hash(), hash);
-
-    let mut list = ServiceClient::<ListParameters>::builder()
-        .node(&peer)
-        .name("/ns/params_node/list_parameters")
-        .build()
-        .expect("client");
-    assert!(list.wait_for_service(10 * SECOND));
-    let names = list
-        .call(ListParametersRequest::default(), 10 * SECOND)
-        .expect("list_parameters")
-        .result
-        .names;
-    assert!(names.iter().all(|n| !n.is_empty()), "{names:?}");
+fn node_services_answer() {
+    contract::node_services_answer(&context);
 }
 
 #[test]
 fn qos_decides_matches_depth_and_what_late_joiners_get() {
-    let a = context(8);
-    let n = a.create_node("qos", "/").expect("node");
-    let latched = Qos::default_profile().transient_local().keep_last(2);
-    let publisher = n
-        .create_publisher::<StringMsg>("latched", &latched)
+    contract::qos_decides_matches_depth_and_what_late_joiners_get(&context);
+}
+
+/// DDS-shaped GIDs: an endpoint's participant is found from its GID's prefix.
+#[test]
+fn an_endpoints_participant_is_found_from_its_gid() {
+    let a = context(9);
+    let publisher = a
+        .create_node("talker", "/")
+        .expect("node")
+        .create_publisher::<StringMsg>("chatter", &Qos::default_profile())
         .expect("publisher");
-    for i in 0..3 {
-        publisher
-            .publish(StringMsg {
-                data: format!("{i}"),
-            })
-            .expect("publish");
-    }
-    // A TRANSIENT_LOCAL late joiner gets the writer's last 2; a VOLATILE one nothing.
-    let b = context(8);
-    let peer = b.create_node("peer", "/").expect("node");
-    let mut late = peer
-        .create_subscription::<StringMsg>("/latched", &latched)
-        .expect("subscription");
-    let mut volatile = peer
-        .create_subscription::<StringMsg>("/latched", &Qos::default_profile())
-        .expect("subscription");
-    let mut got = Vec::new();
-    while let Some(m) = late.try_take().expect("take") {
-        got.push(m.data);
-    }
-    assert_eq!(got, ["1", "2"]);
-    assert_eq!(volatile.try_take().expect("take"), None);
-    // A reader keeps its depth: the oldest go.
-    let mut shallow = peer
-        .create_subscription::<StringMsg>("/latched", &Qos::default_profile().keep_last(1))
-        .expect("subscription");
-    for data in ["x", "y"] {
-        publisher
-            .publish(StringMsg { data: data.into() })
-            .expect("publish");
-    }
+    let graph = Graph::of(&context(9)).expect("graph");
+    assert!(graph.wait_until(10 * SECOND, |c| c.count_publishers("/chatter") == 1));
     assert_eq!(
-        shallow.try_take().expect("take").map(|m| m.data),
-        Some("y".into())
+        graph.participant_vendor(publisher.gid()),
+        Some(memory::VENDOR)
     );
-    assert_eq!(
-        volatile.try_take().expect("take").map(|m| m.data),
-        Some("x".into())
-    );
-    // A RELIABLE reader does not match a BEST_EFFORT writer; the reverse matches.
-    let graph = Graph::of(&b).expect("graph");
+}
+
+/// DDS's request/offered rule: a RELIABLE reader does not match a BEST_EFFORT writer; the
+/// reverse matches.
+#[test]
+fn a_reliable_reader_does_not_match_a_best_effort_writer() {
+    let a = context(10);
+    let n = a.create_node("lossy", "/").expect("node");
     let lossy = n
         .create_publisher::<StringMsg>("lossy", &Qos::default_profile().best_effort())
         .expect("publisher");
+    let b = context(10);
+    let peer = b.create_node("peer", "/").expect("node");
     let strict = peer
         .create_subscription::<StringMsg>("/lossy", &Qos::default_profile())
         .expect("subscription");
     let lenient = peer
         .create_subscription::<StringMsg>("/lossy", &Qos::sensor_data())
         .expect("subscription");
+    let graph = Graph::of(&b).expect("graph");
     assert!(graph.wait_for_match(lenient.gid(), lossy.gid(), 10 * SECOND));
     assert!(!graph.is_matched(strict.gid(), lossy.gid()));
 }

@@ -154,6 +154,7 @@ def main():
             with changed:
                 changed.wait_for(match, timeout=10)
                 out["served"]["gid_is_token_hash"] = match()
+                out["served"]["client_tokens"] = [t for t in add_two_ints_clients() if gid_of(t) == client_gid]
             out["served"].update({"seq": seq, "gid": client_gid.hex(), "a": a, "b": b})
             if a == 0 and b == 0:
                 # {a: 0, b: 0} is held unanswered (a server that dies while serving it).
@@ -210,7 +211,7 @@ def main():
                 continue
             sample = reply.ok
             att = sample.attachment.to_bytes() if sample.attachment is not None else b""
-            out = {"key": str(sample.key_expr), "payload": sample.payload.to_bytes().hex(), "attachment": att.hex()}
+            out = {"key": str(sample.key_expr), "payload": sample.payload.to_bytes().hex(), "attachment": att.hex(), "server_tokens": servers()}
             if len(att) == 33:
                 seq, ts = struct.unpack_from("<qq", att)
                 out.update({"seq": seq, "timestamp": ts, "gid": att[17:].hex()})

@@ -3,7 +3,7 @@
 
 use horus_ros_msgs::TypeHash;
 
-use crate::qos::Qos;
+use crate::qos::{EndpointKind, HistoryPolicy, Qos};
 use crate::Gid;
 
 /// A sample's identity: the GID of the writer that wrote it and its sequence number there
@@ -61,14 +61,48 @@ pub struct RawEndpointSpec {
     pub dds_type_name: String,
     /// The RIHS01 hash of the type.
     pub type_hash: TypeHash,
-    /// The QoS.
+    /// The QoS, as announced (rmw_zenoh's tokens carry its depth); the local history of a
+    /// service endpoint is deeper: see [`RawEndpointSpec::local_qos`].
     pub qos: Qos,
     /// For a service's request/reply endpoint: the id of its client or server, announced in
     /// USER_DATA before the type hash (rmw_cyclonedds `rmw_init_cs`).
     pub service_id: Option<ServiceEndpointId>,
 }
 
+/// The history depth of every service writer at least: replies to many concurrent calls must
+/// not push each other out of a KEEP_LAST 10 history (services_default's depth) before they are
+/// acknowledged. Local only: DDS discovery does not send history depth, and rmw_zenoh's tokens
+/// carry the depth asked for.
+pub const MIN_SERVICE_HISTORY_DEPTH: usize = 256;
+
+/// The history depth of every service reader at least. A client's reply reader receives the
+/// replies to every client of the service from servers that cannot address one reader
+/// (rmw_cyclonedds' convention, and the Cyclone backend's: each reply goes to every reply
+/// reader and clients pick theirs by the header): with 64 clients waiting, a reader receives 64
+/// replies for each of its own, and a client thread that is not scheduled for a while found its
+/// reply pushed out of a KEEP_LAST 256 history by those of others (calls lost under load, see the
+/// `reliability` benchmark). A server's request reader holds the requests that arrive while its
+/// handler runs. The depth bounds memory (a full history is a few hundred KiB of small samples);
+/// it is allocated only as samples arrive.
+pub const MIN_SERVICE_READER_HISTORY_DEPTH: usize = 4096;
+
 impl RawEndpointSpec {
+    /// The QoS the local endpoint of `kind` is made with: [`qos`](Self::qos), with a KEEP_LAST
+    /// history deepened to [`MIN_SERVICE_HISTORY_DEPTH`] (writers) or
+    /// [`MIN_SERVICE_READER_HISTORY_DEPTH`] (readers) for a service's request/reply endpoint
+    /// (one with a [`service_id`](Self::service_id)).
+    pub fn local_qos(&self, kind: EndpointKind) -> Qos {
+        let mut qos = self.qos;
+        if self.service_id.is_some() && qos.history == HistoryPolicy::KeepLast {
+            let min = match kind {
+                EndpointKind::Writer => MIN_SERVICE_HISTORY_DEPTH,
+                EndpointKind::Reader => MIN_SERVICE_READER_HISTORY_DEPTH,
+            };
+            qos.depth = qos.depth.max(min);
+        }
+        qos
+    }
+
     /// The USER_DATA a backend that announces it gives this endpoint:
     /// `[clientid=…;|serviceid=…;]typehash=RIHS01_…;` (rmw_cyclonedds `create_readwrite_qos`).
     pub fn user_data(&self) -> String {

@@ -4,13 +4,22 @@
 //! header included) with the 33-byte attachment (sequence number from 1, source timestamp,
 //! GID); a Zenoh subscriber whose samples go to a bounded queue that wakes the reader (or its
 //! wait set). Each entity holds its liveliness token for its whole life.
+//!
+//! A VOLATILE publisher holds its samples while the graph knows a subscription of its topic
+//! (its token) that this session has no route to yet (the publisher's matching status): the
+//! token can arrive before the subscriber's declaration has given this session a route (over
+//! another link), and Zenoh drops a sample with no route, where a DDS writer delivers to every
+//! matched reader. They go, in order, when the route appears (the matching listener); at most
+//! the publisher's depth, each at most [`HELD_SAMPLE_LIFETIME`]. TRANSIENT_LOCAL publishers
+//! need none of this: their late joiners query the cache.
 
 use std::collections::VecDeque;
 use std::sync::atomic::{AtomicBool, AtomicI64, Ordering};
-use std::sync::{Arc, Mutex};
-use std::time::Duration;
+use std::sync::{Arc, Mutex, Weak};
+use std::time::{Duration, Instant};
 
 use zenoh::liveliness::LivelinessToken;
+use zenoh::matching::{MatchingListener, MatchingStatus};
 use zenoh::pubsub::{Publisher, Subscriber};
 use zenoh::Wait;
 
@@ -50,9 +59,113 @@ pub(crate) enum Publication {
     Advanced(zenoh_ext::AdvancedPublisher<'static>),
 }
 
+/// How long a VOLATILE publisher holds a sample for a route to a subscription the graph knows.
+pub(crate) const HELD_SAMPLE_LIFETIME: Duration = Duration::from_secs(5);
+
+impl Publication {
+    fn put(&self, payload: Vec<u8>, attachment: Vec<u8>) -> Result<(), DdsError> {
+        match self {
+            Publication::Plain(p) => p.put(payload).attachment(attachment).wait(),
+            Publication::Advanced(p) => p.put(payload).attachment(attachment).wait(),
+        }
+        .map_err(|e| zenoh_error(DdsError::Write, e))
+    }
+}
+
+/// A sample held for a route: payload, attachment, when it was written.
+type HeldSample = (Vec<u8>, Vec<u8>, Instant);
+
+/// Whether the publisher has a route to a subscription, and what waits for one.
+#[derive(Default)]
+struct Route {
+    matching: bool,
+    held: VecDeque<HeldSample>,
+}
+
+/// A publisher and the samples it holds for a route.
+pub(crate) struct Delivery {
+    publisher: Publication,
+    route: Mutex<Route>,
+    /// Most samples held (the publisher's depth).
+    depth: usize,
+    topic: String,
+    type_name: String,
+}
+
+impl Delivery {
+    /// `publisher` of `topic`/`type_name`, holding at most `depth` samples; for a plain
+    /// (VOLATILE) one, with its matching listener.
+    pub(crate) fn new(
+        publisher: Publication,
+        depth: usize,
+        (topic, type_name): (&str, &str),
+    ) -> Result<(Arc<Self>, Option<MatchingListener<()>>), DdsError> {
+        let delivery = Arc::new(Self {
+            publisher,
+            route: Mutex::new(Route::default()),
+            depth: depth.max(1),
+            topic: topic.to_owned(),
+            type_name: type_name.to_owned(),
+        });
+        let listener = match &delivery.publisher {
+            Publication::Plain(p) => {
+                let weak: Weak<Delivery> = Arc::downgrade(&delivery);
+                // Declared with a route already there, it reports it at once.
+                let listener = p
+                    .matching_listener()
+                    .callback(move |status: MatchingStatus| {
+                        if let Some(delivery) = weak.upgrade() {
+                            delivery.on_matching(status);
+                        }
+                    })
+                    .wait()
+                    .map_err(|e| zenoh_error(DdsError::Create, e))?;
+                Some(listener)
+            }
+            Publication::Advanced(_) => None,
+        };
+        Ok((delivery, listener))
+    }
+
+    /// Puts the sample, or holds it while the graph knows a subscription with no route yet.
+    fn put(&self, graph: &Graph, payload: Vec<u8>, attachment: Vec<u8>) -> Result<(), DdsError> {
+        if matches!(self.publisher, Publication::Advanced(_)) {
+            return self.publisher.put(payload, attachment);
+        }
+        let mut route = lock(&self.route);
+        if !route.matching && graph.has_remote_reader(&self.topic, &self.type_name) {
+            if route.held.len() >= self.depth {
+                route.held.pop_front();
+            }
+            route.held.push_back((payload, attachment, Instant::now()));
+            return Ok(());
+        }
+        self.publisher.put(payload, attachment)
+    }
+
+    /// The route changed: when there is one, the held samples go, in order (those older than
+    /// [`HELD_SAMPLE_LIFETIME`] dropped).
+    fn on_matching(&self, status: MatchingStatus) {
+        let mut route = lock(&self.route);
+        route.matching = status.matching();
+        if !route.matching {
+            return;
+        }
+        for (payload, attachment, written) in std::mem::take(&mut route.held) {
+            if written.elapsed() > HELD_SAMPLE_LIFETIME {
+                continue;
+            }
+            if let Err(e) = self.publisher.put(payload, attachment) {
+                tracing::debug!(topic = %self.topic, "zenoh: a held sample could not be sent: {e}");
+            }
+        }
+    }
+}
+
 /// A publisher: the Zenoh publisher, its token and its sequence numbers.
 pub(crate) struct ZenohWriter {
-    pub(crate) publisher: Publication,
+    pub(crate) delivery: Arc<Delivery>,
+    pub(crate) _matching: Option<MatchingListener<()>>,
     pub(crate) token: Option<LivelinessToken>,
     pub(crate) gid: Gid,
     pub(crate) sequence_number: AtomicI64,
@@ -86,11 +199,7 @@ impl WriterBackend for ZenohWriter {
         payload.extend_from_slice(&CDR_LE_HEADER);
         payload.extend_from_slice(&body);
         let attachment = attachment.to_bytes().to_vec();
-        match &self.publisher {
-            Publication::Plain(p) => p.put(payload).attachment(attachment).wait(),
-            Publication::Advanced(p) => p.put(payload).attachment(attachment).wait(),
-        }
-        .map_err(|e| zenoh_error(DdsError::Write, e))?;
+        self.delivery.put(&self.graph, payload, attachment)?;
         Ok(SampleId {
             writer: self.gid,
             sequence_number,

@@ -452,6 +452,22 @@ impl Graph {
         }
     }
 
+    /// Whether another session has a subscription on `topic` of `type_name` (a token seen).
+    pub(crate) fn has_remote_reader(&self, topic: &str, type_name: &str) -> bool {
+        lock(&self.state).sessions.values().any(|s| {
+            s.entities.values().any(|(_, endpoints)| {
+                endpoints.iter().any(|e| {
+                    matches(
+                        EndpointKind::Writer,
+                        (topic, type_name),
+                        e.kind,
+                        (&e.dds_topic_name, &e.dds_type_name),
+                    )
+                })
+            })
+        })
+    }
+
     /// One of this context's endpoints went.
     pub(crate) fn remove_local(&self, gid: Gid) {
         lock(&self.state).local.remove(&gid);

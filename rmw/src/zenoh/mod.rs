@@ -49,7 +49,9 @@ use crate::dds_error::DdsError;
 use crate::discovery::VendorId;
 use crate::qos::{DdsQos, DurabilityPolicy, EndpointKind, HistoryPolicy, Qos, ReliabilityPolicy};
 use crate::Gid;
-use endpoints::{zenoh_error, Publication, ReaderQueue, Subscription, ZenohReader, ZenohWriter};
+use endpoints::{
+    zenoh_error, Delivery, Publication, ReaderQueue, Subscription, ZenohReader, ZenohWriter,
+};
 use feed::Graph;
 use liveliness::{EntityKind, Token, TopicInfo, ADMIN_SPACE, DEFAULT_DEPTH};
 use services::{ServiceEntity, ServiceWriter};
@@ -73,9 +75,24 @@ fn history_depth(qos: &Qos) -> usize {
     }
 }
 
-/// The Zenoh backend: a Zenoh session per context.
+/// The Zenoh backend: a Zenoh session per context, configured from the environment as rmw_zenoh
+/// configures it, or with a configuration of the program's own ([`implementation`]).
 #[derive(Debug, Default)]
-pub(crate) struct Zenoh;
+pub(crate) struct Zenoh {
+    /// The session configuration, instead of the environment's.
+    config: Option<zenoh::Config>,
+}
+
+/// The Zenoh backend with this session configuration instead of the one the environment gives
+/// (`ZENOH_SESSION_CONFIG_URI`, `ZENOH_CONFIG_OVERRIDE`; see [`config::config`]), for
+/// [`ContextBuilder::implementation`](crate::ContextBuilder::implementation): e.g. a program that
+/// joins two Zenoh networks at once, or tests with routers of their own.
+/// `ZENOH_ROUTER_CHECK_ATTEMPTS` is still read.
+pub fn implementation(config: zenoh::Config) -> Arc<dyn Implementation> {
+    Arc::new(Zenoh {
+        config: Some(config),
+    })
+}
 
 impl Implementation for Zenoh {
     fn name(&self) -> &'static str {
@@ -99,8 +116,11 @@ impl Implementation for Zenoh {
         config: &ParticipantConfig<'_>,
     ) -> Result<Box<dyn ParticipantBackend>, DdsError> {
         let get = |k: &str| std::env::var(k).ok();
-        let zenoh_config = config::config(config::ConfigKind::Session, get)
-            .map_err(|e| DdsError::Create(crate::dds_error::boxed(e)))?;
+        let zenoh_config = match &self.config {
+            Some(c) => c.clone(),
+            None => config::config(config::ConfigKind::Session, get)
+                .map_err(|e| DdsError::Create(crate::dds_error::boxed(e)))?,
+        };
         let attempts = config::router_check_attempts(get)
             .map_err(|e| DdsError::Create(crate::dds_error::boxed(e)))?;
         let session = zenoh::open(zenoh_config)
@@ -467,6 +487,11 @@ impl ZenohParticipant {
             builder.wait().map(Publication::Plain)
         }
         .map_err(|e| zenoh_error(DdsError::Create, e))?;
+        let (delivery, matching) = Delivery::new(
+            publisher,
+            history_depth(&spec.qos),
+            (&spec.dds_topic_name, &spec.dds_type_name),
+        )?;
         self.graph.add_local(
             gid,
             EndpointKind::Writer,
@@ -475,7 +500,8 @@ impl ZenohParticipant {
         );
         Ok((
             Box::new(ZenohWriter {
-                publisher,
+                delivery,
+                _matching: matching,
                 token,
                 gid,
                 sequence_number: AtomicI64::new(0),

@@ -10,7 +10,14 @@
 //!   the client's GID under a new timestamp. A reply whose query is gone is dropped.
 //! - A client declares an `SC` token (its GID is the token's hash) and sends each request as a
 //!   `get` on the service key (target `ALL_COMPLETE`, consolidation `NONE`) with the attachment
-//!   of its own sequence number (from 1); the replies go to the reply reader's queue.
+//!   of its own sequence number (from 1); the replies go to the reply reader's queue. The `get`
+//!   goes through a querier (the same query on the wire) whose matching status says whether
+//!   this session has a route to a queryable: the graph learns of a server from its token,
+//!   which can reach us before the queryable's declaration has given our session a route to it
+//!   (over another link: the router's, or a peer's own). A request made in that window is held,
+//!   as a DDS writer's sample waits for its matched reader, and sent when the route appears
+//!   (the querier's matching listener); at most [`MAX_PENDING_REQUESTS`], each at most
+//!   [`PENDING_REQUEST_LIFETIME`] (then dropped, as a DDS request no reader matched).
 //!
 //! The contract's request/reply endpoints of one server or client (paired by their
 //! [`ServiceEndpointId`](crate::contract::ServiceEndpointId)) share one [`ServiceEntity`]; the
@@ -21,11 +28,12 @@
 
 use std::collections::{HashMap, VecDeque};
 use std::sync::atomic::{AtomicBool, AtomicI64, Ordering};
-use std::sync::{Arc, Mutex};
-use std::time::Duration;
+use std::sync::{Arc, Mutex, Weak};
+use std::time::{Duration, Instant};
 
 use zenoh::liveliness::LivelinessToken;
-use zenoh::query::{ConsolidationMode, Query, QueryTarget, Queryable, Reply};
+use zenoh::matching::{MatchingListener, MatchingStatus};
+use zenoh::query::{ConsolidationMode, Querier, Query, QueryTarget, Queryable, Reply};
 use zenoh::Wait;
 
 use super::attachment::{now_ns, Attachment};
@@ -40,6 +48,14 @@ use crate::Gid;
 /// Most queries a server holds unanswered; beyond, the oldest is let go (its client gets no
 /// reply from this server).
 pub(crate) const MAX_HELD_QUERIES: usize = 4096;
+
+/// Most requests a client holds while its session has no route to a server.
+pub(crate) const MAX_PENDING_REQUESTS: usize = 64;
+
+/// How long a client holds a request for a route to a server: the window between a server's
+/// token and its queryable's route is a few messages long; a request older than this is
+/// dropped when the route appears.
+pub(crate) const PENDING_REQUEST_LIFETIME: Duration = Duration::from_secs(5);
 
 /// The queries a server holds until they are answered, oldest first.
 #[derive(Default)]
@@ -72,8 +88,6 @@ impl HeldQueries {
 
 /// A server's or client's Zenoh side, shared by its two contract endpoints.
 pub(crate) struct ServiceEntity {
-    /// The service key.
-    key: zenoh::key_expr::KeyExpr<'static>,
     /// The GID of the token (the request reader's, or the request writer's).
     pub(crate) gid: Gid,
     /// The GID of the other endpoint (the reply writer's or reader's).
@@ -90,9 +104,83 @@ enum EntityKind {
         _queryable: Queryable<()>,
     },
     Client {
-        session: zenoh::Session,
+        sender: Arc<RequestSender>,
         sequence_number: AtomicI64,
+        _matching: MatchingListener<()>,
     },
+}
+
+/// A request not sent yet: its sequence number, payload, attachment and when it was made.
+struct PendingRequest {
+    sequence_number: i64,
+    payload: Vec<u8>,
+    attachment: Vec<u8>,
+    made: Instant,
+}
+
+/// Whether the client's session has a route to a server, and the requests waiting for one.
+#[derive(Default)]
+struct Route {
+    matching: bool,
+    pending: VecDeque<PendingRequest>,
+}
+
+/// A client's querier and what waits for its route.
+struct RequestSender {
+    querier: Querier<'static>,
+    queue: Arc<ReaderQueue>,
+    client: Gid,
+    route: Mutex<Route>,
+}
+
+impl RequestSender {
+    /// Sends the request now if a server is routed to, else holds it (bounded).
+    fn request(&self, request: PendingRequest) -> Result<(), DdsError> {
+        let mut route = lock(&self.route);
+        if route.matching {
+            return self.send(request);
+        }
+        if route.pending.len() >= MAX_PENDING_REQUESTS {
+            if let Some(oldest) = route.pending.pop_front() {
+                tracing::debug!(client = %self.client, seq = oldest.sequence_number, "zenoh: a request dropped: no route to a server (too many waiting)");
+            }
+        }
+        route.pending.push_back(request);
+        Ok(())
+    }
+
+    /// The route changed: when there is one, the requests held for it go (in order), those
+    /// older than [`PENDING_REQUEST_LIFETIME`] dropped.
+    fn on_matching(&self, status: MatchingStatus) {
+        let mut route = lock(&self.route);
+        route.matching = status.matching();
+        if !route.matching {
+            return;
+        }
+        for request in std::mem::take(&mut route.pending) {
+            if request.made.elapsed() > PENDING_REQUEST_LIFETIME {
+                tracing::debug!(client = %self.client, seq = request.sequence_number, "zenoh: a request dropped: no route to a server in time");
+                continue;
+            }
+            if let Err(e) = self.send(request) {
+                tracing::debug!(client = %self.client, "zenoh: a held request could not be sent: {e}");
+            }
+        }
+    }
+
+    /// The `get` (rmw_client_data.cpp: target ALL_COMPLETE, consolidation NONE, the
+    /// querier's), its replies queued.
+    fn send(&self, request: PendingRequest) -> Result<(), DdsError> {
+        let queue = Arc::clone(&self.queue);
+        let (client, sequence_number) = (self.client, request.sequence_number);
+        self.querier
+            .get()
+            .payload(request.payload)
+            .attachment(request.attachment)
+            .callback(move |reply: Reply| on_reply(&queue, client, sequence_number, &reply))
+            .wait()
+            .map_err(|e| zenoh_error(DdsError::Write, e))
+    }
 }
 
 impl ServiceEntity {
@@ -135,13 +223,12 @@ impl ServiceEntity {
             }
         };
         let queryable = session
-            .declare_queryable(key.clone())
+            .declare_queryable(key)
             .complete(true)
             .callback(on_query)
             .wait()
             .map_err(|e| zenoh_error(DdsError::Create, e))?;
         Ok(Self {
-            key,
             gid,
             reply_gid,
             queue,
@@ -163,15 +250,39 @@ impl ServiceEntity {
     ) -> Result<Self, DdsError> {
         let key = zenoh::key_expr::KeyExpr::try_from(key)
             .map_err(|e| zenoh_error(DdsError::Create, e))?;
+        let querier = session
+            .declare_querier(key)
+            .target(QueryTarget::AllComplete)
+            .consolidation(ConsolidationMode::None)
+            .wait()
+            .map_err(|e| zenoh_error(DdsError::Create, e))?;
+        let sender = Arc::new(RequestSender {
+            querier,
+            queue: Arc::clone(&queue),
+            client: gid,
+            route: Mutex::new(Route::default()),
+        });
+        // Declared with a route already there, it reports it at once.
+        let weak: Weak<RequestSender> = Arc::downgrade(&sender);
+        let matching = sender
+            .querier
+            .matching_listener()
+            .callback(move |status: MatchingStatus| {
+                if let Some(sender) = weak.upgrade() {
+                    sender.on_matching(status);
+                }
+            })
+            .wait()
+            .map_err(|e| zenoh_error(DdsError::Create, e))?;
         let token = declare_token();
         Ok(Self {
-            key,
             gid,
             reply_gid,
             queue,
             kind: EntityKind::Client {
-                session: session.clone(),
+                sender,
                 sequence_number: AtomicI64::new(0),
+                _matching: matching,
             },
             _token: token,
         })
@@ -185,8 +296,9 @@ impl ServiceEntity {
     /// A client's request: a `get` with the next sequence number, its replies queued.
     fn request(&self, body: Vec<u8>) -> Result<SampleId, DdsError> {
         let EntityKind::Client {
-            session,
+            sender,
             sequence_number,
+            ..
         } = &self.kind
         else {
             return Err(DdsError::RelatedSampleIdentityUnsupported);
@@ -197,18 +309,12 @@ impl ServiceEntity {
             source_timestamp: now_ns(),
             gid: self.gid,
         };
-        let queue = Arc::clone(&self.queue);
-        let client = self.gid;
-        // rmw_client_data.cpp: target ALL_COMPLETE, consolidation NONE.
-        session
-            .get(self.key.clone())
-            .payload(with_header(body))
-            .attachment(attachment.to_bytes().to_vec())
-            .target(QueryTarget::AllComplete)
-            .consolidation(ConsolidationMode::None)
-            .callback(move |reply: Reply| on_reply(&queue, client, sequence_number, &reply))
-            .wait()
-            .map_err(|e| zenoh_error(DdsError::Write, e))?;
+        sender.request(PendingRequest {
+            sequence_number,
+            payload: with_header(body),
+            attachment: attachment.to_bytes().to_vec(),
+            made: Instant::now(),
+        })?;
         Ok(SampleId {
             writer: self.gid,
             sequence_number,

@@ -1,0 +1,521 @@
+//! The backend contract's tests, written once and run on every implementation of it that is not
+//! DDS (`memory_backend.rs`: the in-memory test backend; `zenoh_backend.rs`: the Zenoh backend
+//! through a router of its own): the graph, publishers and subscriptions, wait sets, blocking
+//! and async service calls and the node services. Each test takes the bus's context factory
+//! (`context(domain)`) and uses its own domain. Waits are bounded and woken by the event (a
+//! sample, a graph change); what a backend cannot do (its
+//! [`Capabilities`](horus_ros_rmw::Capabilities)) is asserted as refused.
+
+use std::sync::Arc;
+use std::thread;
+use std::time::{Duration, Instant};
+
+use horus_ros_graph::Graph;
+use horus_ros_msgs::rcl_interfaces::srv::{ListParameters, ListParametersRequest};
+use horus_ros_msgs::std_msgs::msg::String as StringMsg;
+use horus_ros_msgs::type_description_interfaces::srv::{
+    GetTypeDescription, GetTypeDescriptionRequest,
+};
+use horus_ros_msgs::TypeHash;
+use horus_ros_rmw::qos::Qos;
+use horus_ros_rmw::{RawEndpointSpec, RawReader, RawSample, Subscription, WaitSet};
+use horus_ros_services::prelude::*;
+use horus_ros_services::{DdsServiceServer, NodeServices, ServiceServerTrait};
+
+/// One second.
+pub const SECOND: Duration = Duration::from_secs(1);
+
+fn adder(node: &Node, name: &str) -> ServiceServer<AddTwoInts> {
+    ServiceServer::<AddTwoInts>::builder()
+        .node(node)
+        .name(name)
+        .on_request(|req| match req.a {
+            0 => Err("a must not be zero".to_owned()),
+            _ => Ok(AddTwoIntsResponse { sum: req.a + req.b }),
+        })
+        .build()
+        .expect("server")
+}
+
+fn client(node: &Node, name: &str) -> ServiceClient<AddTwoInts> {
+    ServiceClient::<AddTwoInts>::builder()
+        .node(node)
+        .name(name)
+        .build()
+        .expect("client")
+}
+
+/// The next sample of `reader`, waiting for it (at most 10 s).
+fn take_within(reader: &mut RawReader, what: &str) -> RawSample {
+    let deadline = Instant::now() + 10 * SECOND;
+    loop {
+        if let Some(sample) = reader.take().expect("take") {
+            return sample;
+        }
+        let left = deadline.saturating_duration_since(Instant::now());
+        assert!(reader.wait(left), "{what} never came");
+    }
+}
+
+/// The next message of `subscription`, waiting for it (at most 10 s).
+fn receive_within(subscription: &mut Subscription<StringMsg>, what: &str) -> StringMsg {
+    let deadline = Instant::now() + 10 * SECOND;
+    loop {
+        if let Some(message) = subscription.try_take().expect("take") {
+            return message;
+        }
+        let left = deadline.saturating_duration_since(Instant::now());
+        assert!(subscription.wait(left), "{what} never came");
+    }
+}
+
+/// Wakes a parked thread (the waker of a raw server's requests).
+struct Unparker(thread::Thread);
+
+impl std::task::Wake for Unparker {
+    fn wake(self: Arc<Self>) {
+        self.0.unpark();
+    }
+}
+
+pub fn the_graph_sees_another_contexts_nodes_topics_services_and_endpoints(context: &dyn Fn(u32) -> Context) {
+    let a = context(1);
+    let talker = a.create_node("talker", "/memory").expect("node");
+    let publisher = talker
+        .create_publisher::<StringMsg>("chatter", &Qos::default_profile())
+        .expect("publisher");
+    let server = adder(&talker, "add");
+    let b = context(1);
+    let listener = b.create_node("listener", "/").expect("node");
+    let subscription = listener
+        .create_subscription::<StringMsg>("/memory/chatter", &Qos::default_profile())
+        .expect("subscription");
+
+    // Opened after everything was created: the feed starts from what is already there.
+    let graph = Graph::of(&b).expect("graph");
+    // Complete: endpoints and nodes, and each endpoint listed under its node (which a backend
+    // may learn after the endpoint itself, as ros_discovery_info follows DDS discovery).
+    let complete = |c: &horus_ros_graph::GraphCache| {
+        c.node_count() == 2
+            && c.count_publishers("/memory/chatter") == 1
+            && c.count_subscribers("/memory/chatter") == 1
+            && c.service_is_available("/memory/add")
+            && c.publishers_info_by_topic("/memory/chatter", false)
+                .iter()
+                .chain(&c.subscriptions_info_by_topic("/memory/chatter", false))
+                .all(|e| e.node_name != "_NODE_NAME_UNKNOWN_")
+            && c.servers_info_by_service("/memory/add", false)
+                .is_ok_and(|s| s.iter().all(|e| e.node_name == "talker"))
+    };
+    assert!(
+        graph.wait_until(10 * SECOND, complete),
+        "graph incomplete: {:?}",
+        graph.read(|c| (
+            c.node_names(),
+            c.count_publishers("/memory/chatter"),
+            c.count_subscribers("/memory/chatter"),
+            c.service_is_available("/memory/add")
+        ))
+    );
+    graph.read(|c| {
+        let nodes: Vec<(String, String)> = c
+            .node_names()
+            .into_iter()
+            .map(|n| (n.namespace, n.name))
+            .collect();
+        assert_eq!(
+            nodes,
+            [
+                ("/".to_owned(), "listener".to_owned()),
+                ("/memory".to_owned(), "talker".to_owned())
+            ]
+        );
+        let topics = c.topic_names_and_types(false);
+        assert_eq!(
+            topics
+                .get("/memory/chatter")
+                .map(|t| t.iter().map(String::as_str).collect::<Vec<_>>()),
+            Some(vec!["std_msgs/msg/String"])
+        );
+        let services = c.service_names_and_types(false);
+        assert_eq!(
+            services
+                .get("/memory/add")
+                .map(|t| t.iter().map(String::as_str).collect::<Vec<_>>()),
+            Some(vec!["example_interfaces/srv/AddTwoInts"])
+        );
+        let publishers = c.publishers_info_by_topic("/memory/chatter", false);
+        assert_eq!(publishers.len(), 1);
+        assert_eq!(publishers[0].node_name, "talker");
+        assert_eq!(publishers[0].node_namespace, "/memory");
+        assert_eq!(publishers[0].endpoint_gid, publisher.gid());
+        assert_eq!(publishers[0].topic_type, "std_msgs/msg/String");
+        assert_eq!(publishers[0].topic_type_hash, StringMsg::type_hash());
+        let subscribers = c.subscriptions_info_by_topic("/memory/chatter", false);
+        assert_eq!(subscribers.len(), 1);
+        assert_eq!(subscribers[0].node_name, "listener");
+        assert_eq!(subscribers[0].endpoint_gid, subscription.gid());
+        let servers = c
+            .servers_info_by_service("/memory/add", false)
+            .expect("servers");
+        assert_eq!(servers.len(), 1);
+        assert_eq!(servers[0].node_name, "talker");
+        assert_eq!(servers[0].service_type, "example_interfaces/srv/AddTwoInts");
+        assert_eq!(servers[0].endpoint_count(), 2);
+    });
+    // The other context's participant, with its backend's vendor.
+    assert_eq!(graph.participant_vendor(a.gid()), Some(a.vendor_id()));
+    assert!(graph.is_matched(subscription.gid(), publisher.gid()));
+
+    // A change wakes a waiter at once.
+    let seen = graph.generation();
+    let waiter = {
+        let graph = Arc::clone(&graph);
+        thread::spawn(move || {
+            let start = Instant::now();
+            (
+                graph.wait_for_graph_change_since(seen, 30 * SECOND),
+                start.elapsed(),
+            )
+        })
+    };
+    let extra = a.create_node("extra", "/memory").expect("node");
+    let (changed, took) = waiter.join().expect("waiter");
+    assert!(changed && took < 10 * SECOND, "{changed} after {took:?}");
+    assert!(graph.wait_until(10 * SECOND, |c| c.node_count() == 3));
+
+    // Endpoints and nodes withdrawn, then the whole participant gone.
+    let publisher_gid = publisher.gid();
+    drop(publisher);
+    assert!(graph.wait_until(10 * SECOND, |c| c.count_publishers("/memory/chatter") == 0));
+    assert!(!graph.is_matched(subscription.gid(), publisher_gid));
+    drop(extra);
+    assert!(graph.wait_until(10 * SECOND, |c| c.node_count() == 2));
+    drop((server, talker, a));
+    assert!(graph.wait_until(10 * SECOND, |c| c.node_count() == 1
+        && !c.service_is_available("/memory/add")));
+
+    // A feed opened again starts from a new snapshot.
+    drop(graph);
+    let graph = Graph::of(&b).expect("graph again");
+    assert!(graph.wait_until(10 * SECOND, |c| c.node_count() == 1
+        && c.count_subscribers("/memory/chatter") == 1));
+}
+
+pub fn messages_reach_subscriptions_of_other_contexts_and_of_the_same_one(context: &dyn Fn(u32) -> Context) {
+    let a = context(2);
+    let talker = a.create_node("talker", "/").expect("node");
+    let publisher = talker
+        .create_publisher::<StringMsg>("chatter", &Qos::default_profile())
+        .expect("publisher");
+    let mut own = talker
+        .create_subscription::<StringMsg>("chatter", &Qos::default_profile())
+        .expect("own subscription");
+    let b = context(2);
+    let listener = b.create_node("listener", "/").expect("node");
+    let mut remote = listener
+        .create_subscription::<StringMsg>("/chatter", &Qos::default_profile())
+        .expect("subscription");
+    // Matched as discovery reports it, on the publisher's side.
+    let graph = Graph::of(&a).expect("graph");
+    assert!(graph.wait_for_match(publisher.gid(), remote.gid(), 10 * SECOND));
+    assert!(graph.wait_for_match(publisher.gid(), own.gid(), 10 * SECOND));
+    assert!(graph.wait_for_match(own.gid(), publisher.gid(), 10 * SECOND));
+    for i in 0..3 {
+        publisher
+            .publish(StringMsg {
+                data: format!("hello {i}"),
+            })
+            .expect("publish");
+    }
+    for subscription in [&mut remote, &mut own] {
+        for i in 0..3 {
+            let message = receive_within(subscription, "a message");
+            assert_eq!(message.data, format!("hello {i}"));
+        }
+        assert_eq!(subscription.try_take().expect("take"), None);
+    }
+    // A reader's waker ends its wait with nothing to take.
+    let waker = remote.waker();
+    let woken = thread::spawn(move || waker.wake());
+    assert!(remote.wait(30 * SECOND));
+    woken.join().expect("waker");
+}
+
+pub fn a_wait_set_reports_the_readers_with_data_and_its_own_wake_up(context: &dyn Fn(u32) -> Context) {
+    let a = context(3);
+    let n = a.create_node("raw", "/").expect("node");
+    let spec = |topic: &str| RawEndpointSpec {
+        dds_topic_name: format!("rt/{topic}"),
+        dds_type_name: "std_msgs::msg::dds_::String_".to_owned(),
+        type_hash: TypeHash::ZERO,
+        qos: Qos::default_profile(),
+        service_id: None,
+    };
+    let writer = n.create_raw_writer(&spec("one")).expect("writer");
+    let mut one = n.create_raw_reader(&spec("one")).expect("reader");
+    let mut two = n.create_raw_reader(&spec("two")).expect("reader");
+    let set = WaitSet::new(&a).expect("wait set");
+    set.attach(&mut one, 1).expect("attach");
+    set.attach(&mut two, 2).expect("attach");
+    // Whether samples carry a related identity and can be addressed to one reader (a backend
+    // without it refuses a related identity).
+    let identities = a.capabilities().carries_sample_identity;
+    let first = writer
+        .write(vec![1, 0, 0, 0, 0], None, None)
+        .expect("write");
+    let related = identities.then_some(first);
+    let second = writer
+        .write(vec![1, 0, 0, 0, 0], related, None)
+        .expect("write");
+    assert_eq!((first.writer, first.sequence_number), (writer.gid(), 1));
+    assert_eq!(second.sequence_number, 2);
+    let mut ready = Vec::new();
+    assert!(set.wait(10 * SECOND, &mut ready));
+    assert_eq!(ready, [1]);
+    let taken = take_within(&mut one, "the first sample");
+    assert_eq!((taken.id, taken.related), (first, None));
+    let taken = take_within(&mut one, "the second sample");
+    assert_eq!((taken.id, taken.related), (second, related));
+    assert_eq!(two.take().expect("take"), None);
+    if identities {
+        // Addressed to one reader only.
+        let mut three = n.create_raw_reader(&spec("one")).expect("reader");
+        writer
+            .write(vec![1, 0, 0, 0, 0], None, Some(three.gid()))
+            .expect("write");
+        assert!(three.wait(10 * SECOND));
+        assert!(three.take().expect("take").is_some());
+        assert_eq!(one.take().expect("take"), None);
+    } else {
+        assert!(writer
+            .write(vec![1, 0, 0, 0, 0], Some(first), None)
+            .is_err());
+    }
+    // The set's own waker.
+    let waker = set.waker();
+    thread::spawn(move || waker.wake()).join().expect("waker");
+    ready.clear();
+    assert!(set.wait(10 * SECOND, &mut ready));
+    assert!(ready.is_empty(), "{ready:?}");
+    ready.clear();
+    assert!(!set.wait(Duration::from_millis(50), &mut ready));
+}
+
+pub fn blocking_calls_are_answered_and_their_failures_reported(context: &dyn Fn(u32) -> Context) {
+    let a = context(4);
+    let server_node = a.create_node("server", "/").expect("node");
+    let b = context(4);
+    let client_node = b.create_node("client", "/").expect("node");
+    let mut c = client(&client_node, "/add");
+    assert!(!c.server_available());
+    let start = Instant::now();
+    assert_eq!(
+        c.call(AddTwoIntsRequest { a: 1, b: 1 }, Duration::from_millis(300)),
+        Err(ServiceError::NoServer)
+    );
+    assert!(start.elapsed() >= Duration::from_millis(300));
+
+    let server = adder(&server_node, "/add");
+    assert!(c.wait_for_service(10 * SECOND));
+    assert!(c.server_available());
+    for i in 1..=20 {
+        assert_eq!(
+            c.call(AddTwoIntsRequest { a: i, b: 2 }, 10 * SECOND),
+            Ok(AddTwoIntsResponse { sum: i + 2 })
+        );
+    }
+    assert_eq!(
+        c.call(AddTwoIntsRequest { a: 0, b: 2 }, 10 * SECOND),
+        Err(ServiceError::ServiceFailed("a must not be zero".to_owned()))
+    );
+    assert_eq!((server.served_count(), server.failed_count()), (20, 1));
+    assert_eq!(c.pending_requests(), 0);
+
+    // A client and a server of the same context.
+    let mut local = client(&server_node, "/add");
+    assert!(local.wait_for_service(10 * SECOND));
+    assert_eq!(
+        local.call(AddTwoIntsRequest { a: 5, b: 5 }, 10 * SECOND),
+        Ok(AddTwoIntsResponse { sum: 10 })
+    );
+
+    // The server gone: the client sees it leave, and calls find no server.
+    drop(server);
+    let graph = Graph::of(&b).expect("graph");
+    assert!(graph.wait_until(10 * SECOND, |g| !g.service_is_available("/add")));
+    assert!(!c.server_available());
+    assert_eq!(
+        c.call(AddTwoIntsRequest { a: 1, b: 1 }, Duration::from_millis(300)),
+        Err(ServiceError::NoServer)
+    );
+}
+
+pub fn a_server_that_leaves_ends_the_call_waiting_for_it(context: &dyn Fn(u32) -> Context) {
+    let a = context(5);
+    let server_node = a.create_node("leaving", "/").expect("node");
+    let mut server = DdsServiceServer::<AddTwoInts>::builder()
+        .node(&server_node)
+        .name("/leaving")
+        .build()
+        .expect("server");
+    let b = context(5);
+    let mut c = client(&b.create_node("abandoned", "/").expect("node"), "/leaving");
+    assert!(c.wait_for_service(10 * SECOND));
+    let caller = thread::spawn(move || c.call(AddTwoIntsRequest { a: 1, b: 2 }, 30 * SECOND));
+    // The server takes the request and never answers; then it leaves.
+    let mut buf = [0u8; 256];
+    let deadline = Instant::now() + 10 * SECOND;
+    while server.try_recv_request(&mut buf).expect("take").is_none() {
+        assert!(Instant::now() < deadline, "the request never came");
+        let waker = std::task::Waker::from(Arc::new(Unparker(thread::current())));
+        server.register_waker(&waker);
+        thread::park_timeout(SECOND);
+    }
+    let left = Instant::now();
+    drop(server);
+    let result = caller.join().expect("caller");
+    assert!(
+        matches!(
+            &result,
+            Err(ServiceError::Transport(TransportError::ServerGone))
+        ),
+        "{result:?}"
+    );
+    assert!(left.elapsed() < 10 * SECOND, "noticed late");
+}
+
+pub async fn awaited_calls_are_answered_by_sync_and_async_servers(context: &dyn Fn(u32) -> Context) {
+    let a = context(6);
+    let server_node = a.create_node("server", "/").expect("node");
+    let _sync = adder(&server_node, "/sync_add");
+    let _async = AsyncServiceServer::<AddTwoInts>::builder()
+        .node(&server_node)
+        .name("/async_add")
+        .on_request(|req| async move {
+            tokio::task::yield_now().await;
+            Ok(AddTwoIntsResponse { sum: req.a * req.b })
+        })
+        .build()
+        .expect("async server");
+    let b = context(6);
+    let client_node = b.create_node("client", "/").expect("node");
+    for (name, sum) in [("/sync_add", 7), ("/async_add", 12)] {
+        let c = AsyncServiceClient::<AddTwoInts>::builder()
+            .node(&client_node)
+            .name(name)
+            .build()
+            .expect("client");
+        assert!(c.wait_for_service_async(10 * SECOND).await, "{name}");
+        assert_eq!(
+            c.call(AddTwoIntsRequest { a: 3, b: 4 }, 10 * SECOND).await,
+            Ok(AddTwoIntsResponse { sum }),
+            "{name}"
+        );
+    }
+    let nobody = AsyncServiceClient::<AddTwoInts>::builder()
+        .node(&client_node)
+        .name("/nobody")
+        .build()
+        .expect("client");
+    assert_eq!(
+        nobody
+            .call(AddTwoIntsRequest::default(), Duration::from_millis(200))
+            .await,
+        Err(ServiceError::NoServer)
+    );
+}
+
+pub fn node_services_answer(context: &dyn Fn(u32) -> Context) {
+    let a = context(7);
+    let n = a.create_node("params_node", "/ns").expect("node");
+    let services = NodeServices::start(&n).expect("node services");
+    let hash = services.register_service::<AddTwoInts>();
+    let b = context(7);
+    let peer = b.create_node("caller", "/").expect("node");
+
+    let mut describe = ServiceClient::<GetTypeDescription>::builder()
+        .node(&peer)
+        .name("/ns/params_node/get_type_description")
+        .build()
+        .expect("client");
+    assert!(describe.wait_for_service(10 * SECOND));
+    let reply = describe
+        .call(
+            GetTypeDescriptionRequest {
+                type_name: "example_interfaces/srv/AddTwoInts".into(),
+                type_hash: hash.to_string(),
+                include_type_sources: false,
+            },
+            10 * SECOND,
+        )
+        .expect("get_type_description");
+    assert!(reply.successful, "{}", reply.failure_reason);
+    assert_eq!(reply.type_description.compute_type_hash(), hash);
+
+    let mut list = ServiceClient::<ListParameters>::builder()
+        .node(&peer)
+        .name("/ns/params_node/list_parameters")
+        .build()
+        .expect("client");
+    assert!(list.wait_for_service(10 * SECOND));
+    let names = list
+        .call(ListParametersRequest::default(), 10 * SECOND)
+        .expect("list_parameters")
+        .result
+        .names;
+    assert!(names.iter().all(|n| !n.is_empty()), "{names:?}");
+}
+
+pub fn qos_decides_matches_depth_and_what_late_joiners_get(context: &dyn Fn(u32) -> Context) {
+    let a = context(8);
+    let n = a.create_node("qos", "/").expect("node");
+    let latched = Qos::default_profile().transient_local().keep_last(2);
+    let publisher = n
+        .create_publisher::<StringMsg>("latched", &latched)
+        .expect("publisher");
+    for i in 0..3 {
+        publisher
+            .publish(StringMsg {
+                data: format!("{i}"),
+            })
+            .expect("publish");
+    }
+    // A TRANSIENT_LOCAL late joiner gets the writer's last 2; a VOLATILE one nothing.
+    let b = context(8);
+    let peer = b.create_node("peer", "/").expect("node");
+    let mut late = peer
+        .create_subscription::<StringMsg>("/latched", &latched)
+        .expect("subscription");
+    let mut volatile = peer
+        .create_subscription::<StringMsg>("/latched", &Qos::default_profile())
+        .expect("subscription");
+    let got: Vec<String> = (0..2)
+        .map(|_| receive_within(&mut late, "a late joiner's sample").data)
+        .collect();
+    assert_eq!(got, ["1", "2"]);
+    // A reader keeps its depth: the oldest go. (In the publisher's own context, where a sample
+    // is delivered before `publish` returns on every backend, so nothing is in flight.)
+    let mut shallow = n
+        .create_subscription::<StringMsg>("/latched", &Qos::default_profile().keep_last(1))
+        .expect("subscription");
+    for data in ["x", "y"] {
+        publisher
+            .publish(StringMsg { data: data.into() })
+            .expect("publish");
+    }
+    assert_eq!(
+        shallow.try_take().expect("take").map(|m| m.data),
+        Some("y".into())
+    );
+    // The VOLATILE reader got nothing of the history: its first sample is the first published
+    // after it joined.
+    assert_eq!(receive_within(&mut volatile, "a new sample").data, "x");
+    // A BEST_EFFORT reader matches a RELIABLE writer everywhere (whether a RELIABLE reader
+    // matches a BEST_EFFORT writer is the backend's: each backend's own tests say).
+    let graph = Graph::of(&b).expect("graph");
+    let lenient = peer
+        .create_subscription::<StringMsg>("/latched", &Qos::sensor_data())
+        .expect("subscription");
+    assert!(graph.wait_for_match(lenient.gid(), publisher.gid(), 10 * SECOND));
+}

@@ -1,0 +1,121 @@
+//! The backend contract's tests (`contract/`, which the in-memory test backend passes too:
+//! `memory_backend.rs`) on the Zenoh backend: contexts of this process joined by a Zenoh router
+//! the test starts on a port of its own (rmw_zenoh's router configuration), each context's
+//! session configured through `horus_ros_rmw::zenoh::implementation` (rmw_zenoh's session
+//! configuration, connecting to that router). Run inside `scripts/isolated`.
+
+mod contract;
+
+use std::sync::OnceLock;
+
+use contract::SECOND;
+use horus_ros_graph::Graph;
+use horus_ros_msgs::std_msgs::msg::String as StringMsg;
+use horus_ros_rmw::qos::Qos;
+use horus_ros_rmw::zenoh::config::{self, ConfigKind};
+use horus_ros_services::prelude::*;
+use zenoh::Wait;
+
+/// The router's port (no other test uses it).
+const PORT: u16 = 17571;
+
+/// The router, started by the first test that needs it and kept for the process.
+fn router() -> &'static zenoh::Session {
+    static ROUTER: OnceLock<zenoh::Session> = OnceLock::new();
+    ROUTER.get_or_init(|| {
+        let get = |k: &str| {
+            (k == config::CONFIG_OVERRIDE_ENV)
+                .then(|| format!(r#"listen/endpoints=["tcp/127.0.0.1:{PORT}"]"#))
+        };
+        zenoh::open(config::config(ConfigKind::Router, get).expect("router config"))
+            .wait()
+            .expect("router")
+    })
+}
+
+/// A context on the Zenoh backend in `domain`, joined to the router.
+fn context(domain: u32) -> Context {
+    router();
+    let get = |k: &str| {
+        (k == config::CONFIG_OVERRIDE_ENV).then(|| {
+            format!(
+                r#"connect/endpoints=["tcp/127.0.0.1:{PORT}"];listen/endpoints=["tcp/127.0.0.1:0"]"#
+            )
+        })
+    };
+    let session = config::config(ConfigKind::Session, get).expect("session config");
+    Context::builder()
+        .domain_id(domain)
+        .implementation(horus_ros_rmw::zenoh::implementation(session))
+        .build()
+        .expect("context")
+}
+
+#[test]
+fn the_graph_sees_another_contexts_nodes_topics_services_and_endpoints() {
+    contract::the_graph_sees_another_contexts_nodes_topics_services_and_endpoints(&context);
+}
+
+#[test]
+fn messages_reach_subscriptions_of_other_contexts_and_of_the_same_one() {
+    contract::messages_reach_subscriptions_of_other_contexts_and_of_the_same_one(&context);
+}
+
+#[test]
+fn a_wait_set_reports_the_readers_with_data_and_its_own_wake_up() {
+    contract::a_wait_set_reports_the_readers_with_data_and_its_own_wake_up(&context);
+}
+
+#[test]
+fn blocking_calls_are_answered_and_their_failures_reported() {
+    contract::blocking_calls_are_answered_and_their_failures_reported(&context);
+}
+
+#[test]
+fn a_server_that_leaves_ends_the_call_waiting_for_it() {
+    contract::a_server_that_leaves_ends_the_call_waiting_for_it(&context);
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn awaited_calls_are_answered_by_sync_and_async_servers() {
+    contract::awaited_calls_are_answered_by_sync_and_async_servers(&context).await;
+}
+
+#[test]
+fn node_services_answer() {
+    contract::node_services_answer(&context);
+}
+
+#[test]
+fn qos_decides_matches_depth_and_what_late_joiners_get() {
+    contract::qos_decides_matches_depth_and_what_late_joiners_get(&context);
+}
+
+/// Zenoh has no request/offered QoS matching (rmw_zenoh's graph matches every subscription on a
+/// publisher's key): a RELIABLE subscription matches a BEST_EFFORT publisher and gets its
+/// samples.
+#[test]
+fn a_reliable_subscription_matches_a_best_effort_publisher() {
+    let a = context(10);
+    let n = a.create_node("lossy", "/").expect("node");
+    let lossy = n
+        .create_publisher::<StringMsg>("lossy", &Qos::default_profile().best_effort())
+        .expect("publisher");
+    let b = context(10);
+    let peer = b.create_node("peer", "/").expect("node");
+    let mut strict = peer
+        .create_subscription::<StringMsg>("/lossy", &Qos::default_profile())
+        .expect("subscription");
+    let graph = Graph::of(&a).expect("graph");
+    assert!(graph.wait_for_match(lossy.gid(), strict.gid(), 10 * SECOND));
+    lossy
+        .publish(StringMsg {
+            data: "delivered".into(),
+        })
+        .expect("publish");
+    assert!(strict.wait(10 * SECOND), "nothing came");
+    assert_eq!(
+        strict.try_take().expect("take").map(|m| m.data),
+        Some("delivered".into())
+    );
+}
