@@ -295,6 +295,15 @@ impl RawReader {
         })
     }
 
+    /// How many of the samples taken so far came in a same-host shared-memory buffer: on the
+    /// Zenoh backend with shared memory on (`transport/shared_memory/enabled=true`), a message
+    /// put in shared memory on this host (by its publisher's pool, or by zenoh's own transport
+    /// optimization) that crossed only links where shared memory is on. Always 0 on the DDS
+    /// backends. For checking that large messages cross without copies.
+    pub fn shared_memory_samples(&self) -> u64 {
+        self.reader.shared_memory_samples()
+    }
+
     /// A handle that wakes this reader's [`wait`](Self::wait) from any thread.
     pub fn waker(&self) -> RawReaderWaker {
         self.waker.clone()

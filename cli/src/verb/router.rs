@@ -3,6 +3,12 @@
 //! configuration (`config/DEFAULT_RMW_ZENOH_ROUTER_CONFIG.json5`: listen on `tcp/[::]:7447`,
 //! multicast scouting off, gossip on), or the file `ZENOH_ROUTER_CONFIG_URI` names, with
 //! `ZENOH_CONFIG_OVERRIDE` applied. Prints one ready line, then runs until SIGINT or SIGTERM.
+//!
+//! Shared memory is off, as in rmw_zenohd's configuration; the sessions' switch turns it on
+//! here too (`ZENOH_CONFIG_OVERRIDE='transport/shared_memory/enabled=true'`): messages of
+//! same-host sessions that cross the router then stay in shared memory (zenoh negotiates it per
+//! link; sessions linked directly need not cross it), and go as bytes if the router leaves it
+//! off (horus-ros-rmw's `tests/zenoh_shm.rs`).
 
 use std::sync::mpsc;
 

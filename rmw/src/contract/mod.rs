@@ -230,6 +230,12 @@ pub trait ReaderBackend: Send {
     /// What ends the current or next [`wait`](Self::wait) from any thread.
     fn waker(&self) -> Arc<dyn Wake>;
 
+    /// How many of the samples taken so far came in a same-host shared-memory buffer (Zenoh's
+    /// shared-memory transport); 0 where the backend has none.
+    fn shared_memory_samples(&self) -> u64 {
+        0
+    }
+
     /// Reports this reader's data to `set` under `key` for the rest of the reader's life (its
     /// own [`wait`](Self::wait) then returns only when woken). A set of another backend is
     /// [`WaitSetError::OtherBackend`].

@@ -13,11 +13,23 @@
 //! the publisher's depth, each at most [`HELD_SAMPLE_LIFETIME`]. TRANSIENT_LOCAL publishers
 //! need none of this: their late joiners query the cache.
 
+//!
+//! With shared memory on ([`shm`](super::shm)), a message at or above the threshold is copied
+//! once, encapsulation header and body, into a buffer of the context's shared-memory pool and
+//! put from there; a subscriber on the same host then maps that buffer instead of receiving
+//! its bytes (zenoh passes a reference on the link). What is zero-copy is the crossing: the
+//! payload is neither copied into a heap buffer, nor onto the socket, nor out of it. The
+//! subscription keeps the received payload (a `ZBytes` over the mapped buffer, as rmw_zenoh's
+//! `SubscriptionData` keeps its `zenoh::Bytes`) until it is taken; a take copies the body out
+//! once into the [`RawSample`], as rmw_zenoh's `rmw_take` deserializes out of the payload.
+
+
 use std::collections::VecDeque;
-use std::sync::atomic::{AtomicBool, AtomicI64, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicI64, AtomicU64, Ordering};
 use std::sync::{Arc, Mutex, Weak};
 use std::time::{Duration, Instant};
 
+use zenoh::bytes::ZBytes;
 use zenoh::liveliness::LivelinessToken;
 use zenoh::matching::{MatchingListener, MatchingStatus};
 use zenoh::pubsub::{Publisher, Subscriber};
@@ -25,6 +37,7 @@ use zenoh::Wait;
 
 use super::attachment::{now_ns, Attachment};
 use super::feed::Graph;
+use super::shm::ShmContext;
 use super::wait_set::{lock, SetState, Signal, WaitSet};
 use crate::contract::{ReaderBackend, SampleId, WaitSetBackend, WaitSetError, Wake, WriterBackend};
 use crate::dds_error::{boxed, DdsError};
@@ -63,7 +76,7 @@ pub(crate) enum Publication {
 pub(crate) const HELD_SAMPLE_LIFETIME: Duration = Duration::from_secs(5);
 
 impl Publication {
-    fn put(&self, payload: Vec<u8>, attachment: Vec<u8>) -> Result<(), DdsError> {
+    fn put(&self, payload: ZBytes, attachment: Vec<u8>) -> Result<(), DdsError> {
         match self {
             Publication::Plain(p) => p.put(payload).attachment(attachment).wait(),
             Publication::Advanced(p) => p.put(payload).attachment(attachment).wait(),
@@ -73,7 +86,7 @@ impl Publication {
 }
 
 /// A sample held for a route: payload, attachment, when it was written.
-type HeldSample = (Vec<u8>, Vec<u8>, Instant);
+type HeldSample = (ZBytes, Vec<u8>, Instant);
 
 /// Whether the publisher has a route to a subscription, and what waits for one.
 #[derive(Default)]
@@ -128,7 +141,7 @@ impl Delivery {
     }
 
     /// Puts the sample, or holds it while the graph knows a subscription with no route yet.
-    fn put(&self, graph: &Graph, payload: Vec<u8>, attachment: Vec<u8>) -> Result<(), DdsError> {
+    fn put(&self, graph: &Graph, payload: ZBytes, attachment: Vec<u8>) -> Result<(), DdsError> {
         if matches!(self.publisher, Publication::Advanced(_)) {
             return self.publisher.put(payload, attachment);
         }
@@ -171,6 +184,27 @@ pub(crate) struct ZenohWriter {
     pub(crate) sequence_number: AtomicI64,
     pub(crate) graph: Arc<Graph>,
     pub(crate) deleted: Arc<AtomicBool>,
+    /// The context's shared-memory pool, when shared memory is on.
+    pub(crate) shm: Option<Arc<ShmContext>>,
+}
+
+impl ZenohWriter {
+    /// The payload of a sample: the encapsulation header and `body`, in a shared-memory buffer
+    /// when the context has a pool, the payload reaches its threshold and the pool has room
+    /// (rmw_publisher_data.cpp), else on the heap.
+    fn payload(&self, body: &[u8]) -> ZBytes {
+        let len = CDR_LE_HEADER.len() + body.len();
+        if let Some(mut buffer) = self.shm.as_deref().and_then(|shm| shm.buffer(len)) {
+            let (header, rest) = buffer.split_at_mut(CDR_LE_HEADER.len());
+            header.copy_from_slice(&CDR_LE_HEADER);
+            rest.copy_from_slice(body);
+            return buffer.into();
+        }
+        let mut payload = Vec::with_capacity(len);
+        payload.extend_from_slice(&CDR_LE_HEADER);
+        payload.extend_from_slice(body);
+        payload.into()
+    }
 }
 
 impl WriterBackend for ZenohWriter {
@@ -195,9 +229,7 @@ impl WriterBackend for ZenohWriter {
             source_timestamp: now_ns(),
             gid: self.gid,
         };
-        let mut payload = Vec::with_capacity(4 + body.len());
-        payload.extend_from_slice(&CDR_LE_HEADER);
-        payload.extend_from_slice(&body);
+        let payload = self.payload(&body);
         let attachment = attachment.to_bytes().to_vec();
         self.delivery.put(&self.graph, payload, attachment)?;
         Ok(SampleId {
@@ -223,8 +255,9 @@ impl Drop for ZenohWriter {
 
 /// A sample as received: the payload and what its attachment said.
 pub(crate) struct Incoming {
-    /// The payload (encapsulation header included).
-    pub(crate) payload: Vec<u8>,
+    /// The payload (encapsulation header included), as zenoh gave it: over a mapped
+    /// shared-memory buffer when it came through one.
+    pub(crate) payload: ZBytes,
     /// Its attachment.
     pub(crate) attachment: Attachment,
     /// When it arrived, in ns since the UNIX epoch.
@@ -242,6 +275,8 @@ pub(crate) struct ReaderQueue {
     /// The topic, for the one log line about samples dropped.
     topic: String,
     warned: AtomicBool,
+    /// How many samples taken had come in a shared-memory buffer.
+    shared_memory_samples: AtomicU64,
 }
 
 #[derive(Default)]
@@ -259,6 +294,7 @@ impl ReaderQueue {
             depth: depth.clamp(1, MAX_SAMPLES),
             topic: topic.to_owned(),
             warned: AtomicBool::new(false),
+            shared_memory_samples: AtomicU64::new(0),
         })
     }
 
@@ -269,7 +305,7 @@ impl ReaderQueue {
             return;
         };
         self.deliver(Incoming {
-            payload: sample.payload().to_bytes().into_owned(),
+            payload: sample.payload().clone(),
             attachment,
             received: crate::contract::unix_time_ns(),
             related: None,
@@ -337,16 +373,23 @@ pub(crate) struct ZenohReader {
 }
 
 impl ReaderBackend for ZenohReader {
-    /// Takes the next sample: its payload after the 4-byte encapsulation header, its identity
-    /// from the attachment (the publisher's GID and sequence number).
+    /// Takes the next sample: its payload after the 4-byte encapsulation header (copied once
+    /// out of the received buffer, shared memory or not; a payload zenoh received in fragments
+    /// is joined first), its identity from the attachment (the publisher's GID and sequence
+    /// number).
     fn take(&mut self) -> Result<Option<RawSample>, DdsError> {
         let Some(sample) = lock(&self.queue.state).samples.pop_front() else {
             return Ok(None);
         };
-        let Some((header, body)) = sample.payload.split_first_chunk::<4>() else {
-            return Err(DdsError::ShortSample {
-                len: sample.payload.len(),
-            });
+        if sample.payload.as_shm().is_some() {
+            self.queue
+                .shared_memory_samples
+                .fetch_add(1, Ordering::Relaxed);
+        }
+        // One contiguous slice (a shared-memory buffer always is) is borrowed, not copied.
+        let payload = sample.payload.to_bytes();
+        let Some((header, body)) = payload.split_first_chunk::<4>() else {
+            return Err(DdsError::ShortSample { len: payload.len() });
         };
         let big_endian = match [header[0], header[1]] {
             [0x00, 0x01] => false,
@@ -374,6 +417,12 @@ impl ReaderBackend for ZenohReader {
 
     fn waker(&self) -> Arc<dyn Wake> {
         Arc::clone(&self.queue.signal) as Arc<dyn Wake>
+    }
+
+    /// Counted at [`take`](Self::take): samples whose payload zenoh handed over as a mapped
+    /// shared-memory buffer (`ZBytes::as_shm`).
+    fn shared_memory_samples(&self) -> u64 {
+        self.queue.shared_memory_samples.load(Ordering::Relaxed)
     }
 
     fn attach_to(&mut self, set: &dyn WaitSetBackend, key: usize) -> Result<(), WaitSetError> {

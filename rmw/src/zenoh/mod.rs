@@ -5,6 +5,9 @@
 //! - [`config`]: the session (peer, `tcp/localhost:7447`) and router configurations and the
 //!   environment rmw_zenoh reads (`ZENOH_SESSION_CONFIG_URI`, `ZENOH_CONFIG_OVERRIDE`,
 //!   `ZENOH_ROUTER_CHECK_ATTEMPTS`).
+//! - [`shm`]: same-host shared memory, off by default as in rmw_zenoh, on with
+//!   `transport/shared_memory/enabled=true` (`ZENOH_SHM_ALLOC_SIZE`,
+//!   `ZENOH_SHM_MESSAGE_SIZE_THRESHOLD`).
 //! - `liveliness`: the `@ros2_lv/…` tokens, their QoS chunk and the GIDs (XXH3-128 of the key).
 //! - `keyexpr`: data keys `<domain>/<name>/<type>/<hash>`.
 //! - `attachment`: the 33-byte attachment of every sample.
@@ -21,6 +24,7 @@
 //! (ros2/rmw_zenoh#241): the Zenoh configuration decides whom a session reaches.
 
 pub mod config;
+pub mod shm;
 
 mod attachment;
 mod endpoints;
@@ -123,6 +127,10 @@ impl Implementation for Zenoh {
         };
         let attempts = config::router_check_attempts(get)
             .map_err(|e| DdsError::Create(crate::dds_error::boxed(e)))?;
+        // rmw_context_impl_s.cpp: the ShmContext when the configuration enables shared memory.
+        let shm = shm::ShmContext::for_session(&zenoh_config, get)
+            .map_err(|e| DdsError::Create(crate::dds_error::boxed(e)))?
+            .map(Arc::new);
         let session = zenoh::open(zenoh_config)
             .wait()
             .map_err(|e| zenoh_error(DdsError::Create, e))?;
@@ -136,7 +144,7 @@ impl Implementation for Zenoh {
                 );
             }
         }
-        ZenohParticipant::new(session, u32::from(config.domain.get()), config.enclave)
+        ZenohParticipant::new(session, u32::from(config.domain.get()), config.enclave, shm)
             .map(|p| Box::new(p) as Box<dyn ParticipantBackend>)
     }
 }
@@ -166,10 +174,17 @@ pub(crate) struct ZenohParticipant {
     graph: Arc<Graph>,
     _graph_subscriber: zenoh::pubsub::Subscriber<()>,
     deleted: Arc<AtomicBool>,
+    /// The shared-memory provider publishers put large messages in, when enabled.
+    shm: Option<Arc<shm::ShmContext>>,
 }
 
 impl ZenohParticipant {
-    fn new(session: zenoh::Session, domain: u32, enclave: &str) -> Result<Self, DdsError> {
+    fn new(
+        session: zenoh::Session,
+        domain: u32,
+        enclave: &str,
+        shm: Option<Arc<shm::ShmContext>>,
+    ) -> Result<Self, DdsError> {
         let zid = session.zid().to_string();
         let graph = Arc::new(Graph::new(zid.clone(), domain));
         // rmw_context_impl_s.cpp: a liveliness subscriber on the domain's tokens with history,
@@ -212,6 +227,7 @@ impl ZenohParticipant {
             graph,
             _graph_subscriber: graph_subscriber,
             deleted: Arc::new(AtomicBool::new(false)),
+            shm,
         })
     }
 
@@ -411,14 +427,16 @@ impl ZenohParticipant {
         ))
     }
 
-    /// The key, token and GID of a new endpoint: with a token, the GID is its hash (as
-    /// rmw_zenoh's); without one, the hash of a key of this session's own.
+    /// The data key, token key and GID of a new endpoint: with a token, the GID is its hash (as
+    /// rmw_zenoh's); without one, the hash of a key of this session's own. The caller declares
+    /// the token once its publisher or subscriber is declared, as rmw_zenoh does ("a new
+    /// publisher is in town" after the publisher), so that whoever sees the token reaches it.
     fn endpoint_identity(
         &self,
         owner: Option<EndpointOwner>,
         spec: &RawEndpointSpec,
         kind: EntityKind,
-    ) -> (String, Option<LivelinessToken>, Gid) {
+    ) -> (String, Option<String>, Gid) {
         let entity_id = self.next_id();
         let data_key = keyexpr::data_key(
             self.domain,
@@ -429,11 +447,8 @@ impl ZenohParticipant {
         match owner.and_then(|o| self.endpoint_token(o, spec, kind, entity_id)) {
             Some(token) => {
                 let key = token.key();
-                (
-                    data_key,
-                    self.declare_token(&key),
-                    liveliness::gid_of_key(&key),
-                )
+                let gid = liveliness::gid_of_key(&key);
+                (data_key, Some(key), gid)
             }
             None => {
                 let gid = liveliness::gid_of_key(&format!("{}/{entity_id}", self.zid));
@@ -453,7 +468,7 @@ impl ZenohParticipant {
         if let Some(service) = Self::service_of(spec) {
             return self.service_writer(owner, spec, service);
         }
-        let (key, token, gid) = self.endpoint_identity(owner, spec, EntityKind::Publisher);
+        let (key, token_key, gid) = self.endpoint_identity(owner, spec, EntityKind::Publisher);
         // rmw_publisher_data.cpp: BLOCK only for RELIABLE + KEEP_ALL, DROP otherwise.
         let congestion = match (spec.qos.reliability, spec.qos.history) {
             (ReliabilityPolicy::BestEffort, _) => CongestionControl::Drop,
@@ -492,6 +507,7 @@ impl ZenohParticipant {
             history_depth(&spec.qos),
             (&spec.dds_topic_name, &spec.dds_type_name),
         )?;
+        let token = token_key.and_then(|k| self.declare_token(&k));
         self.graph.add_local(
             gid,
             EndpointKind::Writer,
@@ -507,6 +523,7 @@ impl ZenohParticipant {
                 sequence_number: AtomicI64::new(0),
                 graph: Arc::clone(&self.graph),
                 deleted: Arc::clone(&self.deleted),
+                shm: self.shm.clone(),
             }),
             gid,
         ))
@@ -523,7 +540,7 @@ impl ZenohParticipant {
         if let Some(service) = Self::service_of(spec) {
             return self.service_reader(owner, spec, service);
         }
-        let (key, token, gid) = self.endpoint_identity(owner, spec, EntityKind::Subscription);
+        let (key, token_key, gid) = self.endpoint_identity(owner, spec, EntityKind::Subscription);
         let queue = ReaderQueue::new(history_depth(&spec.qos), &spec.dds_topic_name);
         let builder = {
             let queue = Arc::clone(&queue);
@@ -543,6 +560,7 @@ impl ZenohParticipant {
             builder.wait().map(Subscription::Plain)
         }
         .map_err(|e| zenoh_error(DdsError::Create, e))?;
+        let token = token_key.and_then(|k| self.declare_token(&k));
         self.graph.add_local(
             gid,
             EndpointKind::Reader,

@@ -205,10 +205,7 @@ impl ServiceEntity {
                 else {
                     return;
                 };
-                let payload = query
-                    .payload()
-                    .map(|p| p.to_bytes().into_owned())
-                    .unwrap_or_default();
+                let payload = query.payload().cloned().unwrap_or_default();
                 let client = attachment.gid;
                 lock(&queries).hold((client, attachment.sequence_number), query);
                 queue.deliver(Incoming {
@@ -373,7 +370,7 @@ fn on_reply(queue: &ReaderQueue, client: Gid, sequence_number: i64, reply: &Repl
                 return;
             };
             Incoming {
-                payload: sample.payload().to_bytes().into_owned(),
+                payload: sample.payload().clone(),
                 related: Some(SampleId {
                     writer: attachment.gid,
                     sequence_number: attachment.sequence_number,
@@ -383,7 +380,7 @@ fn on_reply(queue: &ReaderQueue, client: Gid, sequence_number: i64, reply: &Repl
             }
         }
         Err(error) => Incoming {
-            payload: error.payload().to_bytes().into_owned(),
+            payload: error.payload().clone(),
             attachment: Attachment {
                 sequence_number,
                 source_timestamp: received,
