@@ -131,11 +131,10 @@ impl Implementation for Zenoh {
         let shm = shm::ShmContext::for_session(&zenoh_config, get)
             .map_err(|e| DdsError::Create(crate::dds_error::boxed(e)))?
             .map(Arc::new);
-        let session = zenoh::open(zenoh_config)
-            .wait()
+        let session = off_current_thread_runtime(|| zenoh::open(zenoh_config).wait())
             .map_err(|e| zenoh_error(DdsError::Create, e))?;
         if let Some(attempts) = attempts {
-            if !config::wait_for_router(&session, attempts) {
+            if !off_current_thread_runtime(|| config::wait_for_router(&session, attempts)) {
                 tracing::warn!(
                     "Unable to connect to a Zenoh router after {attempts} retries (rmw_zenoh's \
                      warning); going on without one: start `horus-ros router` (or rmw_zenohd) \
@@ -147,6 +146,26 @@ impl Implementation for Zenoh {
         ZenohParticipant::new(session, u32::from(config.domain.get()), config.enclave, shm)
             .map(|p| Box::new(p) as Box<dyn ParticipantBackend>)
     }
+}
+
+/// Runs `f`, a call that may block inside zenoh, where zenoh can block: zenoh 1.8 blocks with
+/// tokio's `block_in_place`, which it refuses (panics) on a thread that runs a current-thread
+/// tokio runtime (zenoh-runtime's `ZRuntime::block_in_place`) — a program under
+/// `#[tokio::main(flavor = "current_thread")]` creating a context. There `f` runs on a thread
+/// of its own, the caller waiting for it; elsewhere, on the caller's thread.
+fn off_current_thread_runtime<R: Send>(f: impl FnOnce() -> R + Send) -> R {
+    use tokio_runtime::runtime::{Handle, RuntimeFlavor};
+    let current_thread =
+        Handle::try_current().is_ok_and(|h| h.runtime_flavor() == RuntimeFlavor::CurrentThread);
+    if !current_thread {
+        return f();
+    }
+    std::thread::scope(|scope| {
+        scope
+            .spawn(f)
+            .join()
+            .unwrap_or_else(|panic| std::panic::resume_unwind(panic))
+    })
 }
 
 /// A node of this context: its ids and its token.
@@ -666,7 +685,7 @@ impl ParticipantBackend for ZenohParticipant {
         if !self.deleted.swap(true, Ordering::SeqCst) {
             lock(&self.nodes).clear();
             lock(&self.services).clear();
-            if let Err(e) = self.session.close().wait() {
+            if let Err(e) = off_current_thread_runtime(|| self.session.close().wait()) {
                 tracing::debug!("zenoh: closing the session: {e}");
             }
         }
