@@ -187,3 +187,56 @@ fn the_router_stops_on_sigint_and_sigterm() {
         assert!(status.success(), "{signal}: {status}");
     }
 }
+
+/// The daemon on Zenoh: started for the Zenoh graph (`--backend zenoh daemon start`), it knows
+/// the peer's node, and the CLI's answers through it equal direct discovery's.
+#[test]
+fn the_daemon_serves_the_zenoh_graph() {
+    let (port, domain) = (17451, 4);
+    let _router = router(port);
+    let (_peer, _created) = talker(port, domain, &[]);
+    let direct = horus(port, domain, &["node", "list"]);
+    assert!(direct.lines().any(|l| l == "/talker"), "{direct}");
+
+    // `horus-ros --backend zenoh <args>` as a user types it: through the daemon.
+    let through_daemon = |args: &[&str]| {
+        let domain = domain.to_string();
+        let mut command = std::process::Command::new(env!("CARGO_BIN_EXE_horus-ros"));
+        command
+            .args(["--backend", "zenoh", "--domain-id", &domain])
+            .args(args)
+            .env_remove("ROS_DOMAIN_ID")
+            .env("RUST_LOG", "error")
+            .env(
+                "ZENOH_CONFIG_OVERRIDE",
+                zenoh_common::session_override(port),
+            )
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::piped());
+        let mut child = command.spawn().expect("start horus-ros");
+        horus_ros_test_support::wait_with_output(&mut child, LIMIT).expect("output")
+    };
+    common::daemon::adopt_orphans();
+    let start = through_daemon(&["daemon", "start"]);
+    // Guarded first, so that it is stopped even if the message is wrong.
+    let _guard = (start.code() == Some(0)).then(|| common::daemon::DaemonGuard::adopt(domain));
+    assert_eq!(
+        (start.code(), start.stdout.as_str()),
+        (Some(0), "The daemon has been started\n"),
+        "{}",
+        start.stderr
+    );
+    let status = through_daemon(&["--json", "daemon", "status"]);
+    let status: Value = serde_json::from_str(&status.stdout).expect("status JSON");
+    assert_eq!(status["running"], Value::Bool(true), "{status}");
+    assert_eq!(status["backend"], Value::from("zenoh"), "{status}");
+    for args in [
+        &["node", "list"][..],
+        &["topic", "list", "-t"],
+        &["node", "info", "/talker"],
+    ] {
+        let via = through_daemon(args);
+        assert_eq!(via.code(), Some(0), "{args:?}: {}", via.stderr);
+        assert_eq!(via.stdout, horus(port, domain, args), "{args:?}");
+    }
+}

@@ -137,10 +137,10 @@ impl Node {
         let dds_qos = spec
             .local_qos(EndpointKind::Writer)
             .to_dds(EndpointKind::Writer)
-                .map_err(|source| EndpointError::InvalidQos {
-                    name: spec.dds_topic_name.clone(),
-                    cause: source,
-                })?;
+            .map_err(|source| EndpointError::InvalidQos {
+                name: spec.dds_topic_name.clone(),
+                cause: source,
+            })?;
         let (writer, gid) = self
             .context()
             .inner()
@@ -215,10 +215,10 @@ impl Node {
         let dds_qos = spec
             .local_qos(EndpointKind::Reader)
             .to_dds(EndpointKind::Reader)
-                .map_err(|source| EndpointError::InvalidQos {
-                    name: spec.dds_topic_name.clone(),
-                    cause: source,
-                })?;
+            .map_err(|source| EndpointError::InvalidQos {
+                name: spec.dds_topic_name.clone(),
+                cause: source,
+            })?;
         let (reader, gid) = self
             .context()
             .inner()

@@ -42,35 +42,11 @@ const CYCLONE_LOOPBACK: &str = "<CycloneDDS><Domain Id=\"any\"><General><Interfa
     <NetworkInterface name=\"lo\" multicast=\"true\"/></Interfaces>\
     <AllowMulticast>true</AllowMulticast></General></Domain></CycloneDDS>";
 
-/// Names of interfaces other than `lo` that are up.
-fn non_loopback_interfaces_up() -> std::io::Result<Vec<String>> {
-    let mut up = Vec::new();
-    for entry in std::fs::read_dir("/sys/class/net")? {
-        let entry = entry?;
-        let name = entry.file_name().to_string_lossy().into_owned();
-        let state = std::fs::read_to_string(entry.path().join("operstate")).unwrap_or_default();
-        let flags = std::fs::read_to_string(entry.path().join("flags")).unwrap_or_default();
-        let flags = u32::from_str_radix(flags.trim().trim_start_matches("0x"), 16).unwrap_or(0);
-        if name != "lo" && (state.trim() == "up" || flags & 1 != 0) {
-            up.push(name);
-        }
-    }
-    Ok(up)
-}
-
 fn refuse_outside_namespace() {
-    let why = match non_loopback_interfaces_up() {
-        Ok(up) if up.is_empty() => return,
-        Ok(up) => format!("network interface(s) up besides lo: {}", up.join(", ")),
-        Err(e) => format!("cannot read /sys/class/net to check the interfaces: {e}"),
-    };
-    eprintln!(
-        "async_roundtrip: REFUSING TO RUN: {why}.\nThis benchmark opens DDS participants, whose \
-         discovery traffic must not leave this machine.\nRun it inside a private network \
-         namespace:\n    scripts/bench\nor\n    scripts/isolated cargo bench -p \
-         horus-ros-services --bench async_roundtrip"
+    horus_ros_test_support::isolation::refuse_outside_namespace(
+        "async_roundtrip",
+        "scripts/isolated cargo bench -p horus-ros-services --bench async_roundtrip",
     );
-    std::process::exit(2);
 }
 
 fn env_usize(name: &str, default: usize) -> usize {

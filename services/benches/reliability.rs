@@ -60,29 +60,10 @@ const CYCLONE_LOOPBACK: &str = "<CycloneDDS><Domain Id=\"any\"><General><Interfa
     <AllowMulticast>true</AllowMulticast></General></Domain></CycloneDDS>";
 
 fn refuse_outside_namespace() {
-    let mut up = Vec::new();
-    if let Ok(entries) = std::fs::read_dir("/sys/class/net") {
-        for entry in entries.flatten() {
-            let name = entry.file_name().to_string_lossy().into_owned();
-            let state = std::fs::read_to_string(entry.path().join("operstate")).unwrap_or_default();
-            let flags = std::fs::read_to_string(entry.path().join("flags")).unwrap_or_default();
-            let flags = u32::from_str_radix(flags.trim().trim_start_matches("0x"), 16).unwrap_or(0);
-            if name != "lo" && (flags & 1 != 0 || state.trim() == "up") {
-                up.push(name);
-            }
-        }
-    } else {
-        up.push("(cannot read /sys/class/net)".to_owned());
-    }
-    if !up.is_empty() {
-        eprintln!(
-            "reliability: REFUSING TO RUN: network interface(s) up besides lo: {}.\nRun it inside \
-             a private network namespace: scripts/bench, or scripts/isolated cargo bench -p \
-             horus-ros-services --features cyclone --bench reliability",
-            up.join(", ")
-        );
-        std::process::exit(2);
-    }
+    horus_ros_test_support::isolation::refuse_outside_namespace(
+        "reliability",
+        "scripts/isolated cargo bench -p horus-ros-services --features cyclone --bench reliability",
+    );
 }
 
 fn env_usize(name: &str, default: usize) -> usize {

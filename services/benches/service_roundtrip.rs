@@ -84,42 +84,11 @@ const STOP: i64 = i64::MIN;
 // ---------------------------------------------------------------------------------------------
 // Refuse to run where DDS could reach a real network.
 
-/// Names of interfaces other than `lo` that are up (IFF_UP in `flags`, or operstate `up`).
-fn non_loopback_interfaces_up() -> std::io::Result<Vec<String>> {
-    let mut up = Vec::new();
-    for entry in std::fs::read_dir("/sys/class/net")? {
-        let entry = entry?;
-        let name = entry.file_name().to_string_lossy().into_owned();
-        if name == "lo" {
-            continue;
-        }
-        let read = |file: &str| {
-            std::fs::read_to_string(entry.path().join(file))
-                .map(|s| s.trim().to_owned())
-                .unwrap_or_default()
-        };
-        let flags = u32::from_str_radix(read("flags").trim_start_matches("0x"), 16).unwrap_or(0);
-        if flags & 0x1 != 0 || read("operstate") == "up" {
-            up.push(name);
-        }
-    }
-    Ok(up)
-}
-
 fn refuse_outside_namespace() {
-    let why = match non_loopback_interfaces_up() {
-        Ok(up) if up.is_empty() => return,
-        Ok(up) => format!("network interface(s) up besides lo: {}", up.join(", ")),
-        Err(e) => format!("cannot read /sys/class/net to check the interfaces: {e}"),
-    };
-    eprintln!(
-        "service_roundtrip: REFUSING TO RUN: {why}.\n\
-         This benchmark opens DDS participants, whose discovery traffic must not leave this \
-         machine.\nRun it inside a private network namespace:\n    scripts/bench\nor\n    \
-         scripts/isolated cargo bench -p horus-ros-services --bench service_roundtrip\n\
-         (build it outside first: cargo bench -p horus-ros-services --no-run)"
+    horus_ros_test_support::isolation::refuse_outside_namespace(
+        "service_roundtrip",
+        "scripts/isolated cargo bench -p horus-ros-services --bench service_roundtrip (build it outside first: cargo bench -p horus-ros-services --no-run)",
     );
-    std::process::exit(2);
 }
 
 // ---------------------------------------------------------------------------------------------

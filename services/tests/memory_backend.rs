@@ -2,6 +2,7 @@
 //! at all) pass the contract's tests (`contract/`, which the Zenoh backend passes too:
 //! `zenoh_backend.rs`). Each test has its own domain (its own in-memory bus).
 
+#[macro_use]
 mod contract;
 mod memory;
 
@@ -20,45 +21,7 @@ fn context(domain: u32) -> Context {
         .expect("context")
 }
 
-#[test]
-fn the_graph_sees_another_contexts_nodes_topics_services_and_endpoints() {
-    contract::the_graph_sees_another_contexts_nodes_topics_services_and_endpoints(&context);
-}
-
-#[test]
-fn messages_reach_subscriptions_of_other_contexts_and_of_the_same_one() {
-    contract::messages_reach_subscriptions_of_other_contexts_and_of_the_same_one(&context);
-}
-
-#[test]
-fn a_wait_set_reports_the_readers_with_data_and_its_own_wake_up() {
-    contract::a_wait_set_reports_the_readers_with_data_and_its_own_wake_up(&context);
-}
-
-#[test]
-fn blocking_calls_are_answered_and_their_failures_reported() {
-    contract::blocking_calls_are_answered_and_their_failures_reported(&context);
-}
-
-#[test]
-fn a_server_that_leaves_ends_the_call_waiting_for_it() {
-    contract::a_server_that_leaves_ends_the_call_waiting_for_it(&context);
-}
-
-#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
-async fn awaited_calls_are_answered_by_sync_and_async_servers() {
-    contract::awaited_calls_are_answered_by_sync_and_async_servers(&context).await;
-}
-
-#[test]
-fn node_services_answer() {
-    contract::node_services_answer(&context);
-}
-
-#[test]
-fn qos_decides_matches_depth_and_what_late_joiners_get() {
-    contract::qos_decides_matches_depth_and_what_late_joiners_get(&context);
-}
+contract_tests!(context);
 
 /// DDS-shaped GIDs: an endpoint's participant is found from its GID's prefix.
 #[test]

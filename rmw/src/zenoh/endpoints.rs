@@ -23,7 +23,6 @@
 //! `SubscriptionData` keeps its `zenoh::Bytes`) until it is taken; a take copies the body out
 //! once into the [`RawSample`], as rmw_zenoh's `rmw_take` deserializes out of the payload.
 
-
 use std::collections::VecDeque;
 use std::sync::atomic::{AtomicBool, AtomicI64, AtomicU64, Ordering};
 use std::sync::{Arc, Mutex, Weak};

@@ -177,9 +177,30 @@ struct NodeEntry {
     _token: Option<LivelinessToken>,
 }
 
+/// A context's session, closed and dropped where zenoh may block
+/// ([`off_current_thread_runtime`]): dropping the last handle of a session closes it.
+struct SessionHandle(Option<zenoh::Session>);
+
+impl std::ops::Deref for SessionHandle {
+    type Target = zenoh::Session;
+
+    fn deref(&self) -> &zenoh::Session {
+        // Taken only by `drop`.
+        self.0.as_ref().unwrap_or_else(|| unreachable!("a session is held until dropped"))
+    }
+}
+
+impl Drop for SessionHandle {
+    fn drop(&mut self) {
+        if let Some(session) = self.0.take() {
+            off_current_thread_runtime(move || drop(session));
+        }
+    }
+}
+
 /// A context's session, its nodes and the graph it sees.
 pub(crate) struct ZenohParticipant {
-    session: zenoh::Session,
+    session: SessionHandle,
     zid: String,
     domain: u32,
     enclave: String,
@@ -204,6 +225,7 @@ impl ZenohParticipant {
         enclave: &str,
         shm: Option<Arc<shm::ShmContext>>,
     ) -> Result<Self, DdsError> {
+        let session = SessionHandle(Some(session));
         let zid = session.zid().to_string();
         let graph = Arc::new(Graph::new(zid.clone(), domain));
         // rmw_context_impl_s.cpp: a liveliness subscriber on the domain's tokens with history,

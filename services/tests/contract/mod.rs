@@ -2,7 +2,8 @@
 //! DDS (`memory_backend.rs`: the in-memory test backend; `zenoh_backend.rs`: the Zenoh backend
 //! through a router of its own): the graph, publishers and subscriptions, wait sets, blocking
 //! and async service calls and the node services. Each test takes the bus's context factory
-//! (`context(domain)`) and uses its own domain. Waits are bounded and woken by the event (a
+//! (`context(domain)`) and uses its own domain; `contract_tests!(context)` makes them the
+//! including file's `#[test]`s. Waits are bounded and woken by the event (a
 //! sample, a graph change); what a backend cannot do (its
 //! [`Capabilities`](horus_ros_rmw::Capabilities)) is asserted as refused.
 
@@ -21,6 +22,54 @@ use horus_ros_rmw::qos::Qos;
 use horus_ros_rmw::{RawEndpointSpec, RawReader, RawSample, Subscription, WaitSet};
 use horus_ros_services::prelude::*;
 use horus_ros_services::{DdsServiceServer, NodeServices, ServiceServerTrait};
+
+/// The contract's tests as `#[test]`s of the including file, each run on the contexts
+/// `$context(domain)` makes.
+macro_rules! contract_tests {
+    ($context:ident) => {
+        #[test]
+        fn the_graph_sees_another_contexts_nodes_topics_services_and_endpoints() {
+            contract::the_graph_sees_another_contexts_nodes_topics_services_and_endpoints(
+                &$context,
+            );
+        }
+
+        #[test]
+        fn messages_reach_subscriptions_of_other_contexts_and_of_the_same_one() {
+            contract::messages_reach_subscriptions_of_other_contexts_and_of_the_same_one(&$context);
+        }
+
+        #[test]
+        fn a_wait_set_reports_the_readers_with_data_and_its_own_wake_up() {
+            contract::a_wait_set_reports_the_readers_with_data_and_its_own_wake_up(&$context);
+        }
+
+        #[test]
+        fn blocking_calls_are_answered_and_their_failures_reported() {
+            contract::blocking_calls_are_answered_and_their_failures_reported(&$context);
+        }
+
+        #[test]
+        fn a_server_that_leaves_ends_the_call_waiting_for_it() {
+            contract::a_server_that_leaves_ends_the_call_waiting_for_it(&$context);
+        }
+
+        #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+        async fn awaited_calls_are_answered_by_sync_and_async_servers() {
+            contract::awaited_calls_are_answered_by_sync_and_async_servers(&$context).await;
+        }
+
+        #[test]
+        fn node_services_answer() {
+            contract::node_services_answer(&$context);
+        }
+
+        #[test]
+        fn qos_decides_matches_depth_and_what_late_joiners_get() {
+            contract::qos_decides_matches_depth_and_what_late_joiners_get(&$context);
+        }
+    };
+}
 
 /// One second.
 pub const SECOND: Duration = Duration::from_secs(1);
@@ -78,7 +127,9 @@ impl std::task::Wake for Unparker {
     }
 }
 
-pub fn the_graph_sees_another_contexts_nodes_topics_services_and_endpoints(context: &dyn Fn(u32) -> Context) {
+pub fn the_graph_sees_another_contexts_nodes_topics_services_and_endpoints(
+    context: &dyn Fn(u32) -> Context,
+) {
     let a = context(1);
     let talker = a.create_node("talker", "/memory").expect("node");
     let publisher = talker
@@ -202,7 +253,9 @@ pub fn the_graph_sees_another_contexts_nodes_topics_services_and_endpoints(conte
         && c.count_subscribers("/memory/chatter") == 1));
 }
 
-pub fn messages_reach_subscriptions_of_other_contexts_and_of_the_same_one(context: &dyn Fn(u32) -> Context) {
+pub fn messages_reach_subscriptions_of_other_contexts_and_of_the_same_one(
+    context: &dyn Fn(u32) -> Context,
+) {
     let a = context(2);
     let talker = a.create_node("talker", "/").expect("node");
     let publisher = talker
@@ -242,7 +295,9 @@ pub fn messages_reach_subscriptions_of_other_contexts_and_of_the_same_one(contex
     woken.join().expect("waker");
 }
 
-pub fn a_wait_set_reports_the_readers_with_data_and_its_own_wake_up(context: &dyn Fn(u32) -> Context) {
+pub fn a_wait_set_reports_the_readers_with_data_and_its_own_wake_up(
+    context: &dyn Fn(u32) -> Context,
+) {
     let a = context(3);
     let n = a.create_node("raw", "/").expect("node");
     let spec = |topic: &str| RawEndpointSpec {
@@ -385,7 +440,9 @@ pub fn a_server_that_leaves_ends_the_call_waiting_for_it(context: &dyn Fn(u32) -
     assert!(left.elapsed() < 10 * SECOND, "noticed late");
 }
 
-pub async fn awaited_calls_are_answered_by_sync_and_async_servers(context: &dyn Fn(u32) -> Context) {
+pub async fn awaited_calls_are_answered_by_sync_and_async_servers(
+    context: &dyn Fn(u32) -> Context,
+) {
     let a = context(6);
     let server_node = a.create_node("server", "/").expect("node");
     let _sync = adder(&server_node, "/sync_add");
