@@ -9,208 +9,12 @@
 //! `HORUS_ROS_BACKEND`; every wait is on a child's output line, bounded.
 //!
 //! Needs root, iproute2 and nftables (`scripts/setup`), as `scripts/isolated`, which the suite
-//! runs in.
+//! runs in. The hosts and the children are `common::hosts`'s, shared with `zenoh_multi_host.rs`.
 
-use std::collections::BTreeMap;
-use std::io::Write;
-use std::process::{Child, ChildStdin, Command, Stdio};
-use std::sync::atomic::{AtomicU32, Ordering};
-use std::sync::mpsc::Receiver;
-use std::time::{Duration, Instant};
+#[allow(dead_code)]
+mod common;
 
-/// The longest wait for one line of a child.
-const WAIT: Duration = Duration::from_secs(30);
-
-/// Runs `ip ARGS…`, panicking with its error output if it fails.
-fn ip(args: &[&str]) {
-    let out = Command::new("ip").args(args).output().expect("run ip");
-    assert!(
-        out.status.success(),
-        "ip {}: {}",
-        args.join(" "),
-        String::from_utf8_lossy(&out.stderr)
-    );
-}
-
-/// Two hosts, A (`10.231.<net>.1`) and B (`.2`), each a network namespace with loopback and
-/// one end of a veth pair, multicast routed to the veth. Removed when dropped.
-struct Hosts {
-    namespaces: [String; 2],
-    links: [String; 2],
-}
-
-impl Hosts {
-    fn new(net: u8) -> Self {
-        static NEXT: AtomicU32 = AtomicU32::new(0);
-        let id = format!(
-            "{}{}",
-            std::process::id(),
-            NEXT.fetch_add(1, Ordering::Relaxed)
-        );
-        let hosts = Self {
-            namespaces: [format!("hr{id}a"), format!("hr{id}b")],
-            // Interface names have at most 15 characters.
-            links: [format!("hv{id}a"), format!("hv{id}b")],
-        };
-        ip(&[
-            "link",
-            "add",
-            &hosts.links[0],
-            "type",
-            "veth",
-            "peer",
-            "name",
-            &hosts.links[1],
-        ]);
-        for (i, (ns, link)) in hosts.namespaces.iter().zip(&hosts.links).enumerate() {
-            ip(&["netns", "add", ns]);
-            ip(&["link", "set", link, "netns", ns]);
-            let address = format!("10.231.{net}.{}/24", i + 1);
-            ip(&["-n", ns, "link", "set", "lo", "up"]);
-            ip(&["-n", ns, "addr", "add", &address, "dev", link]);
-            ip(&["-n", ns, "link", "set", link, "up"]);
-            ip(&["-n", ns, "route", "add", "224.0.0.0/4", "dev", link]);
-        }
-        hosts
-    }
-
-    /// Drops `percent` % of the packets each host sends on the link, at random.
-    fn lose(&self, percent: u32) {
-        for (ns, link) in self.namespaces.iter().zip(&self.links) {
-            let rules = format!(
-                "table inet loss {{\n  chain out {{\n    type filter hook output priority 0;\n    \
-                 oifname \"{link}\" numgen random mod 100 < {percent} counter drop\n  }}\n}}\n"
-            );
-            let mut nft = Command::new("ip")
-                .args(["netns", "exec", ns, "nft", "-f", "-"])
-                .stdin(Stdio::piped())
-                .spawn()
-                .expect("run nft (scripts/setup installs nftables)");
-            nft.stdin
-                .take()
-                .expect("stdin")
-                .write_all(rules.as_bytes())
-                .expect("write the rules");
-            assert!(nft.wait().expect("nft").success(), "nft -f: {rules}");
-        }
-    }
-
-    /// How many packets the loss rules dropped, both hosts together.
-    fn dropped(&self) -> u64 {
-        self.namespaces
-            .iter()
-            .map(|ns| {
-                let out = Command::new("ip")
-                    .args(["netns", "exec", ns, "nft", "list", "table", "inet", "loss"])
-                    .output()
-                    .expect("nft list");
-                let text = String::from_utf8_lossy(&out.stdout);
-                text.split_whitespace()
-                    .skip_while(|w| *w != "packets")
-                    .nth(1)
-                    .and_then(|n| n.parse::<u64>().ok())
-                    .unwrap_or_else(|| panic!("no counter in {text}"))
-            })
-            .sum()
-    }
-
-    /// Takes host A's end of the link down (`false`) or up again (`true`).
-    fn link(&self, up: bool) {
-        let state = if up { "up" } else { "down" };
-        ip(&[
-            "-n",
-            &self.namespaces[0],
-            "link",
-            "set",
-            &self.links[0],
-            state,
-        ]);
-    }
-}
-
-impl Drop for Hosts {
-    fn drop(&mut self) {
-        for ns in &self.namespaces {
-            let _ = Command::new("ip").args(["netns", "del", ns]).status();
-        }
-    }
-}
-
-/// A child process in one host, its stdout lines arriving on a channel. Killed when dropped.
-struct Running {
-    child: Child,
-    stdin: Option<ChildStdin>,
-    lines: Receiver<String>,
-    seen: Vec<String>,
-}
-
-impl Running {
-    /// Starts `exe ARGS…` in `host` (0: A, 1: B) with `env` added and `CYCLONEDDS_URI` removed
-    /// (each host chooses its own interface).
-    fn start(hosts: &Hosts, host: usize, exe: &str, args: &[&str], env: &[(&str, &str)]) -> Self {
-        let mut child = Command::new("ip")
-            .args(["netns", "exec", &hosts.namespaces[host], exe])
-            .args(args)
-            .env_remove("CYCLONEDDS_URI")
-            .envs(env.iter().copied())
-            .stdin(Stdio::piped())
-            .stdout(Stdio::piped())
-            .stderr(Stdio::inherit())
-            .spawn()
-            .expect("start a child in a host");
-        let lines = interop_tests::line_reader(child.stdout.take().expect("stdout"));
-        Self {
-            stdin: child.stdin.take(),
-            child,
-            lines,
-            seen: Vec::new(),
-        }
-    }
-
-    /// The next line (at most [`WAIT`]).
-    fn next_line(&mut self) -> String {
-        match self.lines.recv_timeout(WAIT) {
-            Ok(line) => {
-                self.seen.push(line.clone());
-                line
-            }
-            Err(_) => panic!("no line within {WAIT:?}; saw {:#?}", self.seen),
-        }
-    }
-
-    /// Sends one command line and returns the answer line.
-    fn ask(&mut self, command: &str) -> String {
-        let stdin = self.stdin.as_mut().expect("stdin open");
-        writeln!(stdin, "{command}").expect("write a command");
-        stdin.flush().expect("flush");
-        self.next_line()
-    }
-
-    /// Closes its standard input (the caller and the server end on it) and returns every line
-    /// it printed.
-    fn finish(mut self) -> Vec<String> {
-        self.stdin = None;
-        let end = Instant::now() + WAIT;
-        while let Ok(line) = self
-            .lines
-            .recv_timeout(end.saturating_duration_since(Instant::now()))
-        {
-            self.seen.push(line);
-        }
-        let status = self.child.wait().expect("wait");
-        assert!(status.success(), "{status}: {:#?}", self.seen);
-        std::mem::take(&mut self.seen)
-    }
-}
-
-impl Drop for Running {
-    fn drop(&mut self) {
-        if let Ok(None) = self.child.try_wait() {
-            let _ = self.child.kill();
-            let _ = self.child.wait();
-        }
-    }
-}
+use common::hosts::{times_handled, Hosts, Running};
 
 const SERVER: &str = env!("CARGO_BIN_EXE_horus_add_two_ints_server");
 const CALLER: &str = env!("CARGO_BIN_EXE_horus_add_two_ints_caller");
@@ -249,12 +53,7 @@ fn calls_cross_hosts_and_resume_after_the_link_is_cut_and_restored() {
     // One answer per call, and no request handled twice (the one sent during the cut may be
     // handled once, late, after the link came back; its late reply is dropped by the client).
     assert_eq!(calls.iter().filter(|l| l.starts_with("sum ")).count(), 6);
-    let mut times: BTreeMap<&str, usize> = BTreeMap::new();
-    for line in &handled {
-        if let Some(a) = line.strip_prefix("handling ") {
-            *times.entry(a).or_default() += 1;
-        }
-    }
+    let times = times_handled(&handled);
     assert!(times.values().all(|&n| n == 1), "{handled:#?}");
     for a in ["1", "2", "3", "11", "12", "13"] {
         assert_eq!(times.get(a), Some(&1), "{handled:#?}");
@@ -286,9 +85,7 @@ fn localhost_discovery_range_keeps_a_hosts_nodes_to_that_host() {
     assert_eq!(other_local.next_line(), "ready");
     assert_eq!(other_subnet.next_line(), "ready");
     for caller in [&mut other_local, &mut other_subnet] {
-        let stdin = caller.stdin.as_mut().expect("stdin");
-        writeln!(stdin, "wait 3000").expect("write");
-        stdin.flush().expect("flush");
+        caller.send("wait 3000");
     }
     assert_eq!(other_local.next_line(), "not found");
     assert_eq!(other_subnet.next_line(), "not found");
@@ -320,12 +117,7 @@ fn every_call_is_answered_once_at_15_percent_packet_loss() {
     let dropped = hosts.dropped();
     caller.finish();
     let handled = server.finish();
-    let mut times: BTreeMap<&str, usize> = BTreeMap::new();
-    for line in &handled {
-        if let Some(a) = line.strip_prefix("handling ") {
-            *times.entry(a).or_default() += 1;
-        }
-    }
+    let times = times_handled(&handled);
     assert_eq!(
         times.len(),
         usize::try_from(CALLS).expect("count"),
