@@ -186,7 +186,9 @@ impl std::ops::Deref for SessionHandle {
 
     fn deref(&self) -> &zenoh::Session {
         // Taken only by `drop`.
-        self.0.as_ref().unwrap_or_else(|| unreachable!("a session is held until dropped"))
+        self.0
+            .as_ref()
+            .unwrap_or_else(|| unreachable!("a session is held until dropped"))
     }
 }
 
