@@ -304,6 +304,13 @@ impl<'a> Generator<'a> {
                 )
                 .ok();
             }
+            if f.bytes {
+                writeln!(
+                    self.out,
+                    "        #[serde(deserialize_with = \"{MSGS}::runtime::bytes::deserialize\")]"
+                )
+                .ok();
+            }
             if let Some(rename) = &f.rename {
                 writeln!(self.out, "        #[serde(rename = \"{rename}\")]").ok();
             }
@@ -465,8 +472,16 @@ impl<'a> Generator<'a> {
             _ => None,
         };
         let array = matches!(f.ty.container, Container::Array(_));
+        // An unbounded `uint8[]`/`char[]` goes as one block of bytes (`runtime::bytes`).
+        let bytes = f.ty.container == Container::UnboundedSequence
+            && matches!(
+                f.ty.base,
+                BaseType::Primitive(Primitive::UInt8 | Primitive::Char)
+            );
         let (ident, rename) = rust_ident(&f.name);
-        let serialize = if array || string_bound.is_some() || sequence_bound.is_some() {
+        let serialize = if bytes {
+            format!("{MSGS}::runtime::bytes::as_bytes(&self.{ident})")
+        } else if array || string_bound.is_some() || sequence_bound.is_some() {
             format!(
                 "{MSGS}::runtime::Bounded::new(&self.{ident}, \"{}\", {:?}, {:?})",
                 f.name, string_bound, sequence_bound
@@ -494,6 +509,7 @@ impl<'a> Generator<'a> {
             doc.push(format!("`{} {}`.", crate::msg::type_string(&f.ty), f.name));
         }
         Ok(RustField {
+            bytes,
             ident,
             rename,
             ros_name: f.name.clone(),
@@ -509,6 +525,8 @@ impl<'a> Generator<'a> {
 
 /// One field as Rust sees it.
 struct RustField {
+    /// An unbounded `uint8[]`/`char[]`: (de)serialized as bytes.
+    bytes: bool,
     ident: String,
     rename: Option<String>,
     ros_name: String,

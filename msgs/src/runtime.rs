@@ -365,6 +365,24 @@ where
     }
 }
 
+/// `uint8[]` / `char[]` sequences (Rust `Vec<u8>`) as one block of bytes: CDR's
+/// `sequence<octet>` is a 4-aligned `u32` length and the bytes, which serde's `bytes` calls give
+/// at once (a memory copy) where a sequence of `u8` goes element by element (a 6 MB image:
+/// milliseconds). The same bytes on the wire either way.
+pub mod bytes {
+    use serde::{Deserialize, Deserializer};
+
+    /// `value` serialized as bytes.
+    pub fn as_bytes(value: &[u8]) -> &serde_bytes::Bytes {
+        serde_bytes::Bytes::new(value)
+    }
+
+    /// Deserializes bytes (or, from formats without them, a sequence of `u8`).
+    pub fn deserialize<'de, D: Deserializer<'de>>(deserializer: D) -> Result<Vec<u8>, D::Error> {
+        serde_bytes::ByteBuf::deserialize(deserializer).map(serde_bytes::ByteBuf::into_vec)
+    }
+}
+
 /// `#[serde(with = "::horus_ros_msgs::runtime::array")]` for `[T; N]` of any `N` (serde's own
 /// impls stop at 32): a fixed array is a tuple of `N` elements (no count in CDR).
 pub mod array {

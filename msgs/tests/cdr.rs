@@ -217,3 +217,44 @@ fn every_prefix_of_a_valid_message_is_rejected_without_panic() {
         );
     }
 }
+
+/// `uint8[]` goes as one block of bytes (`runtime::bytes`): the same XCDR1 as element by
+/// element — a 4-aligned `u32` count, then the bytes — both ways and in both byte orders, and
+/// a count beyond the payload is an error.
+#[test]
+fn uint8_sequences_are_a_count_and_the_bytes() {
+    use horus_ros_msgs::sensor_msgs::msg::CompressedImage;
+    let image = CompressedImage {
+        format: "x".into(),
+        data: vec![7, 8, 9],
+        ..Default::default()
+    };
+    let bytes = to_cdr(&image).expect("encode");
+    let expected = [
+        0x00, 0x01, 0x00, 0x00, // CDR_LE header
+        0, 0, 0, 0, 0, 0, 0, 0, // header.stamp
+        1, 0, 0, 0, 0, 0, 0, 0, // header.frame_id: "" (count 1, NUL), padded to 4
+        2, 0, 0, 0, b'x', 0, 0, 0, // format: "x", padded to 4
+        3, 0, 0, 0, 7, 8, 9, // data: count 3, the bytes
+    ];
+    assert_eq!(bytes, expected);
+    assert_eq!(from_cdr::<CompressedImage>(&bytes).expect("decode"), image);
+    // What a per-element encoder writes decodes the same (the body of a plain Vec<u8>).
+    let per_element =
+        horus_ros_msgs::cdr::to_cdr_body(&(0u32, 0u32, String::new(), "x", vec![7u8, 8, 9]))
+            .expect("encode");
+    assert_eq!(per_element, expected[4..]);
+    // Big-endian.
+    let be = [
+        0x00, 0x00, 0x00, 0x00, // CDR_BE header
+        0, 0, 0, 0, 0, 0, 0, 0, // header.stamp
+        0, 0, 0, 1, 0, 0, 0, 0, // header.frame_id
+        0, 0, 0, 2, b'x', 0, 0, 0, // format
+        0, 0, 0, 3, 7, 8, 9, // data
+    ];
+    assert_eq!(from_cdr::<CompressedImage>(&be).expect("decode BE"), image);
+    // A count larger than what follows.
+    let mut short = expected.to_vec();
+    short[28] = 4;
+    assert!(from_cdr::<CompressedImage>(&short).is_err());
+}

@@ -1031,6 +1031,7 @@ pub mod srv {
     #[serde(crate = "::horus_ros_msgs::serde")]
     pub struct GetParameterTypesResponse {
         /// `uint8[] types`.
+        #[serde(deserialize_with = "::horus_ros_msgs::runtime::bytes::deserialize")]
         pub types: ::std::vec::Vec<u8>,
     }
 
@@ -1046,7 +1047,7 @@ pub mod srv {
         fn serialize<S: ::horus_ros_msgs::serde::Serializer>(&self, serializer: S) -> ::core::result::Result<S::Ok, S::Error> {
             use ::horus_ros_msgs::serde::ser::SerializeStruct as _;
             let mut s = serializer.serialize_struct("GetParameterTypesResponse", 1)?;
-            s.serialize_field("types", &self.types)?;
+            s.serialize_field("types", &::horus_ros_msgs::runtime::bytes::as_bytes(&self.types))?;
             s.end()
         }
     }

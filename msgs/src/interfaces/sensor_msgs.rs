@@ -335,6 +335,7 @@ pub mod msg {
         /// `string format`.
         pub format: ::std::string::String,
         /// `uint8[] data`.
+        #[serde(deserialize_with = "::horus_ros_msgs::runtime::bytes::deserialize")]
         pub data: ::std::vec::Vec<u8>,
     }
 
@@ -354,7 +355,7 @@ pub mod msg {
             let mut s = serializer.serialize_struct("CompressedImage", 3)?;
             s.serialize_field("header", &self.header)?;
             s.serialize_field("format", &self.format)?;
-            s.serialize_field("data", &self.data)?;
+            s.serialize_field("data", &::horus_ros_msgs::runtime::bytes::as_bytes(&self.data))?;
             s.end()
         }
     }
@@ -481,6 +482,7 @@ pub mod msg {
         /// `uint32 step`.
         pub step: u32,
         /// `uint8[] data`.
+        #[serde(deserialize_with = "::horus_ros_msgs::runtime::bytes::deserialize")]
         pub data: ::std::vec::Vec<u8>,
     }
 
@@ -508,7 +510,7 @@ pub mod msg {
             s.serialize_field("encoding", &self.encoding)?;
             s.serialize_field("is_bigendian", &self.is_bigendian)?;
             s.serialize_field("step", &self.step)?;
-            s.serialize_field("data", &self.data)?;
+            s.serialize_field("data", &::horus_ros_msgs::runtime::bytes::as_bytes(&self.data))?;
             s.end()
         }
     }
@@ -1308,6 +1310,7 @@ pub mod msg {
         /// `uint32 row_step`.
         pub row_step: u32,
         /// `uint8[] data`.
+        #[serde(deserialize_with = "::horus_ros_msgs::runtime::bytes::deserialize")]
         pub data: ::std::vec::Vec<u8>,
         /// `bool is_dense`.
         pub is_dense: bool,
@@ -1340,7 +1343,7 @@ pub mod msg {
             s.serialize_field("is_bigendian", &self.is_bigendian)?;
             s.serialize_field("point_step", &self.point_step)?;
             s.serialize_field("row_step", &self.row_step)?;
-            s.serialize_field("data", &self.data)?;
+            s.serialize_field("data", &::horus_ros_msgs::runtime::bytes::as_bytes(&self.data))?;
             s.serialize_field("is_dense", &self.is_dense)?;
             s.end()
         }

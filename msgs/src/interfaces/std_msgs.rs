@@ -1156,6 +1156,7 @@ pub mod msg {
         /// `std_msgs/MultiArrayLayout layout`.
         pub layout: MultiArrayLayout,
         /// `uint8[] data`.
+        #[serde(deserialize_with = "::horus_ros_msgs::runtime::bytes::deserialize")]
         pub data: ::std::vec::Vec<u8>,
     }
 
@@ -1173,7 +1174,7 @@ pub mod msg {
             use ::horus_ros_msgs::serde::ser::SerializeStruct as _;
             let mut s = serializer.serialize_struct("UInt8MultiArray", 2)?;
             s.serialize_field("layout", &self.layout)?;
-            s.serialize_field("data", &self.data)?;
+            s.serialize_field("data", &::horus_ros_msgs::runtime::bytes::as_bytes(&self.data))?;
             s.end()
         }
     }
