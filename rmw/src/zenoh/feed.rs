@@ -17,13 +17,17 @@
 //!   message (`ParticipantEntitiesInfo`) per session, nodes in id order, each listing its
 //!   endpoints' GIDs.
 //!
-//! A token's DELETE removes what it announced; a session whose last token went is a lost
+//! A token's DELETE removes what it announced, once confirmed (no one answers for the token:
+//! [`DeleteConfirmer`]); a session whose last token went is a lost
 //! participant. A malformed token is logged once per session and dropped. The maps are bounded
 //! ([`MAX_TOKENS`]), and so is the feed's queue ([`MAX_FEED_EVENTS`]).
 
-use std::collections::{BTreeMap, BTreeSet, VecDeque};
-use std::sync::{Arc, Mutex};
+use std::collections::{BTreeMap, BTreeSet, HashMap, VecDeque};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{mpsc, Arc, Mutex};
 use std::time::Duration;
+
+use zenoh::Wait;
 
 use horus_ros_msgs::rmw_dds_common::{NodeEntitiesInfo, ParticipantEntitiesInfo};
 
@@ -192,6 +196,10 @@ pub(crate) struct Graph {
 struct GraphState {
     sessions: BTreeMap<String, Session>,
     tokens: usize,
+    /// Known tokens whose DELETE waits for its confirmation, with its ticket (see
+    /// [`Graph::token`]); at most one per known token.
+    pending_deletes: HashMap<String, u64>,
+    next_ticket: u64,
     local: BTreeMap<Gid, LocalEndpoint>,
     feed: Option<Arc<FeedQueue>>,
     warned: BTreeSet<String>,
@@ -199,6 +207,17 @@ struct GraphState {
 }
 
 impl GraphState {
+    /// Whether the token `key` is in the graph.
+    fn knows(&self, token: &Token, key: &str) -> bool {
+        self.sessions.get(&token.zid).is_some_and(|s| {
+            if token.kind == EntityKind::Node {
+                s.nodes.get(&token.node_id).is_some_and(|t| t.key() == key)
+            } else {
+                s.entities.contains_key(key)
+            }
+        })
+    }
+
     fn send(&self, event: DiscoveryEvent) {
         if let Some(feed) = &self.feed {
             feed.push(event);
@@ -269,6 +288,87 @@ impl GraphState {
     }
 }
 
+/// Most DELETEs waiting for their confirmation to be asked; beyond, one is applied at once.
+const MAX_UNCONFIRMED: usize = 1024;
+
+/// How long a DELETE's confirmation may take (a liveliness `get` answered by the routing tables
+/// of the sessions and routers on the way): then the DELETE is applied.
+const CONFIRM_TIMEOUT: Duration = Duration::from_secs(5);
+
+/// Asks, on a thread of its own (not from zenoh's callback), whether each token of a pending
+/// DELETE is still alive, and tells the graph ([`Graph::confirm_delete`]). The thread ends with
+/// the last sender (the liveliness subscriber's callback, undeclared when the session closes).
+pub(crate) struct DeleteConfirmer {
+    requests: mpsc::SyncSender<(String, u64)>,
+    graph: Arc<Graph>,
+}
+
+impl DeleteConfirmer {
+    /// Starts the thread that asks through `session`.
+    pub(crate) fn start(session: zenoh::Session, graph: Arc<Graph>) -> std::io::Result<Self> {
+        let (requests, pending) = mpsc::sync_channel::<(String, u64)>(MAX_UNCONFIRMED);
+        let asking = Arc::clone(&graph);
+        std::thread::Builder::new()
+            .name("zenoh-graph".into())
+            .spawn(move || {
+                for (key, ticket) in pending {
+                    ask(&session, &asking, key, ticket);
+                }
+            })?;
+        Ok(Self { requests, graph })
+    }
+
+    /// Has the DELETE of `key` (`ticket`) confirmed; applied at once if too many wait.
+    pub(crate) fn confirm(&self, key: &str, ticket: u64) {
+        if let Err(
+            mpsc::TrySendError::Full((key, ticket))
+            | mpsc::TrySendError::Disconnected((key, ticket)),
+        ) = self.requests.try_send((key.to_owned(), ticket))
+        {
+            self.graph.confirm_delete(&key, ticket, true);
+        }
+    }
+}
+
+/// A liveliness `get` of `key`: the DELETE is refuted if anyone answers for the token, applied
+/// when the query ends without an answer (its callback dropped).
+fn ask(session: &zenoh::Session, graph: &Arc<Graph>, key: String, ticket: u64) {
+    /// Applies or refutes the DELETE when dropped, with the query's callback.
+    struct Answer {
+        graph: Arc<Graph>,
+        key: String,
+        ticket: u64,
+        alive: AtomicBool,
+    }
+    impl Drop for Answer {
+        fn drop(&mut self) {
+            let gone = !self.alive.load(Ordering::SeqCst);
+            self.graph.confirm_delete(&self.key, self.ticket, gone);
+        }
+    }
+    let answer = Arc::new(Answer {
+        graph: Arc::clone(graph),
+        key: key.clone(),
+        ticket,
+        alive: AtomicBool::new(false),
+    });
+    let on_reply = move |reply: zenoh::query::Reply| {
+        if reply.result().is_ok() {
+            answer.alive.store(true, Ordering::SeqCst);
+        }
+    };
+    // On an error the callback (and with it the answer) is dropped: the DELETE is applied.
+    if let Err(e) = session
+        .liveliness()
+        .get(key.as_str())
+        .timeout(CONFIRM_TIMEOUT)
+        .callback(on_reply)
+        .wait()
+    {
+        tracing::debug!("zenoh: confirming the DELETE of {key}: {e}");
+    }
+}
+
 impl Graph {
     /// An empty graph of `domain`, seen by the session `own_zid`.
     pub(crate) fn new(own_zid: String, domain: u32) -> Self {
@@ -281,7 +381,15 @@ impl Graph {
 
     /// A token appeared (`put`) or went (`!put`); keys of this session, of another domain, or
     /// not under `@ros2_lv` are ignored.
-    pub(crate) fn token(&self, key: &str, put: bool) {
+    ///
+    /// A DELETE of a known token is not applied at once: its ticket is returned, and the caller
+    /// asks whether the token is still alive (a liveliness `get` of its key) and then calls
+    /// [`confirm_delete`](Self::confirm_delete). Zenoh 1.8 delivers a DELETE when the link a token
+    /// came over closes even while the token lives on over another — as when two peers' direct
+    /// link (gossip) replaces the path through the router — and puts it again a moment later;
+    /// applied at once, the entity would leave the graph and come back (a call in flight to a
+    /// server ended with `ServerGone`). A PUT meanwhile cancels the pending DELETE.
+    pub(crate) fn token(&self, key: &str, put: bool) -> Option<u64> {
         let mut state = lock(&self.state);
         let token = match Token::parse(key) {
             Ok(t) => t,
@@ -291,15 +399,38 @@ impl Graph {
                 if zid != self.own_zid {
                     state.warn_once(&zid, &format!("{key}: {e}"));
                 }
-                return;
+                return None;
             }
         };
         if token.zid == self.own_zid || token.domain != self.domain {
-            return;
+            return None;
         }
         if put {
+            state.pending_deletes.remove(key);
             self.put(&mut state, token, key);
+            None
+        } else if state.knows(&token, key) {
+            state.next_ticket += 1;
+            let ticket = state.next_ticket;
+            state.pending_deletes.insert(key.to_owned(), ticket);
+            Some(ticket)
         } else {
+            None
+        }
+    }
+
+    /// The DELETE of `key` with `ticket` ([`token`](Self::token)) is confirmed (`gone`: no one
+    /// answered for the token) or refuted: applied if no PUT came since.
+    pub(crate) fn confirm_delete(&self, key: &str, ticket: u64, gone: bool) {
+        let mut state = lock(&self.state);
+        if state.pending_deletes.get(key) != Some(&ticket) {
+            return;
+        }
+        state.pending_deletes.remove(key);
+        if !gone {
+            return;
+        }
+        if let Ok(token) = Token::parse(key) {
             Self::delete(&mut state, &token, key);
         }
     }
@@ -605,8 +736,23 @@ mod tests {
         );
         assert_eq!(node.reader_gid_seq, vec![gid_of_key(SERVER)]);
 
+        // A DELETE waits for its confirmation: refuted (the token still answers), or cancelled
+        // by a PUT, nothing changes; confirmed, the entity goes.
+        let ticket = graph
+            .token(TALKER_MP, false)
+            .expect("a known token's DELETE");
+        graph.confirm_delete(TALKER_MP, ticket, false);
+        let ticket = graph.token(SERVER, false).expect("a known token's DELETE");
+        graph.token(SERVER, true);
+        graph.confirm_delete(SERVER, ticket, true);
+        assert!(drain(&mut feed).is_empty());
+        assert_eq!(
+            graph.token("@ros2_lv/0/unknown/0/9/NN/%/%/nobody", false),
+            None
+        );
         for key in [TALKER_MP, SERVER, NODE] {
-            graph.token(key, false);
+            let ticket = graph.token(key, false).expect("a known token's DELETE");
+            graph.confirm_delete(key, ticket, true);
         }
         let events = drain(&mut feed);
         assert_eq!(

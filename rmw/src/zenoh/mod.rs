@@ -233,11 +233,17 @@ impl ZenohParticipant {
         // rmw_context_impl_s.cpp: a liveliness subscriber on the domain's tokens with history,
         // and a liveliness get for what was there before (duplicates are ignored).
         let prefix = format!("{ADMIN_SPACE}/{domain}/**");
+        // DELETEs are confirmed before they are applied (see `Graph::token`).
+        let confirmer = feed::DeleteConfirmer::start((*session).clone(), Arc::clone(&graph))
+            .map_err(|e| DdsError::Create(crate::dds_error::boxed(e)))?;
         let on_token = {
             let graph = Arc::clone(&graph);
             move |sample: zenoh::sample::Sample| {
                 let put = sample.kind() == zenoh::sample::SampleKind::Put;
-                graph.token(sample.key_expr().as_str(), put);
+                let key = sample.key_expr().as_str();
+                if let Some(ticket) = graph.token(key, put) {
+                    confirmer.confirm(key, ticket);
+                }
             }
         };
         let graph_subscriber = session
