@@ -58,6 +58,7 @@
 //! `HORUS_BENCH_ZT_ONLY` (comma-separated subset of `udp,cyclone,p2p,routed,shm`) runs some
 //! variants only (the ratios need `udp`). Ports 17600 to 17650 and domains 200 to 203 are used.
 
+use horus_ros_test_support::bench::{env_usize, loadavg, percentile};
 use std::io::{BufRead, BufReader, Write};
 use std::net::{SocketAddr, UdpSocket};
 use std::process::{Child, ChildStdin, ChildStdout, Command, Stdio};
@@ -217,7 +218,7 @@ impl Variant {
 // Refuse to run where DDS could reach a real network (as services/benches/service_roundtrip.rs).
 
 fn refuse_outside_namespace() {
-    horus_ros_test_support::isolation::refuse_outside_namespace(
+    horus_ros_test_support::bench::refuse_outside_namespace(
         "zenoh_transport",
         "scripts/isolated cargo bench -p horus-ros-cli --bench zenoh_transport (build it outside first: cargo bench -p horus-ros-cli --bench zenoh_transport --no-run)",
     );
@@ -876,15 +877,6 @@ impl Running {
 // ---------------------------------------------------------------------------------------------
 // Statistics and output.
 
-/// Nearest-rank percentile of sorted samples.
-fn percentile(sorted: &[Duration], p: f64) -> Duration {
-    if sorted.is_empty() {
-        return Duration::ZERO;
-    }
-    let rank = ((p / 100.0) * sorted.len() as f64).ceil() as usize;
-    sorted[rank.clamp(1, sorted.len()) - 1]
-}
-
 fn micros(d: Duration) -> f64 {
     d.as_secs_f64() * 1e6
 }
@@ -895,20 +887,6 @@ fn times(value: f64, baseline: f64) -> String {
     } else {
         "n/a".to_owned()
     }
-}
-
-fn env_usize(name: &str, default: usize) -> usize {
-    std::env::var(name)
-        .ok()
-        .and_then(|v| v.parse().ok())
-        .filter(|&v| v > 0)
-        .unwrap_or(default)
-}
-
-fn loadavg() -> String {
-    std::fs::read_to_string("/proc/loadavg")
-        .map(|s| s.split_whitespace().take(3).collect::<Vec<_>>().join(" "))
-        .unwrap_or_else(|_| "unknown".to_owned())
 }
 
 /// Established TCP connections as (local port, remote port), from `/proc/net/tcp` and `tcp6`.

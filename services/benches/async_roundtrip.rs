@@ -22,6 +22,7 @@
 //! worker threads, default one per CPU as `#[tokio::main]`); `CYCLONEDDS_URI` (a loopback one is set if
 //! unset).
 
+use horus_ros_test_support::bench::{env_usize, percentile};
 use std::sync::{Arc, Barrier};
 use std::thread;
 use std::time::{Duration, Instant};
@@ -43,27 +44,10 @@ const CYCLONE_LOOPBACK: &str = "<CycloneDDS><Domain Id=\"any\"><General><Interfa
     <AllowMulticast>true</AllowMulticast></General></Domain></CycloneDDS>";
 
 fn refuse_outside_namespace() {
-    horus_ros_test_support::isolation::refuse_outside_namespace(
+    horus_ros_test_support::bench::refuse_outside_namespace(
         "async_roundtrip",
         "scripts/isolated cargo bench -p horus-ros-services --bench async_roundtrip",
     );
-}
-
-fn env_usize(name: &str, default: usize) -> usize {
-    std::env::var(name)
-        .ok()
-        .and_then(|v| v.parse().ok())
-        .filter(|&v| v > 0)
-        .unwrap_or(default)
-}
-
-/// Nearest-rank percentile of sorted samples.
-fn percentile(sorted: &[Duration], p: f64) -> Duration {
-    if sorted.is_empty() {
-        return Duration::ZERO;
-    }
-    let rank = ((p / 100.0) * sorted.len() as f64).ceil() as usize;
-    sorted[rank.clamp(1, sorted.len()) - 1]
 }
 
 fn micros(d: Duration) -> f64 {

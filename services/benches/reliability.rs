@@ -30,6 +30,7 @@
 //! The Cyclone DDS variants run with the environment's `CYCLONEDDS_URI`; when it is unset, the
 //! bench sets a loopback-only configuration.
 
+use horus_ros_test_support::bench::{env_usize, percentile};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Barrier};
 use std::thread;
@@ -60,27 +61,10 @@ const CYCLONE_LOOPBACK: &str = "<CycloneDDS><Domain Id=\"any\"><General><Interfa
     <AllowMulticast>true</AllowMulticast></General></Domain></CycloneDDS>";
 
 fn refuse_outside_namespace() {
-    horus_ros_test_support::isolation::refuse_outside_namespace(
+    horus_ros_test_support::bench::refuse_outside_namespace(
         "reliability",
         "scripts/isolated cargo bench -p horus-ros-services --features cyclone --bench reliability",
     );
-}
-
-fn env_usize(name: &str, default: usize) -> usize {
-    std::env::var(name)
-        .ok()
-        .and_then(|v| v.parse().ok())
-        .filter(|&n| n > 0)
-        .unwrap_or(default)
-}
-
-/// Nearest-rank percentile of sorted samples.
-fn percentile(sorted: &[Duration], p: f64) -> Duration {
-    if sorted.is_empty() {
-        return Duration::ZERO;
-    }
-    let rank = ((p / 100.0) * sorted.len() as f64).ceil() as usize;
-    sorted[rank.clamp(1, sorted.len()) - 1]
 }
 
 fn ms(d: Duration) -> f64 {

@@ -39,6 +39,7 @@
 //! variant; the ratio and goal lines need the baselines), `HORUS_BENCH_CONCURRENT_CALLS` (calls
 //! per client of the concurrent part, default 500).
 
+use horus_ros_test_support::bench::{env_usize, loadavg, percentile};
 use std::future::Future;
 use std::net::UdpSocket;
 use std::pin::pin;
@@ -85,7 +86,7 @@ const STOP: i64 = i64::MIN;
 // Refuse to run where DDS could reach a real network.
 
 fn refuse_outside_namespace() {
-    horus_ros_test_support::isolation::refuse_outside_namespace(
+    horus_ros_test_support::bench::refuse_outside_namespace(
         "service_roundtrip",
         "scripts/isolated cargo bench -p horus-ros-services --bench service_roundtrip (build it outside first: cargo bench -p horus-ros-services --no-run)",
     );
@@ -134,15 +135,6 @@ impl Stats {
         let total: Duration = self.samples.iter().sum();
         self.samples.len() as f64 / total.as_secs_f64().max(1e-9)
     }
-}
-
-/// Nearest-rank percentile of sorted samples.
-fn percentile(sorted: &[Duration], p: f64) -> Duration {
-    if sorted.is_empty() {
-        return Duration::ZERO;
-    }
-    let rank = ((p / 100.0) * sorted.len() as f64).ceil() as usize;
-    sorted[rank.clamp(1, sorted.len()) - 1]
 }
 
 fn micros(d: Duration) -> f64 {
@@ -625,20 +617,6 @@ impl Drop for Ros2Client {
 }
 
 // ---------------------------------------------------------------------------------------------
-
-fn env_usize(name: &str, default: usize) -> usize {
-    std::env::var(name)
-        .ok()
-        .and_then(|v| v.parse().ok())
-        .filter(|&v| v > 0)
-        .unwrap_or(default)
-}
-
-fn loadavg() -> String {
-    std::fs::read_to_string("/proc/loadavg")
-        .map(|s| s.split_whitespace().take(3).collect::<Vec<_>>().join(" "))
-        .unwrap_or_else(|_| "unknown".to_owned())
-}
 
 fn verdict(met: bool) -> &'static str {
     if met {

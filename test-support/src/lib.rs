@@ -5,10 +5,10 @@
 //! - finding the examples `cargo test` built;
 //! - reading a child's output line by line as it is printed ([`line_reader`]);
 //! - running a program under valgrind's leak check ([`valgrind`]);
-//! - benchmarks refusing to run outside a private network namespace ([`isolation`]).
+//! - what the benchmarks share ([`bench`]).
 
+pub mod bench;
 pub mod fuzz;
-pub mod isolation;
 pub mod jazzy;
 pub mod valgrind;
 

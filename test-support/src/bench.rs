@@ -1,6 +1,34 @@
-//! Benchmarks that open DDS participants or Zenoh sessions refuse to run where their traffic
-//! could reach a real network: only inside a private network namespace (`scripts/bench`,
-//! `scripts/isolated`), where `lo` is the only interface up.
+//! What the benchmarks share: refusing to run where their DDS or Zenoh traffic could reach a
+//! real network (only inside a private network namespace, `scripts/bench` or `scripts/isolated`,
+//! where `lo` is the only interface up), their settings from the environment, the machine's
+//! load, and percentiles.
+
+use std::time::Duration;
+
+/// The positive integer in the variable `name`, else `default`.
+pub fn env_usize(name: &str, default: usize) -> usize {
+    std::env::var(name)
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .filter(|&v| v > 0)
+        .unwrap_or(default)
+}
+
+/// The load averages (1, 5, 15 minutes) of `/proc/loadavg`, or `unknown`.
+pub fn loadavg() -> String {
+    std::fs::read_to_string("/proc/loadavg")
+        .map(|s| s.split_whitespace().take(3).collect::<Vec<_>>().join(" "))
+        .unwrap_or_else(|_| "unknown".to_owned())
+}
+
+/// Nearest-rank percentile `p` (0–100) of sorted samples (zero for none).
+pub fn percentile(sorted: &[Duration], p: f64) -> Duration {
+    if sorted.is_empty() {
+        return Duration::ZERO;
+    }
+    let rank = ((p / 100.0) * sorted.len() as f64).ceil() as usize;
+    sorted[rank.clamp(1, sorted.len()) - 1]
+}
 
 /// Names of interfaces other than `lo` that are up (IFF_UP in `flags`, or operstate `up`).
 pub fn non_loopback_interfaces_up() -> std::io::Result<Vec<String>> {
