@@ -55,6 +55,23 @@ pub(crate) fn service_key(
     )
 }
 
+/// The key a client queries: the service's key, or — for a client that does not know its
+/// service type's hash ([`TypeHash::ZERO`]: one built from DDS type names only) — the key with
+/// `*` for the hash, which every server of that name and type answers (a query's key may be a
+/// wildcard; each server replies on its own key).
+pub(crate) fn service_query_key(
+    domain: u32,
+    name: &str,
+    type_name: &str,
+    type_hash: &TypeHash,
+) -> String {
+    if *type_hash == TypeHash::ZERO {
+        format!("{domain}/{}/{type_name}/*", name.trim_start_matches('/'))
+    } else {
+        service_key(domain, name, type_name, type_hash)
+    }
+}
+
 /// The ROS topic name (`/chatter`) of a DDS topic name `rt/chatter`; `None` for other names.
 pub(crate) fn ros_topic_of(dds_topic_name: &str) -> Option<String> {
     let rest = dds_topic_name
@@ -79,6 +96,23 @@ pub(crate) fn data_key(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_client_without_the_service_hash_queries_every_hash() {
+        let ty = "example_interfaces::srv::dds_::AddTwoInts_";
+        assert_eq!(
+            service_query_key(7, "/add_two_ints", ty, &TypeHash::ZERO),
+            "7/add_two_ints/example_interfaces::srv::dds_::AddTwoInts_/*"
+        );
+        let hash = TypeHash::parse(
+            "RIHS01_e118de6bf5eeb66a2491b5bda11202e7b68f198d6f67922cf30364858239c81a",
+        )
+        .expect("hash");
+        assert_eq!(
+            service_query_key(7, "/add_two_ints", ty, &hash),
+            service_key(7, "/add_two_ints", ty, &hash)
+        );
+    }
 
     #[test]
     fn topics_are_keyed_as_rmw_zenoh_keys_them() {

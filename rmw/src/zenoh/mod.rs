@@ -373,7 +373,14 @@ impl ZenohParticipant {
             ServiceEndpointRole::Server => EntityKind::Service,
             ServiceEndpointRole::Client => EntityKind::Client,
         };
-        let key = keyexpr::service_key(self.domain, &name, &type_name, &id.service_type_hash);
+        let key = match id.role {
+            ServiceEndpointRole::Server => {
+                keyexpr::service_key(self.domain, &name, &type_name, &id.service_type_hash)
+            }
+            ServiceEndpointRole::Client => {
+                keyexpr::service_query_key(self.domain, &name, &type_name, &id.service_type_hash)
+            }
+        };
         let topic = TopicInfo {
             name,
             type_name,

@@ -247,9 +247,16 @@ impl ServiceEntity {
     ) -> Result<Self, DdsError> {
         let key = zenoh::key_expr::KeyExpr::try_from(key)
             .map_err(|e| zenoh_error(DdsError::Create, e))?;
+        // rmw_client_data.cpp: ALL_COMPLETE. A wildcard key (a client that does not know its
+        // service type's hash) has no complete queryable: every matching one is asked.
+        let target = if key.as_str().ends_with("/*") {
+            QueryTarget::All
+        } else {
+            QueryTarget::AllComplete
+        };
         let querier = session
             .declare_querier(key)
-            .target(QueryTarget::AllComplete)
+            .target(target)
             .consolidation(ConsolidationMode::None)
             .wait()
             .map_err(|e| zenoh_error(DdsError::Create, e))?;

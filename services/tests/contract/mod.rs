@@ -21,7 +21,10 @@ use horus_ros_msgs::TypeHash;
 use horus_ros_rmw::qos::Qos;
 use horus_ros_rmw::{RawEndpointSpec, RawReader, RawSample, Subscription, WaitSet};
 use horus_ros_services::prelude::*;
-use horus_ros_services::{DdsServiceServer, NodeServices, ServiceServerTrait};
+use horus_ros_services::{
+    DdsServiceServer, DynamicPart, DynamicServiceClient, DynamicServiceType, NodeServices,
+    ServiceServerTrait, ServiceType,
+};
 
 /// The contract's tests as `#[test]`s of the including file, each run on the contexts
 /// `$context(domain)` makes.
@@ -67,6 +70,11 @@ macro_rules! contract_tests {
         #[test]
         fn qos_decides_matches_depth_and_what_late_joiners_get() {
             contract::qos_decides_matches_depth_and_what_late_joiners_get(&$context);
+        }
+
+        #[test]
+        fn a_client_of_dds_type_names_only_reaches_a_server() {
+            contract::a_client_of_dds_type_names_only_reaches_a_server(&$context);
         }
     };
 }
@@ -575,4 +583,40 @@ pub fn qos_decides_matches_depth_and_what_late_joiners_get(context: &dyn Fn(u32)
         .create_subscription::<StringMsg>("/latched", &Qos::sensor_data())
         .expect("subscription");
     assert!(graph.wait_for_match(lenient.gid(), publisher.gid(), 10 * SECOND));
+}
+
+/// A client that knows its service only by DDS type names and part hashes (no service type
+/// hash, which rmw_zenoh's keys carry) calls a typed server, in CDR bodies.
+pub fn a_client_of_dds_type_names_only_reaches_a_server(context: &dyn Fn(u32) -> Context) {
+    let a = context(11);
+    let _server = adder(&a.create_node("typed", "/").expect("node"), "/parts_add");
+    let b = context(11);
+    let node = b.create_node("parts", "/").expect("node");
+    let ty = ServiceType::compiled("example_interfaces/srv/AddTwoInts").expect("compiled type");
+    let (request_hash, response_hash) = ty.part_hashes();
+    let mut client = DynamicServiceClient::builder(DynamicServiceType::Parts {
+        service_type: ty.name().to_owned(),
+        request: DynamicPart {
+            dds_type_name: "example_interfaces::srv::dds_::AddTwoInts_Request_".to_owned(),
+            type_hash: request_hash,
+        },
+        response: DynamicPart {
+            dds_type_name: "example_interfaces::srv::dds_::AddTwoInts_Response_".to_owned(),
+            type_hash: response_hash,
+        },
+    })
+    .name("/parts_add")
+    .node(&node)
+    .build()
+    .expect("client");
+    let graph = Graph::of(&b).expect("graph");
+    assert!(graph.wait_for_service("/parts_add", 10 * SECOND));
+    // {a: 2, b: 40} as CDR_LE: two int64.
+    let mut request = 2i64.to_le_bytes().to_vec();
+    request.extend_from_slice(&40i64.to_le_bytes());
+    let response = client
+        .call(request, 10 * SECOND)
+        .expect("the server's answer");
+    assert!(!response.big_endian);
+    assert_eq!(response.body, 42i64.to_le_bytes());
 }
