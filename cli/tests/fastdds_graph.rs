@@ -15,7 +15,7 @@ mod common;
 use std::time::Duration;
 
 use common::horus;
-use interop_tests::rclpy::RclpyPeer;
+use interop_tests::jazzy::RclpyPeer;
 use serde_json::json;
 
 const DOMAIN: u32 = 63;

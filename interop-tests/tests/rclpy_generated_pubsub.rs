@@ -13,8 +13,8 @@ mod live {
     use horus_ros_rmw::qos::Qos;
     use horus_ros_rmw::Context;
     use interop_tests::jazzy::*;
-    use interop_tests::rclpy::cdr::{ask, from_hex};
-    use interop_tests::rclpy::RclpyPeer;
+    use interop_tests::jazzy::cdr::{ask, from_hex};
+    use interop_tests::jazzy::RclpyPeer;
     use serde_json::{json, Value};
 
     const DOMAIN: u32 = 57;

@@ -13,7 +13,7 @@
 use std::time::{Duration, Instant};
 
 use horus_ros_rmw::{Context, DiscoveryEvent, VendorId};
-use interop_tests::rclpy::RclpyPeer;
+use interop_tests::jazzy::RclpyPeer;
 use serde_json::json;
 
 const DOMAIN: u32 = 114;
