@@ -28,7 +28,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Child, Command, ExitCode, Stdio};
 use std::time::{Duration, Instant};
 
-use interop_tests::jazzy::RclpyPeer;
+use interop_tests::peers::RclpyPeer;
 
 mod common;
 

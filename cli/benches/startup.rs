@@ -40,7 +40,7 @@ use horus_ros_msgs::builtin_interfaces::msg::Time;
 use horus_ros_rmw::qos::Qos;
 use horus_ros_rmw::{Backend, BACKEND_ENV};
 use horus_ros_services::prelude::*;
-use interop_tests::jazzy::RclpyPeer;
+use interop_tests::peers::RclpyPeer;
 
 mod common;
 

@@ -24,7 +24,7 @@ use horus_ros_msgs::Message;
 use horus_ros_rmw::qos::Qos;
 use horus_ros_rmw::Context;
 use horus_ros_services::{EndpointBuilder, ServiceServer};
-use interop_tests::jazzy::RclpyPeer;
+use interop_tests::peers::RclpyPeer;
 use nix::sys::signal::Signal;
 use nix::sys::wait::WaitStatus;
 use nix::unistd::Pid;

@@ -15,7 +15,7 @@ mod common;
 use std::time::Duration;
 
 use common::horus;
-use interop_tests::jazzy::RclpyPeer;
+use interop_tests::peers::RclpyPeer;
 use serde_json::json;
 
 const DOMAIN: u32 = 63;

@@ -8,7 +8,7 @@ mod common;
 use std::collections::HashSet;
 
 use common::{hear, run_listener, run_talker, LIMIT};
-use interop_tests::jazzy::RclpyPeer;
+use interop_tests::peers::RclpyPeer;
 use serde_json::{json, Value};
 
 #[test]

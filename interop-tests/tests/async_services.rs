@@ -13,7 +13,7 @@ use std::time::{Duration, Instant};
 use horus_ros_msgs::std_srvs::srv::{SetBool, SetBoolRequest, SetBoolResponse};
 use horus_ros_services::prelude::*;
 use horus_ros_services::AsyncServiceServer;
-use interop_tests::jazzy::RclpyPeer;
+use interop_tests::peers::RclpyPeer;
 use interop_tests::{cyclone_config, peer_script, python, Peer};
 use serde_json::{json, Value};
 use tokio::task::JoinSet;

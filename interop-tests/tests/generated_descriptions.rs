@@ -10,7 +10,7 @@ fn every_generated_interface_describes_and_hashes_as_jazzy() {
     #[cfg(jazzy_interfaces)]
     {
         use horus_ros_msgs::rihs::rihs01;
-        use interop_tests::jazzy::wheels;
+        use interop_tests::peers::wheels;
         use std::collections::BTreeSet;
 
         let mut interfaces = 0;

@@ -12,7 +12,7 @@ use horus_ros_msgs::std_srvs::srv::{SetBoolRequest, SetBoolResponse};
 use horus_ros_msgs::Message;
 use horus_ros_rmw::qos::{DurabilityPolicy, EndpointKind, HistoryPolicy, ReliabilityPolicy};
 use horus_ros_rmw::{Context, DiscoveredEndpoint, DiscoveryEvent, Gid, VendorId};
-use interop_tests::jazzy::{gid_in, service_topics, wheels, RclpyPeer};
+use interop_tests::peers::{gid_in, service_topics, wheels, RclpyPeer};
 use serde_json::{json, Value};
 
 const DOMAIN: u32 = 113;

@@ -19,7 +19,7 @@ mod cases {
     use horus_ros_msgs::{from_cdr, to_cdr, Message};
     use horus_ros_services::dynamic::{cdr, Schema};
     use interop_tests::jazzy;
-    use interop_tests::jazzy::cdr::{ask, from_hex, to_hex};
+    use interop_tests::peers::cdr::{ask, from_hex, to_hex};
     use serde_json::{json, Value};
 
     /// What each type must do; returns its name and our encodings (default, filled).

@@ -12,9 +12,9 @@ mod live {
     use horus_ros_rmw::node::Node;
     use horus_ros_rmw::qos::Qos;
     use horus_ros_rmw::Context;
-    use interop_tests::jazzy::cdr::{ask, from_hex};
-    use interop_tests::jazzy::RclpyPeer;
     use interop_tests::jazzy::*;
+    use interop_tests::peers::cdr::{ask, from_hex};
+    use interop_tests::peers::RclpyPeer;
     use serde_json::{json, Value};
 
     const DOMAIN: u32 = 57;

@@ -5,7 +5,7 @@
 //!
 //! - Every query rclpy makes: the node list (with enclaves), topic and service names and types,
 //!   and for every DDS topic the publishers and subscriptions with node, namespace, type, type
-//!   hash, GID and QoS, as `ros2 topic info -v` prints them (`jazzy::view`).
+//!   hash, GID and QoS, as `ros2 topic info -v` prints them (`peers::view`).
 //! - Our servers and clients info by service, for rclpy's services and for ours, equals what
 //!   rclpy says of the same `rq/`/`rr/` endpoints.
 //! - Every type hash on the graph — rclpy's endpoints' from their USER_DATA, ours as our types
@@ -20,7 +20,7 @@ use horus_ros_msgs::std_srvs::srv::{SetBool, SetBoolResponse, Trigger};
 use horus_ros_rmw::names::ROS_TOPIC_PREFIX;
 use horus_ros_rmw::qos::Qos;
 use horus_ros_services::prelude::*;
-use interop_tests::jazzy::{
+use interop_tests::peers::{
     lists, service_endpoint_text, service_topics, wait_for_same_view, wheels, RclpyPeer, Us,
 };
 use serde_json::{json, Value};
@@ -78,7 +78,7 @@ fn service_info_is_rclpys(
     };
     let mut shown = info.clone();
     if us.owns(info.endpoint_gids[0]) {
-        // Ours, as they announce themselves (see `jazzy::view`).
+        // Ours, as they announce themselves (see `peers::view`).
         for (index, kind) in [
             horus_ros_graph::TopicEndpointType::Subscription,
             horus_ros_graph::TopicEndpointType::Publisher,
@@ -86,7 +86,7 @@ fn service_info_is_rclpys(
         .into_iter()
         .enumerate()
         {
-            let announced = interop_tests::jazzy::announced(
+            let announced = interop_tests::peers::announced(
                 us,
                 horus_ros_graph::TopicEndpointInfo {
                     node_name: String::new(),

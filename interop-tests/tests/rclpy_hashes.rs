@@ -10,7 +10,7 @@ use horus_ros_msgs::{
     rcl_interfaces, std_srvs, type_description_interfaces, Message, Service, TypeDescription,
 };
 use horus_ros_services::dynamic::sub_description;
-use interop_tests::jazzy::wheels;
+use interop_tests::peers::wheels;
 
 /// `(type name, our RIHS01 string)` of each listed message type.
 macro_rules! messages {

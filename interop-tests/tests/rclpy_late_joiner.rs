@@ -13,7 +13,7 @@
 use std::time::{Duration, Instant};
 
 use horus_ros_rmw::{Context, DiscoveryEvent, VendorId};
-use interop_tests::jazzy::RclpyPeer;
+use interop_tests::peers::RclpyPeer;
 use serde_json::json;
 
 const DOMAIN: u32 = 114;

@@ -30,7 +30,7 @@ use horus_ros_msgs::type_description_interfaces::srv::{
 use horus_ros_msgs::{Byte, Message};
 use horus_ros_services::prelude::*;
 use horus_ros_services::{DynamicServiceClient, NodeServices, ParameterValueExt, ServiceType};
-use interop_tests::jazzy::{wheels, RclpyPeer};
+use interop_tests::peers::{wheels, RclpyPeer};
 use serde_json::{json, Value};
 
 const SECOND: Duration = Duration::from_secs(1);
