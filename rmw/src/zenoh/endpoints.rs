@@ -6,13 +6,8 @@
 //! wait set). Each entity holds its liveliness token for its whole life.
 //!
 //! A VOLATILE publisher holds its samples while the graph knows a subscription of its topic
-//! (its token) that this session has no route to yet (the publisher's matching status): the
-//! token can arrive before the subscriber's declaration has given this session a route (over
-//! another link), and Zenoh drops a sample with no route, where a DDS writer delivers to every
-//! matched reader. They go, in order, when the route appears (the matching listener); at most
-//! the publisher's depth, each at most [`HELD_SAMPLE_LIFETIME`]. TRANSIENT_LOCAL publishers
-//! need none of this: their late joiners query the cache.
-
+//! that this session has no route to yet ([`route`](super::route)), at most its depth of them;
+//! TRANSIENT_LOCAL publishers need none of this: their late joiners query the cache.
 //!
 //! With shared memory on ([`shm`](super::shm)), a message at or above the threshold is copied
 //! once, encapsulation header and body, into a buffer of the context's shared-memory pool and
@@ -26,7 +21,7 @@
 use std::collections::VecDeque;
 use std::sync::atomic::{AtomicBool, AtomicI64, AtomicU64, Ordering};
 use std::sync::{Arc, Mutex, Weak};
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use zenoh::bytes::ZBytes;
 use zenoh::liveliness::LivelinessToken;
@@ -36,6 +31,7 @@ use zenoh::Wait;
 
 use super::attachment::{now_ns, Attachment};
 use super::feed::Graph;
+use super::route::RouteWait;
 use super::shm::ShmContext;
 use super::wait_set::{lock, SetState, Signal, WaitSet};
 use crate::contract::{ReaderBackend, SampleId, WaitSetBackend, WaitSetError, Wake, WriterBackend};
@@ -71,9 +67,6 @@ pub(crate) enum Publication {
     Advanced(zenoh_ext::AdvancedPublisher<'static>),
 }
 
-/// How long a VOLATILE publisher holds a sample for a route to a subscription the graph knows.
-pub(crate) const HELD_SAMPLE_LIFETIME: Duration = Duration::from_secs(5);
-
 impl Publication {
     fn put(&self, payload: ZBytes, attachment: Vec<u8>) -> Result<(), DdsError> {
         match self {
@@ -84,22 +77,10 @@ impl Publication {
     }
 }
 
-/// A sample held for a route: payload, attachment, when it was written.
-type HeldSample = (ZBytes, Vec<u8>, Instant);
-
-/// Whether the publisher has a route to a subscription, and what waits for one.
-#[derive(Default)]
-struct Route {
-    matching: bool,
-    held: VecDeque<HeldSample>,
-}
-
-/// A publisher and the samples it holds for a route.
+/// A publisher and the samples (payload, attachment) it holds for a route.
 pub(crate) struct Delivery {
     publisher: Publication,
-    route: Mutex<Route>,
-    /// Most samples held (the publisher's depth).
-    depth: usize,
+    held: RouteWait<(ZBytes, Vec<u8>)>,
     topic: String,
     type_name: String,
 }
@@ -114,8 +95,7 @@ impl Delivery {
     ) -> Result<(Arc<Self>, Option<MatchingListener<()>>), DdsError> {
         let delivery = Arc::new(Self {
             publisher,
-            route: Mutex::new(Route::default()),
-            depth: depth.max(1),
+            held: RouteWait::new(depth, "sample"),
             topic: topic.to_owned(),
             type_name: type_name.to_owned(),
         });
@@ -127,7 +107,9 @@ impl Delivery {
                     .matching_listener()
                     .callback(move |status: MatchingStatus| {
                         if let Some(delivery) = weak.upgrade() {
-                            delivery.on_matching(status);
+                            delivery.held.on_matching(status.matching(), |(p, a)| {
+                                delivery.publisher.put(p, a)
+                            });
                         }
                     })
                     .wait()
@@ -144,33 +126,11 @@ impl Delivery {
         if matches!(self.publisher, Publication::Advanced(_)) {
             return self.publisher.put(payload, attachment);
         }
-        let mut route = lock(&self.route);
-        if !route.matching && graph.has_remote_reader(&self.topic, &self.type_name) {
-            if route.held.len() >= self.depth {
-                route.held.pop_front();
-            }
-            route.held.push_back((payload, attachment, Instant::now()));
-            return Ok(());
-        }
-        self.publisher.put(payload, attachment)
-    }
-
-    /// The route changed: when there is one, the held samples go, in order (those older than
-    /// [`HELD_SAMPLE_LIFETIME`] dropped).
-    fn on_matching(&self, status: MatchingStatus) {
-        let mut route = lock(&self.route);
-        route.matching = status.matching();
-        if !route.matching {
-            return;
-        }
-        for (payload, attachment, written) in std::mem::take(&mut route.held) {
-            if written.elapsed() > HELD_SAMPLE_LIFETIME {
-                continue;
-            }
-            if let Err(e) = self.publisher.put(payload, attachment) {
-                tracing::debug!(topic = %self.topic, "zenoh: a held sample could not be sent: {e}");
-            }
-        }
+        self.held.send_or_hold(
+            (payload, attachment),
+            || graph.has_remote_reader(&self.topic, &self.type_name),
+            |(p, a)| self.publisher.put(p, a),
+        )
     }
 }
 

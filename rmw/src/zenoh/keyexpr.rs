@@ -8,6 +8,7 @@
 //! `avoid_ros_namespace_conventions`) is keyed as it is.
 
 use horus_ros_msgs::TypeHash;
+use zenoh::query::QueryTarget;
 
 use crate::names::{
     ROS_SERVICE_REQUESTER_PREFIX, ROS_SERVICE_RESPONSE_PREFIX, ROS_TOPIC_PREFIX,
@@ -55,20 +56,35 @@ pub(crate) fn service_key(
     )
 }
 
-/// The key a client queries: the service's key, or — for a client that does not know its
-/// service type's hash ([`TypeHash::ZERO`]: one built from DDS type names only) — the key with
-/// `*` for the hash, which every server of that name and type answers (a query's key may be a
-/// wildcard; each server replies on its own key).
-pub(crate) fn service_query_key(
+/// What a client queries: a key and a target.
+pub(crate) struct ServiceQuery {
+    /// The key expression.
+    pub(crate) key: String,
+    /// Which queryables answer.
+    pub(crate) target: QueryTarget,
+}
+
+/// What a client of the service `name` of `type_name` queries: the service's key with target
+/// `ALL_COMPLETE` (rmw_client_data.cpp), or — for a client that does not know its service
+/// type's hash ([`TypeHash::ZERO`]: one built from DDS type names only) — the key with `*` for
+/// the hash and target `ALL` (no queryable is complete for a wildcard), which every server of
+/// that name and type answers, each on its own key.
+pub(crate) fn service_query(
     domain: u32,
     name: &str,
     type_name: &str,
     type_hash: &TypeHash,
-) -> String {
+) -> ServiceQuery {
     if *type_hash == TypeHash::ZERO {
-        format!("{domain}/{}/{type_name}/*", name.trim_start_matches('/'))
+        ServiceQuery {
+            key: format!("{domain}/{}/{type_name}/*", name.trim_start_matches('/')),
+            target: QueryTarget::All,
+        }
     } else {
-        service_key(domain, name, type_name, type_hash)
+        ServiceQuery {
+            key: service_key(domain, name, type_name, type_hash),
+            target: QueryTarget::AllComplete,
+        }
     }
 }
 
@@ -100,17 +116,25 @@ mod tests {
     #[test]
     fn a_client_without_the_service_hash_queries_every_hash() {
         let ty = "example_interfaces::srv::dds_::AddTwoInts_";
+        let query = service_query(7, "/add_two_ints", ty, &TypeHash::ZERO);
         assert_eq!(
-            service_query_key(7, "/add_two_ints", ty, &TypeHash::ZERO),
-            "7/add_two_ints/example_interfaces::srv::dds_::AddTwoInts_/*"
+            (query.key.as_str(), query.target),
+            (
+                "7/add_two_ints/example_interfaces::srv::dds_::AddTwoInts_/*",
+                QueryTarget::All
+            )
         );
         let hash = TypeHash::parse(
             "RIHS01_e118de6bf5eeb66a2491b5bda11202e7b68f198d6f67922cf30364858239c81a",
         )
         .expect("hash");
+        let query = service_query(7, "/add_two_ints", ty, &hash);
         assert_eq!(
-            service_query_key(7, "/add_two_ints", ty, &hash),
-            service_key(7, "/add_two_ints", ty, &hash)
+            (query.key, query.target),
+            (
+                service_key(7, "/add_two_ints", ty, &hash),
+                QueryTarget::AllComplete
+            )
         );
     }
 

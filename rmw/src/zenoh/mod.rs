@@ -31,6 +31,7 @@ mod endpoints;
 mod feed;
 mod keyexpr;
 mod liveliness;
+mod route;
 mod services;
 mod wait_set;
 
@@ -373,14 +374,11 @@ impl ZenohParticipant {
             ServiceEndpointRole::Server => EntityKind::Service,
             ServiceEndpointRole::Client => EntityKind::Client,
         };
-        let key = match id.role {
-            ServiceEndpointRole::Server => {
-                keyexpr::service_key(self.domain, &name, &type_name, &id.service_type_hash)
-            }
-            ServiceEndpointRole::Client => {
-                keyexpr::service_query_key(self.domain, &name, &type_name, &id.service_type_hash)
-            }
-        };
+        let hash = id.service_type_hash;
+        let (key, query) = (
+            keyexpr::service_key(self.domain, &name, &type_name, &hash),
+            keyexpr::service_query(self.domain, &name, &type_name, &hash),
+        );
         let topic = TopicInfo {
             name,
             type_name,
@@ -409,7 +407,7 @@ impl ZenohParticipant {
                 ServiceEntity::server(&self.session, key, gids, declare, queue)?
             }
             ServiceEndpointRole::Client => {
-                ServiceEntity::client(&self.session, key, gids, declare, queue)?
+                ServiceEntity::client(&self.session, query, gids, declare, queue)?
             }
         });
         services.insert(id.id, Arc::downgrade(&entity));

@@ -12,12 +12,10 @@
 //!   `get` on the service key (target `ALL_COMPLETE`, consolidation `NONE`) with the attachment
 //!   of its own sequence number (from 1); the replies go to the reply reader's queue. The `get`
 //!   goes through a querier (the same query on the wire) whose matching status says whether
-//!   this session has a route to a queryable: the graph learns of a server from its token,
-//!   which can reach us before the queryable's declaration has given our session a route to it
-//!   (over another link: the router's, or a peer's own). A request made in that window is held,
-//!   as a DDS writer's sample waits for its matched reader, and sent when the route appears
-//!   (the querier's matching listener); at most [`MAX_PENDING_REQUESTS`], each at most
-//!   [`PENDING_REQUEST_LIFETIME`] (then dropped, as a DDS request no reader matched).
+//!   this session has a route to a queryable; a request made before there is one is held, at
+//!   most [`MAX_PENDING_REQUESTS`], and sent when the route appears ([`route`](super::route)).
+//!   A client that does not know its service type's hash queries the key with `*` for it
+//!   (target `ALL`, as no queryable is complete for a wildcard: [`ServiceQuery`]).
 //!
 //! The contract's request/reply endpoints of one server or client (paired by their
 //! [`ServiceEndpointId`](crate::contract::ServiceEndpointId)) share one [`ServiceEntity`]; the
@@ -29,16 +27,18 @@
 use std::collections::{HashMap, VecDeque};
 use std::sync::atomic::{AtomicBool, AtomicI64, Ordering};
 use std::sync::{Arc, Mutex, Weak};
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use zenoh::liveliness::LivelinessToken;
 use zenoh::matching::{MatchingListener, MatchingStatus};
-use zenoh::query::{ConsolidationMode, Querier, Query, QueryTarget, Queryable, Reply};
+use zenoh::query::{ConsolidationMode, Querier, Query, Queryable, Reply};
 use zenoh::Wait;
 
 use super::attachment::{now_ns, Attachment};
 use super::endpoints::{zenoh_error, Incoming, ReaderQueue, CDR_LE_HEADER};
 use super::feed::Graph;
+use super::keyexpr::ServiceQuery;
+use super::route::RouteWait;
 use super::wait_set::lock;
 use crate::contract::{SampleId, WriterBackend};
 use crate::dds_error::DdsError;
@@ -51,11 +51,6 @@ pub(crate) const MAX_HELD_QUERIES: usize = 4096;
 
 /// Most requests a client holds while its session has no route to a server.
 pub(crate) const MAX_PENDING_REQUESTS: usize = 64;
-
-/// How long a client holds a request for a route to a server: the window between a server's
-/// token and its queryable's route is a few messages long; a request older than this is
-/// dropped when the route appears.
-pub(crate) const PENDING_REQUEST_LIFETIME: Duration = Duration::from_secs(5);
 
 /// The queries a server holds until they are answered, oldest first.
 #[derive(Default)]
@@ -110,62 +105,26 @@ enum EntityKind {
     },
 }
 
-/// A request not sent yet: its sequence number, payload, attachment and when it was made.
+/// A request not sent yet: its sequence number, payload and attachment.
 struct PendingRequest {
     sequence_number: i64,
     payload: Vec<u8>,
     attachment: Vec<u8>,
-    made: Instant,
 }
 
-/// Whether the client's session has a route to a server, and the requests waiting for one.
-#[derive(Default)]
-struct Route {
-    matching: bool,
-    pending: VecDeque<PendingRequest>,
-}
-
-/// A client's querier and what waits for its route.
+/// A client's querier and the requests that wait for its route.
 struct RequestSender {
     querier: Querier<'static>,
     queue: Arc<ReaderQueue>,
     client: Gid,
-    route: Mutex<Route>,
+    pending: RouteWait<PendingRequest>,
 }
 
 impl RequestSender {
     /// Sends the request now if a server is routed to, else holds it (bounded).
     fn request(&self, request: PendingRequest) -> Result<(), DdsError> {
-        let mut route = lock(&self.route);
-        if route.matching {
-            return self.send(request);
-        }
-        if route.pending.len() >= MAX_PENDING_REQUESTS {
-            if let Some(oldest) = route.pending.pop_front() {
-                tracing::debug!(client = %self.client, seq = oldest.sequence_number, "zenoh: a request dropped: no route to a server (too many waiting)");
-            }
-        }
-        route.pending.push_back(request);
-        Ok(())
-    }
-
-    /// The route changed: when there is one, the requests held for it go (in order), those
-    /// older than [`PENDING_REQUEST_LIFETIME`] dropped.
-    fn on_matching(&self, status: MatchingStatus) {
-        let mut route = lock(&self.route);
-        route.matching = status.matching();
-        if !route.matching {
-            return;
-        }
-        for request in std::mem::take(&mut route.pending) {
-            if request.made.elapsed() > PENDING_REQUEST_LIFETIME {
-                tracing::debug!(client = %self.client, seq = request.sequence_number, "zenoh: a request dropped: no route to a server in time");
-                continue;
-            }
-            if let Err(e) = self.send(request) {
-                tracing::debug!(client = %self.client, "zenoh: a held request could not be sent: {e}");
-            }
-        }
+        self.pending
+            .send_or_hold(request, || true, |request| self.send(request))
     }
 
     /// The `get` (rmw_client_data.cpp: target ALL_COMPLETE, consolidation NONE, the
@@ -237,26 +196,19 @@ impl ServiceEntity {
         })
     }
 
-    /// A client sending its requests on `key`, its replies going to `queue`.
+    /// A client sending its requests as `query` says, its replies going to `queue`.
     pub(crate) fn client(
         session: &zenoh::Session,
-        key: String,
+        query: ServiceQuery,
         (gid, reply_gid): (Gid, Gid),
         declare_token: impl FnOnce() -> Option<LivelinessToken>,
         queue: Arc<ReaderQueue>,
     ) -> Result<Self, DdsError> {
-        let key = zenoh::key_expr::KeyExpr::try_from(key)
+        let key = zenoh::key_expr::KeyExpr::try_from(query.key)
             .map_err(|e| zenoh_error(DdsError::Create, e))?;
-        // rmw_client_data.cpp: ALL_COMPLETE. A wildcard key (a client that does not know its
-        // service type's hash) has no complete queryable: every matching one is asked.
-        let target = if key.as_str().ends_with("/*") {
-            QueryTarget::All
-        } else {
-            QueryTarget::AllComplete
-        };
         let querier = session
             .declare_querier(key)
-            .target(target)
+            .target(query.target)
             .consolidation(ConsolidationMode::None)
             .wait()
             .map_err(|e| zenoh_error(DdsError::Create, e))?;
@@ -264,7 +216,7 @@ impl ServiceEntity {
             querier,
             queue: Arc::clone(&queue),
             client: gid,
-            route: Mutex::new(Route::default()),
+            pending: RouteWait::new(MAX_PENDING_REQUESTS, "request"),
         });
         // Declared with a route already there, it reports it at once.
         let weak: Weak<RequestSender> = Arc::downgrade(&sender);
@@ -273,7 +225,9 @@ impl ServiceEntity {
             .matching_listener()
             .callback(move |status: MatchingStatus| {
                 if let Some(sender) = weak.upgrade() {
-                    sender.on_matching(status);
+                    sender
+                        .pending
+                        .on_matching(status.matching(), |request| sender.send(request));
                 }
             })
             .wait()
@@ -317,7 +271,6 @@ impl ServiceEntity {
             sequence_number,
             payload: with_header(body),
             attachment: attachment.to_bytes().to_vec(),
-            made: Instant::now(),
         })?;
         Ok(SampleId {
             writer: self.gid,
