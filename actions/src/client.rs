@@ -24,7 +24,7 @@ use horus_ros_msgs::builtin_interfaces::msg::Time;
 use horus_ros_msgs::unique_identifier_msgs::msg::UUID;
 use horus_ros_msgs::{Action, Service};
 use horus_ros_rmw::qos::Qos;
-use horus_ros_rmw::{Node, RawReaderWaker, Subscription};
+use horus_ros_rmw::{Gid, Node, RawReaderWaker, Subscription};
 use horus_ros_services::{
     AsyncServiceClient, EndpointBuilder, EndpointOptions, PendingResponse, ServiceError,
     TransportError,
@@ -106,6 +106,7 @@ impl<A: Action> ActionClientBuilder<A> {
         let graph_events = graph.subscribe();
         let shared = Arc::new(Shared {
             action,
+            feedback_gid: feedback.gid(),
             node,
             send_goal,
             cancel_goal,
@@ -114,7 +115,7 @@ impl<A: Action> ActionClientBuilder<A> {
             changed: Condvar::new(),
             feedback_capacity: self.feedback_capacity,
             stop: AtomicBool::new(false),
-            _graph: graph,
+            graph,
         });
         shared.check_server();
         let mut client = ActionClient {
@@ -210,12 +211,15 @@ impl<A: Action> ActionClient<A> {
         self.shared.server_available()
     }
 
-    /// Whether an action server can be called now: its three services are ready (known and
-    /// matched both ways; rcl `rcl_action_server_is_available`, rclpy `server_is_ready`).
+    /// Whether an action server can be called now, as rcl `rcl_action_server_is_available`
+    /// (rclpy `server_is_ready`) has it: its three services are ready (known and matched both
+    /// ways) and the feedback subscription is matched with a publisher, so that the first
+    /// feedback of a goal sent now is not lost.
     pub fn is_server_ready(&self) -> bool {
         self.shared.send_goal.is_server_ready()
             && self.shared.cancel_goal.is_server_ready()
             && self.shared.get_result.is_server_ready()
+            && self.shared.feedback_matched()
     }
 
     /// The same as [`is_server_ready`](Self::is_server_ready) (rclcpp's name).
@@ -225,18 +229,19 @@ impl<A: Action> ActionClient<A> {
 
     /// Waits until [`is_server_ready`](Self::is_server_ready), at most `timeout`; woken by graph
     /// changes, never polled (rclpy `wait_for_server`): the services' `wait_for_service` of each
-    /// of the three services in turn (an rmw_cyclonedds server still settling included). Goals
-    /// may be sent from other threads meanwhile.
+    /// of the three services in turn (an rmw_cyclonedds server still settling included), then
+    /// the feedback subscription's match. Goals may be sent from other threads meanwhile.
     pub fn wait_for_server(&self, timeout: Duration) -> bool {
         let deadline = Instant::now() + timeout;
         let left = || deadline.saturating_duration_since(Instant::now());
         self.shared.send_goal.wait_for_service(left())
             && self.shared.cancel_goal.wait_for_service(left())
             && self.shared.get_result.wait_for_service(left())
+            && self.shared.wait_for_feedback_match(deadline)
     }
 
     /// [`wait_for_server`](Self::wait_for_server) as a future (feature `tokio`: the services'
-    /// `wait_for_service_async`, woken by graph changes).
+    /// `wait_for_service_async`, then graph events, woken by graph changes).
     #[cfg(feature = "tokio")]
     pub async fn wait_for_server_async(&self, timeout: Duration) -> bool {
         let deadline = Instant::now() + timeout;
@@ -250,7 +255,10 @@ impl<A: Action> ActionClient<A> {
             return false;
         }
         let get_result = self.shared.get_result.wait_for_service_async(left());
-        get_result.await
+        if !get_result.await {
+            return false;
+        }
+        self.shared.feedback_match_async(deadline).await
     }
 
     /// Sends `goal` and waits for the server's answer, at most `timeout`: the handle of the
@@ -332,7 +340,9 @@ struct Shared<A: Action> {
     changed: Condvar,
     feedback_capacity: usize,
     stop: AtomicBool,
-    _graph: Arc<Graph>,
+    graph: Arc<Graph>,
+    /// The feedback subscription's GID: matched with a publisher, the server is ready.
+    feedback_gid: Gid,
 }
 
 impl<A: Action> Shared<A> {
@@ -340,6 +350,57 @@ impl<A: Action> Shared<A> {
         self.send_goal.server_available()
             && self.cancel_goal.server_available()
             && self.get_result.server_available()
+    }
+
+    /// Whether the feedback subscription is matched with a publisher (rcl
+    /// `rcl_action_server_is_available`: `rcl_subscription_get_publisher_count` of the feedback
+    /// subscription not 0). A publisher of this same context reports its own side of the match
+    /// apart from the subscription's, so it counts once it has both: only then does its next
+    /// message reach us.
+    fn feedback_matched(&self) -> bool {
+        let own = self.node.context().gid().prefix();
+        let reader = self.feedback_gid;
+        self.graph
+            .matched_with(reader)
+            .into_iter()
+            .any(|writer| writer.prefix() != own || self.graph.is_matched(writer, reader))
+    }
+
+    /// Waits until [`feedback_matched`](Self::feedback_matched), at most until `deadline`;
+    /// woken by graph changes (matches are graph changes).
+    fn wait_for_feedback_match(&self, deadline: Instant) -> bool {
+        loop {
+            let seen = self.graph.generation();
+            if self.feedback_matched() {
+                return true;
+            }
+            let left = deadline.saturating_duration_since(Instant::now());
+            if left.is_zero() || !self.graph.wait_for_graph_change_since(seen, left) {
+                return self.feedback_matched();
+            }
+        }
+    }
+
+    /// [`wait_for_feedback_match`](Self::wait_for_feedback_match) as a future, woken by the
+    /// graph's event stream.
+    #[cfg(feature = "tokio")]
+    async fn feedback_match_async(&self, deadline: Instant) -> bool {
+        use futures_core::Stream;
+        // Subscribed before looking: a match made in between is an event.
+        let mut events = self.graph.events_with_capacity(1);
+        let next = std::future::poll_fn(|cx| {
+            loop {
+                if self.feedback_matched() {
+                    return Poll::Ready(());
+                }
+                // Every event is one more look; the stream ends only with the graph.
+                match Pin::new(&mut events).poll_next(cx) {
+                    Poll::Ready(Some(_)) => continue,
+                    Poll::Ready(None) | Poll::Pending => return Poll::Pending,
+                }
+            }
+        });
+        tokio::time::timeout_at(deadline.into(), next).await.is_ok() || self.feedback_matched()
     }
 
     /// Tells every goal whether the server is there.

@@ -9,7 +9,12 @@ use std::time::Duration;
 use common::{fibonacci, server_builder, WAIT};
 use horus_ros_actions::interfaces::test_msgs::action::{Fibonacci, FibonacciGoal};
 use horus_ros_actions::prelude::*;
-use horus_ros_actions::{status_qos, CancelError, FeedbackError, GetResultError, SendGoalError};
+use horus_ros_actions::{
+    feedback_qos, status_qos, Action, ActionNames, CancelError, EndpointOptions, FeedbackError,
+    GetResultError, SendGoalError,
+};
+use horus_ros_msgs::action_msgs::srv::CancelGoal;
+use horus_ros_services::DdsServiceServer;
 use horus_ros_msgs::action_msgs::msg::GoalStatusArray;
 use horus_ros_msgs::builtin_interfaces::msg::Time;
 
@@ -57,6 +62,45 @@ fn goal_feedback_and_result() {
         goal.get_result(WAIT).expect("again").1.sequence,
         fibonacci(10)
     );
+}
+
+/// rcl `rcl_action_server_is_available`: the three services are not enough, the feedback
+/// subscription must be matched with a publisher too — else the first feedback of a goal sent at
+/// once can be lost (a VOLATILE topic not matched yet).
+#[test]
+fn a_server_is_ready_once_its_feedback_publisher_is_matched() {
+    let n = node("local_ready");
+    let names = ActionNames::of("/local_ready");
+    let service = |name: &str| EndpointOptions::default().node(&n).name(name);
+    let _send_goal = DdsServiceServer::<<Fibonacci as Action>::SendGoal>::builder()
+        .options(service(&names.send_goal))
+        .build()
+        .expect("send_goal");
+    let _cancel_goal = DdsServiceServer::<CancelGoal>::builder()
+        .options(service(&names.cancel_goal))
+        .build()
+        .expect("cancel_goal");
+    let _get_result = DdsServiceServer::<<Fibonacci as Action>::GetResult>::builder()
+        .options(service(&names.get_result))
+        .build()
+        .expect("get_result");
+    let client = ActionClient::<Fibonacci>::builder()
+        .node(&n)
+        .name("/local_ready")
+        .build()
+        .expect("client");
+    // The three services become ready; the server does not, whatever the wait.
+    assert!(!client.wait_for_server(Duration::from_secs(2)));
+    assert!(client.server_available(), "the three services are known");
+    assert!(!client.is_server_ready());
+    let _feedback = n
+        .create_publisher::<<Fibonacci as Action>::FeedbackMessage>(
+            &names.feedback,
+            &feedback_qos(),
+        )
+        .expect("feedback publisher");
+    assert!(client.wait_for_server(WAIT), "no server within {WAIT:?}");
+    assert!(client.is_server_ready());
 }
 
 #[test]

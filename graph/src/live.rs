@@ -369,6 +369,17 @@ impl Graph {
         self.shared.matched_in_participant(local, participant)
     }
 
+    /// The endpoints our endpoint `local` is matched with, as the DDS layer reported them (their
+    /// number is rcl's `rcl_subscription_get_publisher_count` / `rcl_publisher_get_subscription_count`).
+    pub fn matched_with(&self, local: Gid) -> Vec<Gid> {
+        self.shared
+            .state()
+            .matches
+            .get(&local)
+            .map(|m| m.keys().copied().collect())
+            .unwrap_or_default()
+    }
+
     /// When our endpoint `local` was matched with `remote`, if it is.
     pub fn matched_since(&self, local: Gid, remote: Gid) -> Option<Instant> {
         self.shared
