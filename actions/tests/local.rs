@@ -13,10 +13,10 @@ use horus_ros_actions::{
     feedback_qos, status_qos, Action, ActionNames, CancelError, EndpointOptions, FeedbackError,
     GetResultError, SendGoalError,
 };
-use horus_ros_msgs::action_msgs::srv::CancelGoal;
-use horus_ros_services::DdsServiceServer;
 use horus_ros_msgs::action_msgs::msg::GoalStatusArray;
+use horus_ros_msgs::action_msgs::srv::CancelGoal;
 use horus_ros_msgs::builtin_interfaces::msg::Time;
+use horus_ros_services::DdsServiceServer;
 
 fn node(name: &str) -> Node {
     let context = Context::from_env().expect("context");

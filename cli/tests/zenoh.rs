@@ -240,3 +240,121 @@ fn the_daemon_serves_the_zenoh_graph() {
         assert_eq!(via.stdout, horus(port, domain, args), "{args:?}");
     }
 }
+
+/// The action verbs and `topic hz`/`bw` on Zenoh, against our own action server (in this
+/// process, on a Zenoh context joined to the router) and a `topic pub` process: `action list`,
+/// `action info`, a goal sent and its result, rates and sizes measured.
+#[test]
+fn action_and_rate_verbs_on_zenoh() {
+    use horus_ros_actions::interfaces::test_msgs::action::{
+        Fibonacci, FibonacciFeedback, FibonacciResult,
+    };
+    use horus_ros_actions::prelude::*;
+    use horus_ros_rmw::zenoh::config::{self, ConfigKind};
+
+    let (port, domain) = (17452, 5);
+    let _router = router(port);
+    let get =
+        |k: &str| (k == config::CONFIG_OVERRIDE_ENV).then(|| zenoh_common::session_override(port));
+    let session = config::config(ConfigKind::Session, get).expect("session config");
+    let context = Context::builder()
+        .domain_id(domain)
+        .implementation(horus_ros_rmw::zenoh::implementation(session))
+        .build()
+        .expect("context");
+    let node = context
+        .create_node("fibonacci_action_server", "/")
+        .expect("node");
+    let _server = ActionServer::<Fibonacci>::builder()
+        .node(&node)
+        .name("/fibonacci")
+        .execute(|handle| {
+            let mut sequence = vec![0, 1];
+            for i in 1..usize::try_from(handle.goal().order).unwrap_or(0) {
+                sequence.push(sequence[i] + sequence[i - 1]);
+                let _ = handle.publish_feedback(FibonacciFeedback {
+                    sequence: sequence.clone(),
+                });
+            }
+            let _ = handle.succeed(FibonacciResult { sequence });
+        })
+        .build()
+        .expect("action server");
+
+    assert_eq!(
+        horus(port, domain, &["action", "list", "-t"]),
+        "/fibonacci [test_msgs/action/Fibonacci]\n"
+    );
+    assert_eq!(
+        horus(port, domain, &["action", "info", "/fibonacci"]),
+        "Action: /fibonacci\nAction clients: 0\nAction servers: 1\n    /fibonacci_action_server\n"
+    );
+    // `action send_goal` reads the type's interface files, as ros2action imports it.
+    let mut send_goal = horus_command(
+        port,
+        domain,
+        &[
+            "action",
+            "send_goal",
+            "/fibonacci",
+            "test_msgs/action/Fibonacci",
+            "{order: 4}",
+        ],
+    );
+    let mut send_goal = send_goal
+        .env("AMENT_PREFIX_PATH", common::jazzy_prefix())
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("start horus-ros action send_goal");
+    let run = horus_ros_test_support::wait_with_output(&mut send_goal, LIMIT).expect("output");
+    assert_eq!(run.code(), Some(0), "{}", run.stderr);
+    let goal = run.stdout;
+    assert!(goal.contains("\nGoal accepted with ID: "), "{goal}");
+    assert!(
+        goal.ends_with(
+            "Result:\n    sequence:\n- 0\n- 1\n- 1\n- 2\n- 3\n\n\
+             Goal finished with status: SUCCEEDED\n"
+        ),
+        "{goal}"
+    );
+
+    let mut publisher = Proc::spawn(
+        horus_command(
+            port,
+            domain,
+            &[
+                "topic",
+                "pub",
+                "-r",
+                "10",
+                "/numbers",
+                "std_msgs/msg/Int32",
+                "{data: 7}",
+            ],
+        ),
+        "horus-ros topic pub",
+    );
+    publisher.line_where("'publishing #1'", |l| l.starts_with("publishing #1:"));
+    let mut hz = Proc::spawn(
+        horus_command(port, domain, &["topic", "hz", "/numbers"]),
+        "horus-ros topic hz",
+    );
+    // The first report comes from few intervals: take the third.
+    let mut rate = String::new();
+    for _ in 0..3 {
+        rate = hz.line_where("'average rate: …'", |l| l.starts_with("average rate: "));
+    }
+    let rate: f64 = rate["average rate: ".len()..].parse().expect("a rate");
+    // A 10 Hz publisher, measured on a loaded machine: a wide tolerance.
+    assert!((7.0..=13.0).contains(&rate), "rate {rate}");
+    drop(hz);
+    let mut bw = Proc::spawn(
+        horus_command(port, domain, &["topic", "bw", "/numbers"]),
+        "horus-ros topic bw",
+    );
+    // A 4-byte CDR header and the 4-byte int32.
+    bw.line_where("'Message size mean: 8 B …'", |l| {
+        l == "\tMessage size mean: 8 B min: 8 B max: 8 B"
+    });
+}
