@@ -348,11 +348,6 @@ fn an_interrupt_cancels_the_goal() {
 fn send_goal_to_a_horus_ros_server_on_this_backend() {
     // Our own action server, on the backend the suite runs (HORUS_ROS_BACKEND), so the CLI's
     // goal crosses in that backend's service convention (rmw_cyclonedds' on Cyclone DDS).
-    use horus_ros_actions::interfaces::test_msgs::action::{
-        Fibonacci, FibonacciFeedback, FibonacciResult,
-    };
-    use horus_ros_actions::prelude::*;
-
     let domain = 206;
     let context = horus_ros_rmw::Context::builder()
         .domain_id(domain)
@@ -361,22 +356,7 @@ fn send_goal_to_a_horus_ros_server_on_this_backend() {
     let node = context
         .create_node("fibonacci_action_server", "/")
         .expect("node");
-    let _server = ActionServer::<Fibonacci>::builder()
-        .node(&node)
-        .name("/fibonacci")
-        .execute(|handle| {
-            let order = usize::try_from(handle.goal().order).unwrap_or(0);
-            let mut sequence = vec![0, 1];
-            for i in 1..order {
-                sequence.push(sequence[i] + sequence[i - 1]);
-                let _ = handle.publish_feedback(FibonacciFeedback {
-                    sequence: sequence.clone(),
-                });
-            }
-            let _ = handle.succeed(FibonacciResult { sequence });
-        })
-        .build()
-        .expect("action server");
+    let _server = common::fibonacci::fibonacci_server(&node);
     let mut send = SendGoal::start_on(
         domain,
         &["/fibonacci", "test_msgs/action/Fibonacci", "{order: 4}"],

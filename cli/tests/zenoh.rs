@@ -145,29 +145,31 @@ fn an_rmw_zenoh_peer_through_our_router() {
     assert!(!nodes.lines().any(|l| l == "/talker"), "{nodes}");
 }
 
+/// `horus-ros topic pub -r 10 /numbers std_msgs/msg/Int32 "{data: <data>}"` on Zenoh, once it
+/// has published its first message.
+fn numbers_at_10_hz(port: u16, domain: u32, data: i32) -> Proc {
+    let value = format!("{{data: {data}}}");
+    let args = [
+        "topic",
+        "pub",
+        "-r",
+        "10",
+        "/numbers",
+        "std_msgs/msg/Int32",
+        &value,
+    ];
+    let mut publisher = Proc::spawn(horus_command(port, domain, &args), "horus-ros topic pub");
+    publisher.line_where("'publishing #1'", |l| l.starts_with("publishing #1:"));
+    publisher
+}
+
 /// Our own publisher and subscription, in two processes on the zenoh backend.
 #[test]
 fn our_pub_and_sub_across_two_processes() {
     let (port, domain) = (17448, 3);
     let _router = router(port);
-    let mut publisher = Proc::spawn(
-        horus_command(
-            port,
-            domain,
-            &[
-                "topic",
-                "pub",
-                "-r",
-                "10",
-                "/numbers",
-                "std_msgs/msg/Int32",
-                "{data: 42}",
-            ],
-        ),
-        "horus-ros topic pub",
-    );
     // Its token is declared before it publishes: a session opened from now on sees it.
-    publisher.line_where("'publishing #1'", |l| l.starts_with("publishing #1:"));
+    let _publisher = numbers_at_10_hz(port, domain, 42);
     let echo = horus(port, domain, &["topic", "echo", "/numbers", "--once"]);
     assert_eq!(echo, "data: 42\n---\n");
 }
@@ -246,11 +248,8 @@ fn the_daemon_serves_the_zenoh_graph() {
 /// `action info`, a goal sent and its result, rates and sizes measured.
 #[test]
 fn action_and_rate_verbs_on_zenoh() {
-    use horus_ros_actions::interfaces::test_msgs::action::{
-        Fibonacci, FibonacciFeedback, FibonacciResult,
-    };
-    use horus_ros_actions::prelude::*;
     use horus_ros_rmw::zenoh::config::{self, ConfigKind};
+    use horus_ros_rmw::Context;
 
     let (port, domain) = (17452, 5);
     let _router = router(port);
@@ -265,21 +264,7 @@ fn action_and_rate_verbs_on_zenoh() {
     let node = context
         .create_node("fibonacci_action_server", "/")
         .expect("node");
-    let _server = ActionServer::<Fibonacci>::builder()
-        .node(&node)
-        .name("/fibonacci")
-        .execute(|handle| {
-            let mut sequence = vec![0, 1];
-            for i in 1..usize::try_from(handle.goal().order).unwrap_or(0) {
-                sequence.push(sequence[i] + sequence[i - 1]);
-                let _ = handle.publish_feedback(FibonacciFeedback {
-                    sequence: sequence.clone(),
-                });
-            }
-            let _ = handle.succeed(FibonacciResult { sequence });
-        })
-        .build()
-        .expect("action server");
+    let _server = common::fibonacci::fibonacci_server(&node);
 
     assert_eq!(
         horus(port, domain, &["action", "list", "-t"]),
@@ -319,23 +304,7 @@ fn action_and_rate_verbs_on_zenoh() {
         "{goal}"
     );
 
-    let mut publisher = Proc::spawn(
-        horus_command(
-            port,
-            domain,
-            &[
-                "topic",
-                "pub",
-                "-r",
-                "10",
-                "/numbers",
-                "std_msgs/msg/Int32",
-                "{data: 7}",
-            ],
-        ),
-        "horus-ros topic pub",
-    );
-    publisher.line_where("'publishing #1'", |l| l.starts_with("publishing #1:"));
+    let _publisher = numbers_at_10_hz(port, domain, 7);
     let mut hz = Proc::spawn(
         horus_command(port, domain, &["topic", "hz", "/numbers"]),
         "horus-ros topic hz",

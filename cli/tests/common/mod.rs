@@ -7,6 +7,7 @@
 
 pub mod daemon;
 pub mod expected;
+pub mod fibonacci;
 pub mod streaming;
 
 use std::path::PathBuf;
