@@ -353,10 +353,7 @@ fn send_goal_to_a_horus_ros_server_on_this_backend() {
         .domain_id(domain)
         .build()
         .expect("context");
-    let node = context
-        .create_node("fibonacci_action_server", "/")
-        .expect("node");
-    let _server = common::fibonacci::fibonacci_server(&node);
+    let _server = common::fibonacci::fibonacci_server(&context);
     let mut send = SendGoal::start_on(
         domain,
         &["/fibonacci", "test_msgs/action/Fibonacci", "{order: 4}"],

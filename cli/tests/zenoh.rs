@@ -261,10 +261,7 @@ fn action_and_rate_verbs_on_zenoh() {
         .implementation(horus_ros_rmw::zenoh::implementation(session))
         .build()
         .expect("context");
-    let node = context
-        .create_node("fibonacci_action_server", "/")
-        .expect("node");
-    let _server = common::fibonacci::fibonacci_server(&node);
+    let _server = common::fibonacci::fibonacci_server(&context);
 
     assert_eq!(
         horus(port, domain, &["action", "list", "-t"]),

@@ -5,12 +5,15 @@ use horus_ros_actions::interfaces::test_msgs::action::{
     Fibonacci, FibonacciFeedback, FibonacciResult,
 };
 use horus_ros_actions::{ActionServer, EndpointBuilder};
-use horus_ros_rmw::Node;
+use horus_ros_rmw::Context;
 
-/// The server of `/fibonacci` on `node`.
-pub fn fibonacci_server(node: &Node) -> ActionServer<Fibonacci> {
+/// The server of `/fibonacci`, on a node `/fibonacci_action_server` of `context`.
+pub fn fibonacci_server(context: &Context) -> ActionServer<Fibonacci> {
+    let node = context
+        .create_node("fibonacci_action_server", "/")
+        .expect("node");
     ActionServer::<Fibonacci>::builder()
-        .node(node)
+        .node(&node)
         .name("/fibonacci")
         .execute(|handle| {
             let order = usize::try_from(handle.goal().order).unwrap_or(0);
