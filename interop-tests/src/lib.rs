@@ -37,7 +37,7 @@ pub fn python() -> PathBuf {
 pub use horus_ros_test_support::line_reader;
 
 /// Calls the macro `$then` with every message type compiled into horus-ros-msgs, as paths (the
-/// list the hash tests check: `rclpy_hashes.rs` against the Jazzy wheels, `rihs_rosbags.rs`
+/// list the hash tests check: `jazzy_hashes.rs` against the Jazzy wheels, `rihs_rosbags.rs`
 /// against rosbags).
 #[macro_export]
 macro_rules! compiled_message_types {

@@ -2,7 +2,7 @@
 //! (`AsyncServiceClient::call`) calls a Cyclone DDS server (rmw_cyclonedds convention) and a real
 //! ROS 2 Jazzy rclpy server (rmw_fastrtps_cpp: rmw_fastrtps convention); their clients call our
 //! async server (`AsyncServiceServer::builder`). As in `cyclone_services.rs` and
-//! `rclpy_services.rs`, on the Cyclone backend the rmw_fastrtps convention cannot be spoken:
+//! `jazzy_services.rs`, on the Cyclone backend the rmw_fastrtps convention cannot be spoken:
 //! there the awaited call is refused at once with `Transport`, and the rclpy client gets no
 //! answer.
 

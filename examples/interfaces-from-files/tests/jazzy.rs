@@ -10,7 +10,7 @@
 //!   what we sent. rclpy's service client (rmw_fastrtps) needs `related_sample_identity`, which
 //!   only the rustdds backend carries; on the Cyclone backend the test checks the refusal
 //!   instead (rclpy gets no reply and our server no request), as interop-tests'
-//!   `rclpy_services.rs` does.
+//!   `jazzy_services.rs` does.
 
 use std::process::{Child, Command, Stdio};
 use std::time::Duration;
