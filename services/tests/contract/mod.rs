@@ -30,52 +30,29 @@ use horus_ros_services::{
 /// `$context(domain)` makes.
 macro_rules! contract_tests {
     ($context:ident) => {
-        #[test]
-        fn the_graph_sees_another_contexts_nodes_topics_services_and_endpoints() {
-            contract::the_graph_sees_another_contexts_nodes_topics_services_and_endpoints(
-                &$context,
-            );
-        }
-
-        #[test]
-        fn messages_reach_subscriptions_of_other_contexts_and_of_the_same_one() {
-            contract::messages_reach_subscriptions_of_other_contexts_and_of_the_same_one(&$context);
-        }
-
-        #[test]
-        fn a_wait_set_reports_the_readers_with_data_and_its_own_wake_up() {
-            contract::a_wait_set_reports_the_readers_with_data_and_its_own_wake_up(&$context);
-        }
-
-        #[test]
-        fn blocking_calls_are_answered_and_their_failures_reported() {
-            contract::blocking_calls_are_answered_and_their_failures_reported(&$context);
-        }
-
-        #[test]
-        fn a_server_that_leaves_ends_the_call_waiting_for_it() {
-            contract::a_server_that_leaves_ends_the_call_waiting_for_it(&$context);
-        }
+        contract_tests!(@each $context:
+            the_graph_sees_another_contexts_nodes_topics_services_and_endpoints,
+            messages_reach_subscriptions_of_other_contexts_and_of_the_same_one,
+            a_wait_set_reports_the_readers_with_data_and_its_own_wake_up,
+            blocking_calls_are_answered_and_their_failures_reported,
+            a_server_that_leaves_ends_the_call_waiting_for_it,
+            node_services_answer,
+            qos_decides_matches_depth_and_what_late_joiners_get,
+            a_client_of_dds_type_names_only_reaches_a_server
+        );
 
         #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
         async fn awaited_calls_are_answered_by_sync_and_async_servers() {
             contract::awaited_calls_are_answered_by_sync_and_async_servers(&$context).await;
         }
-
-        #[test]
-        fn node_services_answer() {
-            contract::node_services_answer(&$context);
-        }
-
-        #[test]
-        fn qos_decides_matches_depth_and_what_late_joiners_get() {
-            contract::qos_decides_matches_depth_and_what_late_joiners_get(&$context);
-        }
-
-        #[test]
-        fn a_client_of_dds_type_names_only_reaches_a_server() {
-            contract::a_client_of_dds_type_names_only_reaches_a_server(&$context);
-        }
+    };
+    (@each $context:ident: $($test:ident),+) => {
+        $(
+            #[test]
+            fn $test() {
+                contract::$test(&$context);
+            }
+        )+
     };
 }
 
