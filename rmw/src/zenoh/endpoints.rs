@@ -87,38 +87,45 @@ pub(crate) struct Delivery {
 
 impl Delivery {
     /// `publisher` of `topic`/`type_name`, holding at most `depth` samples; for a plain
-    /// (VOLATILE) one, with its matching listener.
+    /// (VOLATILE) one, `probe` is a publisher of the same key restricted to remote subscribers,
+    /// whose matching listener reports the routes what is held waits for: the publisher's own
+    /// status counts a subscriber of this session as a match (zenoh `Session::matching_status`,
+    /// `Locality::Any`), which would release samples held for a remote one.
     pub(crate) fn new(
         publisher: Publication,
+        probe: Option<Publisher<'static>>,
         depth: usize,
         (topic, type_name): (&str, &str),
-    ) -> Result<(Arc<Self>, Option<MatchingListener<()>>), DdsError> {
+    ) -> Result<(Arc<Self>, Option<RouteListener>), DdsError> {
         let delivery = Arc::new(Self {
             publisher,
             held: RouteWait::new(depth, "sample"),
             topic: topic.to_owned(),
             type_name: type_name.to_owned(),
         });
-        let listener = match &delivery.publisher {
-            Publication::Plain(p) => {
-                let weak: Weak<Delivery> = Arc::downgrade(&delivery);
-                // Declared with a route already there, it reports it at once.
-                let listener = p
-                    .matching_listener()
-                    .callback(move |status: MatchingStatus| {
-                        if let Some(delivery) = weak.upgrade() {
-                            delivery.held.on_matching(status.matching(), |(p, a)| {
-                                delivery.publisher.put(p, a)
-                            });
-                        }
-                    })
-                    .wait()
-                    .map_err(|e| zenoh_error(DdsError::Create, e))?;
-                Some(listener)
-            }
-            Publication::Advanced(_) => None,
+        let Some(probe) = probe else {
+            return Ok((delivery, None));
         };
-        Ok((delivery, listener))
+        let weak: Weak<Delivery> = Arc::downgrade(&delivery);
+        // Declared with a route already there, it reports it at once.
+        let listener = probe
+            .matching_listener()
+            .callback(move |status: MatchingStatus| {
+                if let Some(delivery) = weak.upgrade() {
+                    delivery
+                        .held
+                        .on_matching(status.matching(), |(p, a)| delivery.publisher.put(p, a));
+                }
+            })
+            .wait()
+            .map_err(|e| zenoh_error(DdsError::Create, e))?;
+        Ok((
+            delivery,
+            Some(RouteListener {
+                _listener: listener,
+                _probe: probe,
+            }),
+        ))
     }
 
     /// Puts the sample, or holds it while the graph knows a subscription with no route yet.
@@ -134,10 +141,17 @@ impl Delivery {
     }
 }
 
+/// What tells a plain publisher's [`Delivery`] of routes to remote subscribers: the remote-only
+/// probe publisher and its matching listener.
+pub(crate) struct RouteListener {
+    _listener: MatchingListener<()>,
+    _probe: Publisher<'static>,
+}
+
 /// A publisher: the Zenoh publisher, its token and its sequence numbers.
 pub(crate) struct ZenohWriter {
     pub(crate) delivery: Arc<Delivery>,
-    pub(crate) _matching: Option<MatchingListener<()>>,
+    pub(crate) _routes: Option<RouteListener>,
     pub(crate) token: Option<LivelinessToken>,
     pub(crate) gid: Gid,
     pub(crate) sequence_number: AtomicI64,

@@ -43,6 +43,7 @@ use std::time::Duration;
 use horus_ros_msgs::rmw_dds_common::ParticipantEntitiesInfo;
 use zenoh::liveliness::LivelinessToken;
 use zenoh::qos::{CongestionControl, Priority, Reliability};
+use zenoh::sample::Locality;
 use zenoh::Wait;
 
 use crate::contract::{
@@ -531,7 +532,7 @@ impl ZenohParticipant {
         };
         let builder = self
             .session
-            .declare_publisher(key)
+            .declare_publisher(key.clone())
             .congestion_control(congestion)
             .priority(Priority::Data)
             .express(false)
@@ -556,8 +557,19 @@ impl ZenohParticipant {
             builder.wait().map(Publication::Plain)
         }
         .map_err(|e| zenoh_error(DdsError::Create, e))?;
-        let (delivery, matching) = Delivery::new(
+        let probe = match publisher {
+            Publication::Plain(_) => Some(
+                self.session
+                    .declare_publisher(key)
+                    .allowed_destination(Locality::Remote)
+                    .wait()
+                    .map_err(|e| zenoh_error(DdsError::Create, e))?,
+            ),
+            Publication::Advanced(_) => None,
+        };
+        let (delivery, routes) = Delivery::new(
             publisher,
+            probe,
             history_depth(&spec.qos),
             (&spec.dds_topic_name, &spec.dds_type_name),
         )?;
@@ -571,7 +583,7 @@ impl ZenohParticipant {
         Ok((
             Box::new(ZenohWriter {
                 delivery,
-                _matching: matching,
+                _routes: routes,
                 token,
                 gid,
                 sequence_number: AtomicI64::new(0),
