@@ -49,13 +49,7 @@ const DAEMON_GOAL: Duration = Duration::from_millis(20);
 /// How long the peer and the probe may take to start (Python and rclpy on a loaded machine).
 const PYTHON_START: Duration = Duration::from_secs(60);
 
-/// The Python with rclpy (as the CLI's tests find it).
-fn python() -> PathBuf {
-    if let Some(p) = std::env::var_os("HORUS_ROS_INTEROP_PYTHON") {
-        return PathBuf::from(p);
-    }
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../target/interop-venv/bin/python")
-}
+use horus_ros_test_support::jazzy::python;
 
 fn peer_script(name: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))

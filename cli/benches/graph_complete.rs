@@ -137,14 +137,7 @@ fn time_hash() -> String {
     horus_ros_msgs::builtin_interfaces::msg::Time::type_hash().to_string()
 }
 
-/// The Python interpreter with the `cyclonedds` package (as the tests find it).
-fn python() -> PathBuf {
-    std::env::var_os("HORUS_ROS_INTEROP_PYTHON")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| {
-            PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../target/interop-venv/bin/python")
-        })
-}
+use horus_ros_test_support::jazzy::python;
 
 /// `interop-tests/peers/<name>`.
 fn peer_script(name: &str) -> PathBuf {

@@ -108,13 +108,7 @@ fn epoch_ns(t: SystemTime) -> i64 {
         .map_or(0, |d| i64::try_from(d.as_nanos()).unwrap_or(i64::MAX))
 }
 
-/// The Python with rclpy (as the CLI's tests find it).
-fn python() -> PathBuf {
-    if let Some(p) = std::env::var_os("HORUS_ROS_INTEROP_PYTHON") {
-        return PathBuf::from(p);
-    }
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../target/interop-venv/bin/python")
-}
+use horus_ros_test_support::jazzy::python;
 
 /// Median and p90 of timed runs, and how many failed.
 struct Series {

@@ -15,12 +15,7 @@ use horus_ros_codegen::definition::{
 use horus_ros_codegen::idl::parse_idl;
 use serde_json::{json, Value as Json};
 
-fn python() -> PathBuf {
-    if let Some(p) = std::env::var_os("HORUS_ROS_INTEROP_PYTHON") {
-        return PathBuf::from(p);
-    }
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../target/interop-venv/bin/python")
-}
+use horus_ros_test_support::jazzy::python;
 
 /// rosidl_parser's parse of `files` (all of the venv's share if none), one JSON per file.
 fn rosidl_dump(files: &[PathBuf]) -> Vec<Json> {

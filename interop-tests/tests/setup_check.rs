@@ -529,6 +529,22 @@ fn another_root_is_for_check_only_and_arguments_are_checked() {
     assert_eq!(out.status.code(), Some(2));
     assert_eq!(
         String::from_utf8_lossy(&out.stderr),
-        "usage: scripts/setup [--check]\n"
+        "usage: scripts/setup [--check] [--build-only]\n"
     );
+}
+
+#[test]
+fn build_only_asks_for_what_building_needs() {
+    // Nothing of the tests' own: no valgrind, no Python, no venv.
+    let t = Tree::complete();
+    t.remove("/usr/bin/valgrind");
+    t.remove("/usr/bin/python3");
+    let out = setup(t.dir.path(), &["--check", "--build-only"]);
+    assert_eq!(String::from_utf8_lossy(&out.stdout), "");
+    assert_eq!(out.status.code(), Some(0), "{out:?}");
+    // What building needs is still asked for.
+    t.remove("/usr/bin/cmake");
+    let out = setup(t.dir.path(), &["--check", "--build-only"]);
+    assert_eq!(String::from_utf8_lossy(&out.stdout), "cmake\n");
+    assert_eq!(out.status.code(), Some(1));
 }

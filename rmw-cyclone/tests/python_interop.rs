@@ -15,13 +15,7 @@ use horus_ros_rmw_cyclone::{BuiltinSample, BuiltinTopic, EndpointQos, Waiter};
 
 const DOMAIN: u32 = 146;
 
-/// `HORUS_ROS_INTEROP_PYTHON`, else the workspace's venv (as the other interop tests).
-fn python() -> PathBuf {
-    if let Some(p) = std::env::var_os("HORUS_ROS_INTEROP_PYTHON") {
-        return PathBuf::from(p);
-    }
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../target/interop-venv/bin/python")
-}
+use horus_ros_test_support::jazzy::python;
 
 struct Kill(Child);
 impl Drop for Kill {

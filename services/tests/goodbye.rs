@@ -67,8 +67,7 @@ struct Watcher {
 
 impl Watcher {
     fn start(domain: u32) -> Self {
-        let python =
-            std::env::var_os("HORUS_ROS_INTEROP_PYTHON").unwrap_or_else(|| "python3".into());
+        let python = horus_ros_test_support::jazzy::python();
         let script = concat!(
             env!("CARGO_MANIFEST_DIR"),
             "/tests/peers/rclpy_graph_watcher.py"

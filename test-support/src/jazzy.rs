@@ -1,12 +1,29 @@
-//! Where the tests find ROS 2 Jazzy: the wheels `scripts/setup` installs.
+//! Where the tests find ROS 2 Jazzy: the wheels and the real peers that `scripts/setup` installs
+//! (rclpy on each of the three RMWs, ros2cli, rmw_zenohd, the demo nodes), and which RMW a test
+//! run's peers use.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::sync::OnceLock;
 
-/// The Python interpreter that has the ROS 2 wheels: `HORUS_ROS_INTEROP_PYTHON`, else the
-/// workspace's venv (`target/interop-venv`, made by `scripts/setup`) if it exists, else `python3`.
+/// The workspace's `target/jazzy-env`, where `scripts/setup` writes `run` and `python`.
+fn jazzy_env() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../target/jazzy-env")
+}
+
+/// The Python interpreter that has the ROS 2 wheels, run in the real peers' environment (so
+/// rclpy loads the RMW that `RMW_IMPLEMENTATION` or [`PEER_RMW_VAR`] names):
+/// `HORUS_ROS_JAZZY_PYTHON`, else `target/jazzy-env/python` (made by `scripts/setup`), else
+/// `HORUS_ROS_INTEROP_PYTHON` or the workspace's venv (`target/interop-venv`) as they are, else
+/// `python3`.
 pub fn python() -> PathBuf {
+    if let Some(p) = std::env::var_os("HORUS_ROS_JAZZY_PYTHON") {
+        return PathBuf::from(p);
+    }
+    let wrapped = jazzy_env().join("python");
+    if wrapped.exists() {
+        return wrapped;
+    }
     if let Some(p) = std::env::var_os("HORUS_ROS_INTEROP_PYTHON") {
         return PathBuf::from(p);
     }
@@ -15,6 +32,70 @@ pub fn python() -> PathBuf {
         venv
     } else {
         PathBuf::from("python3")
+    }
+}
+
+/// A command `program args…` run in the real peers' environment (`target/jazzy-env/run`):
+/// `ros2`, `rmw_zenohd`, the demo nodes. Panics, saying what to run, when `scripts/setup` has
+/// not made it.
+pub fn command(program: &str) -> Command {
+    let run = jazzy_env().join("run");
+    assert!(
+        run.exists(),
+        "{} is missing: scripts/setup installs the real ROS 2 Jazzy peers",
+        run.display()
+    );
+    let mut command = Command::new(run);
+    command.arg(program);
+    command
+}
+
+/// The environment variable that names the RMW of every Jazzy peer that does not choose its own
+/// (`scripts/test` sets it per run); unset means rmw_fastrtps_cpp, Jazzy's default.
+pub const PEER_RMW_VAR: &str = "HORUS_ROS_PEER_RMW";
+
+/// An RMW implementation a real Jazzy peer runs on.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Rmw {
+    /// rmw_fastrtps_cpp 8.4.3 on Fast DDS 2.14.5 (the wheels), Jazzy's default.
+    FastRtps,
+    /// rmw_cyclonedds_cpp 2.2.2 on Cyclone DDS 0.10.2.
+    CycloneDds,
+    /// rmw_zenoh_cpp 0.2.10, through a router (`rmw_zenohd`).
+    Zenoh,
+}
+
+impl Rmw {
+    /// All three, in Jazzy's order of precedence.
+    pub const ALL: [Rmw; 3] = [Rmw::FastRtps, Rmw::CycloneDds, Rmw::Zenoh];
+
+    /// Its `RMW_IMPLEMENTATION` name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Rmw::FastRtps => "rmw_fastrtps_cpp",
+            Rmw::CycloneDds => "rmw_cyclonedds_cpp",
+            Rmw::Zenoh => "rmw_zenoh_cpp",
+        }
+    }
+
+    /// The RMW of a name as `RMW_IMPLEMENTATION` spells it.
+    pub fn from_name(name: &str) -> Option<Rmw> {
+        Rmw::ALL.into_iter().find(|r| r.name() == name)
+    }
+
+    /// The RMW of this run's peers: [`PEER_RMW_VAR`], else rmw_fastrtps_cpp. Panics on a name
+    /// that is not one of the three.
+    pub fn of_peers() -> Rmw {
+        match std::env::var(PEER_RMW_VAR) {
+            Ok(name) if !name.is_empty() => Rmw::from_name(&name)
+                .unwrap_or_else(|| panic!("{PEER_RMW_VAR}={name}: not one of the three RMWs")),
+            _ => Rmw::FastRtps,
+        }
+    }
+
+    /// Whether it is a DDS implementation (the graph on `ros_discovery_info`).
+    pub fn is_dds(self) -> bool {
+        self != Rmw::Zenoh
     }
 }
 

@@ -33,17 +33,13 @@ pub fn python() -> PathBuf {
 /// The install prefix of the Jazzy wheels, the venv of [`python`]: an `AMENT_PREFIX_PATH` with
 /// every Jazzy message package (their interface files under `share/`).
 pub fn jazzy_prefix() -> PathBuf {
-    let python = python();
-    let prefix = python
-        .parent()
-        .and_then(|bin| bin.parent())
-        .map(PathBuf::from)
-        .unwrap_or_default();
+    let share = horus_ros_test_support::jazzy::share_dir().unwrap_or_else(|e| panic!("{e}"));
+    let prefix = share.parent().map(PathBuf::from).unwrap_or_default();
     assert!(
         prefix
             .join("share/ament_index/resource_index/rosidl_interfaces")
             .is_dir(),
-        "no Jazzy install under {} (set HORUS_ROS_INTEROP_PYTHON to the interop venv's python)",
+        "no Jazzy install under {} (scripts/setup installs it)",
         prefix.display()
     );
     prefix
