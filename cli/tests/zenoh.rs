@@ -324,3 +324,81 @@ fn action_and_rate_verbs_on_zenoh() {
         l == "\tMessage size mean: 8 B min: 8 B max: 8 B"
     });
 }
+
+/// A command that succeeds on Zenoh prints no ERROR or WARN line at the default log level
+/// (issue 36: each client's matching listener logged zenoh's "Unable to find MatchingListener"
+/// at exit, and its querier, undeclared before the query's final, "Received ResponseFinal for
+/// unknown Request"): `service call` and `param get` of our own server and node (in this
+/// process), `demo`, `node list`/`info` and `topic echo --once`.
+#[test]
+fn succeeding_commands_log_no_error_or_warning() {
+    use horus_ros_msgs::example_interfaces::srv::{
+        AddTwoInts, AddTwoIntsRequest, AddTwoIntsResponse,
+    };
+    use horus_ros_rmw::zenoh::config::{self, ConfigKind};
+    use horus_ros_rmw::Context;
+    use horus_ros_services::{EndpointBuilder, NodeServices, ServiceServer};
+
+    /// Zenoh's warning when a session's start conditions take longer than `scouting/delay`
+    /// (500 ms) on a loaded machine: a timing report, not a failure.
+    const SCOUTING_DELAY: &str = "Scouting delay elapsed before start conditions are met";
+
+    let (port, domain) = (17453, 6);
+    let _router = router(port);
+    let get =
+        |k: &str| (k == config::CONFIG_OVERRIDE_ENV).then(|| zenoh_common::session_override(port));
+    let session = config::config(ConfigKind::Session, get).expect("session config");
+    let context = Context::builder()
+        .domain_id(domain)
+        .implementation(horus_ros_rmw::zenoh::implementation(session))
+        .build()
+        .expect("context");
+    let node = context.create_node("horus_server", "/").expect("node");
+    let _node_services = NodeServices::start(&node).expect("node services");
+    let _server = ServiceServer::<AddTwoInts>::builder()
+        .node(&node)
+        .name("/horus_add")
+        .on_request(|r: AddTwoIntsRequest| Ok(AddTwoIntsResponse { sum: r.a + r.b }))
+        .build()
+        .expect("server");
+    let _publisher = numbers_at_10_hz(port, domain, 5);
+
+    let quiet = |args: &[&str], want: &str| {
+        let mut child = horus_command(port, domain, args)
+            .env_remove("RUST_LOG")
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .expect("start horus-ros");
+        let out = horus_ros_test_support::wait_with_output(&mut child, LIMIT).expect("output");
+        assert_eq!(out.code(), Some(0), "{args:?}: {}", out.stderr);
+        assert!(out.stdout.contains(want), "{args:?}: {}", out.stdout);
+        let noisy: Vec<&str> = out
+            .stderr
+            .lines()
+            .filter(|l| (l.contains("ERROR") || l.contains("WARN")) && !l.contains(SCOUTING_DELAY))
+            .collect();
+        assert!(noisy.is_empty(), "{args:?} logged:\n{}", noisy.join("\n"));
+    };
+    quiet(
+        &[
+            "service",
+            "call",
+            "/horus_add",
+            "example_interfaces/srv/AddTwoInts",
+            "{a: 1, b: 2}",
+        ],
+        "AddTwoInts_Response(sum=3)",
+    );
+    quiet(
+        &["param", "get", "/horus_server", "use_sim_time"],
+        "Boolean value is: False",
+    );
+    quiet(&["demo", "2", "3"], "AddTwoInts_Response(sum=5)");
+    quiet(&["node", "list"], "/horus_server");
+    quiet(
+        &["node", "info", "/horus_server"],
+        "/horus_add: example_interfaces/srv/AddTwoInts",
+    );
+    quiet(&["topic", "echo", "/numbers", "--once"], "data: 5");
+}

@@ -144,6 +144,9 @@ impl Delivery {
 /// What tells a plain publisher's [`Delivery`] of routes to remote subscribers: the remote-only
 /// probe publisher and its matching listener.
 pub(crate) struct RouteListener {
+    /// Before `_probe`, so dropped first: a publisher undeclared first undeclares its matching
+    /// listeners (zenoh 1.8 `Publisher::undeclare_impl`), and the listener's own undeclaration
+    /// then logs an ERROR ("Unable to find MatchingListener").
     _listener: MatchingListener<()>,
     _probe: Publisher<'static>,
 }

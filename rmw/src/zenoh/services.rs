@@ -99,9 +99,13 @@ enum EntityKind {
         _queryable: Queryable<()>,
     },
     Client {
+        /// Before `sender`, so dropped first: a querier undeclared first undeclares its matching
+        /// listeners (zenoh 1.8 `Querier::undeclare_impl`), and the listener's own undeclaration
+        /// then finds none and logs an ERROR ("Unable to find MatchingListener":
+        /// `Session::undeclare_matches_listener_inner`).
+        _matching: MatchingListener<()>,
         sender: Arc<RequestSender>,
         sequence_number: AtomicI64,
-        _matching: MatchingListener<()>,
     },
 }
 
@@ -114,7 +118,12 @@ struct PendingRequest {
 
 /// A client's querier and the requests that wait for its route.
 struct RequestSender {
-    querier: Querier<'static>,
+    /// Shared with each `get`'s callback, so that it is undeclared only once its last query
+    /// ended (its ResponseFinal, its timeout or the session's close): zenoh 1.8 forgets an
+    /// undeclared querier's queries (`Session::undeclare_querier_inner`), and their
+    /// ResponseFinal, which follows the reply, is then logged as a WARN ("Received ResponseFinal
+    /// for unknown Request": `<WeakSession as Primitives>::send_response_final`).
+    querier: Arc<Querier<'static>>,
     queue: Arc<ReaderQueue>,
     client: Gid,
     pending: RouteWait<PendingRequest>,
@@ -130,13 +139,16 @@ impl RequestSender {
     /// The `get` (rmw_client_data.cpp: target ALL_COMPLETE, consolidation NONE, the
     /// querier's), its replies queued.
     fn send(&self, request: PendingRequest) -> Result<(), DdsError> {
-        let queue = Arc::clone(&self.queue);
+        let (queue, querier) = (Arc::clone(&self.queue), Arc::clone(&self.querier));
         let (client, sequence_number) = (self.client, request.sequence_number);
         self.querier
             .get()
             .payload(request.payload)
             .attachment(request.attachment)
-            .callback(move |reply: Reply| on_reply(&queue, client, sequence_number, &reply))
+            .callback(move |reply: Reply| {
+                let _querier = &querier;
+                on_reply(&queue, client, sequence_number, &reply)
+            })
             .wait()
             .map_err(|e| zenoh_error(DdsError::Write, e))
     }
@@ -213,7 +225,7 @@ impl ServiceEntity {
             .wait()
             .map_err(|e| zenoh_error(DdsError::Create, e))?;
         let sender = Arc::new(RequestSender {
-            querier,
+            querier: Arc::new(querier),
             queue: Arc::clone(&queue),
             client: gid,
             pending: RouteWait::new(MAX_PENDING_REQUESTS, "request"),
@@ -238,9 +250,9 @@ impl ServiceEntity {
             reply_gid,
             queue,
             kind: EntityKind::Client {
+                _matching: matching,
                 sender,
                 sequence_number: AtomicI64::new(0),
-                _matching: matching,
             },
             _token: token,
         })
