@@ -1,99 +1,31 @@
-//! No lost first reply: ROS clients started together against our server, each calling the
-//! moment its RMW lets it, every first call answered.
+//! No lost first reply: real ROS 2 Jazzy clients (rclpy, `peers/jazzy_service_clients.py`)
+//! started together against our server, each calling as soon as `wait_for_service` lets it,
+//! every call answered.
 //!
-//! - rmw_cyclonedds clients (`peers/cyclone_service_clients.py`: rmw_cyclonedds' endpoints,
-//!   `clientid=` USER_DATA, request header and `rmw_service_server_is_available` check), several
-//!   in one process (one participant, as the clients of an rclpy or rclcpp process) and several
-//!   such processes at once, round after round of fresh processes; in half the rounds one client
-//!   of each process is answered before the others are created, so the server must tell the
-//!   clients of one participant apart by `clientid=`. With rmw_qos_profile_services_default
-//!   (KEEP_LAST 10) a client's reply reader also receives every other client's reply (a server
-//!   cannot address one Cyclone DDS reader) and loses its own once ten newer ones arrive before
-//!   it takes it, whatever the server: those rounds keep to ten replies per reader. Clients
-//!   created with a deeper history then make several calls each, more of them at once.
-//! - real rclpy clients (rmw_fastrtps_cpp, `peers/jazzy_set_bool_clients.py`), four processes
-//!   started together and four clients in one process, against a server on the rustdds backend
-//!   (Fast DDS peers need it, as they need rmw_fastrtps).
-
-use std::process::{Child, Command, Stdio};
-use std::time::Duration;
+//! - rmw_cyclonedds_cpp clients against a server on this run's DDS backend
+//!   (`HORUS_ROS_BACKEND`: rustdds or Cyclone): three rounds of eight processes of one client
+//!   making twenty calls each, then sixteen processes at once, every first call answered (the
+//!   calls answered in all are printed); processes of several clients, in half of them one
+//!   client answered before the others are created (the server must tell the clients of one
+//!   participant apart by their `clientid=`); clients with a deeper history making more calls at
+//!   once, every call answered. With rmw_qos_profile_services_default (KEEP_LAST 10) a client's
+//!   reply reader also receives every other client's reply (a Cyclone DDS writer cannot address
+//!   one reader; rmw_cyclonedds' `rmw_take_response` drops the others' as it takes) and loses its
+//!   own when ten newer ones arrive before its process takes it, whatever the server: under CPU
+//!   load about one call in a few hundred of the twenty-call rounds, so those rounds require
+//!   every first call; the others keep to ten replies in flight per reader.
+//! - rmw_fastrtps_cpp clients, four processes started together and four clients in one
+//!   process, against a server on the rustdds backend (the backend for Fast DDS peers: Cyclone
+//!   DDS cannot read the request id rmw_fastrtps sends as inline QoS).
 
 use horus_ros_msgs::std_srvs::srv::{SetBool, SetBoolResponse};
 use horus_ros_rmw::Backend;
 use horus_ros_services::prelude::*;
-use interop_tests::{cyclone_config, peer_script, python};
-use serde_json::Value;
+use horus_ros_test_support::jazzy::Rmw;
+use interop_tests::peers::clients::{run_round, Round};
 
 const SERVICE: &str = "/add_two_ints";
-/// What each peer gives itself from start to its last reply: a "did not hang" limit.
-const PEER_TIMEOUT_S: u64 = 30;
-/// How long the test waits for a peer beyond its own limit.
-const PEER_SLACK: Duration = Duration::from_secs(30);
-
-/// One round: `processes` started at once, each with `clients` rmw_cyclonedds clients.
-struct Round {
-    processes: usize,
-    clients: usize,
-    /// Calls each client makes, one after the other.
-    calls: u64,
-    /// Clients of each process created (and answered) before the others.
-    lead: usize,
-    /// History depth of the clients' endpoints (rmw_qos_profile_services_default: 10).
-    depth: usize,
-}
-
-/// A peer process, killed if the test ends before it does.
-struct PeerProcess(Child);
-
-impl Drop for PeerProcess {
-    fn drop(&mut self) {
-        if matches!(self.0.try_wait(), Ok(None)) {
-            let _ = self.0.kill();
-            let _ = self.0.wait();
-        }
-    }
-}
-
-fn spawn(script: &str, args: &[String], domain: u32) -> PeerProcess {
-    let child = Command::new(python())
-        .arg(peer_script(script))
-        .args(args)
-        .env("CYCLONEDDS_URI", cyclone_config())
-        .env("ROS_DOMAIN_ID", domain.to_string())
-        .env_remove("RMW_IMPLEMENTATION")
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap_or_else(|e| panic!("start {script}: {e}"));
-    PeerProcess(child)
-}
-
-/// Waits for every peer; the number of first replies its clients got, and the output of those
-/// that failed.
-fn collect(peers: Vec<PeerProcess>) -> (usize, Vec<String>) {
-    let mut first_replies = 0;
-    let mut failures = Vec::new();
-    for mut peer in peers {
-        let limit = Duration::from_secs(PEER_TIMEOUT_S) + PEER_SLACK;
-        let out =
-            horus_ros_test_support::wait_with_output(&mut peer.0, limit).expect("peer output");
-        first_replies += out
-            .stdout
-            .lines()
-            .filter_map(|l| serde_json::from_str::<Value>(l).ok())
-            .filter(|l| l.get("client").is_some() && l["first_reply"] == true)
-            .count();
-        if out.code() != Some(0) {
-            failures.push(format!(
-                "exit {:?}\n{}{}",
-                out.code(),
-                out.stdout,
-                out.stderr
-            ));
-        }
-    }
-    (first_replies, failures)
-}
+const ADD_TWO_INTS: &str = "example_interfaces/srv/AddTwoInts";
 
 fn adder(context: &Context) -> ServiceServer<AddTwoInts> {
     let node = context.create_node("first_reply_adder", "/").expect("node");
@@ -109,48 +41,60 @@ fn adder(context: &Context) -> ServiceServer<AddTwoInts> {
         .expect("server")
 }
 
-/// Runs `rounds` one after the other against one server; every client of every round must get
-/// every reply.
-fn cyclone_rounds(domain: u32, rounds: &[Round]) {
+/// Runs `rounds` of rmw_cyclonedds clients one after the other against one AddTwoInts server
+/// on this run's backend; every client of every round must get its first reply and, if
+/// `every_reply`, every reply.
+fn cyclonedds_rounds(domain: u32, rounds: &[Round], every_reply: bool) {
     let context = Context::builder()
         .domain_id(domain)
         .build()
         .expect("context");
     let server = adder(&context);
-    let mut expected = 0;
     for (n, round) in rounds.iter().enumerate() {
-        let peers: Vec<PeerProcess> = (0..round.processes)
-            .map(|_| {
-                let args = [
-                    domain.to_string(),
-                    SERVICE.to_owned(),
-                    round.clients.to_string(),
-                    round.calls.to_string(),
-                    PEER_TIMEOUT_S.to_string(),
-                    round.lead.to_string(),
-                    round.depth.to_string(),
-                ];
-                spawn("cyclone_service_clients.py", &args, domain)
-            })
-            .collect();
-        let (first_replies, failures) = collect(peers);
-        let clients = round.processes * round.clients;
-        expected += clients as u64 * round.calls;
-        assert!(
-            failures.is_empty(),
-            "{:?} backend, round {n}: {first_replies} of {clients} first calls answered, {} \
-             requests served in all; failed processes:\n{}",
+        let served_before = server.served_count();
+        let tally = run_round(Rmw::CycloneDds, SERVICE, ADD_TWO_INTS, round, domain);
+        let (clients, calls) = (round.total_clients(), round.total_calls());
+        eprintln!(
+            "{:?} backend, round {n} ({} processes of {} clients, {} calls each): {} of {clients} \
+             first calls answered, {} of {calls} calls",
             context.backend(),
-            server.served_count(),
-            failures.join("\n")
+            round.processes,
+            round.clients,
+            round.calls,
+            tally.first_replies,
+            tally.replies
         );
+        let failed = if every_reply {
+            &tally.missed_any
+        } else {
+            &tally.missed_first
+        };
+        assert!(
+            failed.is_empty(),
+            "{:?} backend, round {n}: {} of {clients} first calls answered, {} of {calls} calls, \
+             {} requests served in all; failed processes:\n{}",
+            context.backend(),
+            tally.first_replies,
+            tally.replies,
+            server.served_count(),
+            failed.join("\n")
+        );
+        if every_reply {
+            assert_eq!(server.served_count() - served_before, calls, "round {n}");
+        }
     }
-    assert_eq!(server.served_count(), expected);
 }
 
 #[test]
-fn every_first_call_of_rmw_cyclonedds_clients_started_together_is_answered() {
-    let rounds: Vec<Round> = (0..16)
+fn rmw_cyclonedds_clients_started_together_get_every_first_reply() {
+    // Three rounds of eight processes of one client, twenty calls each; then sixteen at once.
+    let rounds = [8, 8, 8, 16].map(|processes| Round::single_clients(processes, 20));
+    cyclonedds_rounds(74, &rounds, false);
+}
+
+#[test]
+fn rmw_cyclonedds_clients_of_one_process_started_together_get_every_reply() {
+    let rounds: Vec<Round> = (0..4)
         .map(|n| Round {
             processes: 3,
             clients: 3,
@@ -159,12 +103,12 @@ fn every_first_call_of_rmw_cyclonedds_clients_started_together_is_answered() {
             depth: 10,
         })
         .collect();
-    cyclone_rounds(74, &rounds);
+    cyclonedds_rounds(75, &rounds, true);
 }
 
 #[test]
 fn rmw_cyclonedds_clients_with_a_deeper_history_started_together_get_every_reply() {
-    let rounds: Vec<Round> = (0..4)
+    let rounds: Vec<Round> = (0..2)
         .map(|n| Round {
             processes: 4,
             clients: 4,
@@ -173,11 +117,11 @@ fn rmw_cyclonedds_clients_with_a_deeper_history_started_together_get_every_reply
             depth: 128,
         })
         .collect();
-    cyclone_rounds(75, &rounds);
+    cyclonedds_rounds(77, &rounds, true);
 }
 
 #[test]
-fn every_first_call_of_rclpy_clients_started_together_is_answered() {
+fn every_call_of_rmw_fastrtps_clients_started_together_is_answered() {
     const DOMAIN: u32 = 76;
     const CALLS: u64 = 3;
     let context = Context::builder()
@@ -201,22 +145,27 @@ fn every_first_call_of_rclpy_clients_started_together_is_answered() {
         .expect("server");
     // Four processes of one client, then one process of four.
     for (processes, clients) in [(4, 1), (1, 4)] {
-        let args = [
-            "/set_bool".to_owned(),
-            clients.to_string(),
-            CALLS.to_string(),
-            PEER_TIMEOUT_S.to_string(),
-        ];
-        let peers: Vec<PeerProcess> = (0..processes)
-            .map(|_| spawn("jazzy_set_bool_clients.py", &args, DOMAIN))
-            .collect();
-        let (first_replies, failures) = collect(peers);
+        let round = Round {
+            processes,
+            clients,
+            calls: CALLS,
+            lead: 0,
+            depth: 10,
+        };
+        let tally = run_round(
+            Rmw::FastRtps,
+            "/set_bool",
+            "std_srvs/srv/SetBool",
+            &round,
+            DOMAIN,
+        );
         assert!(
-            failures.is_empty(),
-            "{processes} process(es) of {clients} rclpy client(s): {first_replies} first calls \
-             answered, {} requests served in all; failed processes:\n{}",
+            tally.missed_any.is_empty(),
+            "{processes} process(es) of {clients} rclpy client(s): {} first calls answered, {} \
+             requests served in all; failed processes:\n{}",
+            tally.first_replies,
             server.served_count(),
-            failures.join("\n")
+            tally.missed_any.join("\n")
         );
     }
     assert_eq!(server.served_count(), 2 * 4 * CALLS);

@@ -76,10 +76,7 @@ impl ServerWire {
             service,
             reply_writer,
             flavour,
-            (
-                runtime.node.context().capabilities(),
-                runtime.node.context().vendor_id(),
-            ),
+            runtime.node.context().capabilities(),
         ));
         let watch = Arc::new(ParkWatch {
             server: Arc::clone(&server),

@@ -3,9 +3,11 @@
 //! rmw_fastrtps_cpp). A peer is one rclpy node, `peers/jazzy_node.py`, given a JSON spec of its
 //! servers, clients, publishers, subscriptions and parameters ([`RclpyPeer`]); it can print
 //! rclpy's own view of the graph, which [`wait_for_same_view`] compares with ours. [`wheels`]
-//! reads the type descriptions and hashes the wheels install.
+//! reads the type descriptions and hashes the wheels install; [`clients`] starts rounds of real
+//! service clients together on any of the three RMWs.
 
 pub mod cdr;
+pub mod clients;
 mod peer;
 mod view;
 pub mod wheels;

@@ -23,23 +23,29 @@ const MAX_REFUSED: usize = 1024;
 /// afresh: a participant then waits [`CYCLONE_FIRST_HEARTBEAT_SETTLE`] once more).
 const MAX_FIRST_CONTACTS: usize = 1024;
 
-/// How long a reply waits, on a backend whose writers are not Cyclone DDS's (RustDDS), after the
-/// first reader of a Cyclone DDS participant was matched with our reply writer and after that
-/// participant's first request, before it goes to that participant: the time that participant
-/// takes to see our writer's first HEARTBEAT (it can discover our writer later than we matched
-/// its reader; its clients call only once it has).
+/// How long a reply waits, after the first reader of a Cyclone DDS participant was matched with
+/// our reply writer and after that participant's first request, before it goes to that
+/// participant: the time that participant takes to see our writer's first HEARTBEAT (it can
+/// discover our writer later than we matched its reader; its clients call as soon as it has).
 ///
-/// A Cyclone DDS volatile reader starts a non-Cyclone writer's reliable session at the last
-/// sequence number of the first HEARTBEAT it receives, and drops every sample up to it that has
-/// not arrived by then (Cyclone DDS 0.10 `q_receive.c` `handle_Heartbeat`: the first heartbeat
-/// inserts the gap `[1, lastseq + 1)`; `ddsi_entity_match.c` `proxy_writer_add_connection`: "for
-/// non-Cyclone, if the reader is volatile, we have to just start from the most recent sample, even
-/// though that means the first samples written after matching the reader may be lost"). RustDDS
-/// answers the pre-emptive ACKNACK that such a reader sends 10 ms after matching (Cyclone's
-/// `PreEmptiveAckDelay`) with a HEARTBEAT naming its last sample even while that sample is still
-/// queued (rustdds 0.15 `Writer::handle_ack_nack`), on a path that overtakes the DATA: a reply
-/// written then is lost, with no retransmission. No event tells when the participant has seen a
-/// HEARTBEAT: the server looks again at this instant.
+/// A Cyclone DDS reader loses a reply that reaches it before our writer's first HEARTBEAT, on
+/// either backend:
+/// - from a Cyclone DDS writer (our Cyclone backend) it drops the DATA ("no heartbeat seen yet",
+///   Cyclone DDS 0.10 `q_receive.c` `handle_regular`), then the first HEARTBEAT, which names that
+///   sample as the last, starts the session after it (`handle_Heartbeat`: the first heartbeat
+///   inserts the gap `[1, lastseq + 1)`), so it is never retransmitted. Found against real
+///   rmw_cyclonedds_cpp 2.2.2 clients started together: 5 to 7 of 8 got their first reply
+///   without this wait, every one with it (`interop-tests/tests/jazzy_first_reply.rs`);
+///   rmw_cyclonedds' own server has the same race (`rmw_send_response` waits only for the match);
+/// - from a RustDDS writer, which answers the pre-emptive ACKNACK that such a reader sends 10 ms
+///   after matching (Cyclone's `PreEmptiveAckDelay`) with a HEARTBEAT naming its last sample even
+///   while that sample is still queued (rustdds 0.15 `Writer::handle_ack_nack`), on a path that
+///   overtakes the DATA: the same gap drops it (`ddsi_entity_match.c`
+///   `proxy_writer_add_connection`: "for non-Cyclone, if the reader is volatile, we have to just
+///   start from the most recent sample").
+///
+/// No event tells when the participant has seen a HEARTBEAT: the server looks again at this
+/// instant.
 pub(crate) const CYCLONE_FIRST_HEARTBEAT_SETTLE: Duration = Duration::from_millis(100);
 
 /// What a reply to one request needs, in the convention of the client that sent it (the
@@ -210,12 +216,9 @@ pub struct Server {
     flavour: Option<WireFlavour>,
     /// What our backend can do.
     capabilities: Capabilities,
-    /// Our participant's vendor.
-    vendor: VendorId,
     /// Request writers already told about (once each) as unanswerable on this backend.
     refused: Mutex<HashSet<Gid>>,
-    /// When the first request of each Cyclone DDS participant arrived (by GUID prefix), on a
-    /// backend whose writers are not Cyclone DDS's.
+    /// When the first request of each Cyclone DDS participant arrived (by GUID prefix).
     first_contacts: Mutex<HashMap<[u8; 12], Instant>>,
     /// Responses waiting for their client's reply reader to be matched.
     park: Mutex<Park<Response>>,
@@ -249,7 +252,7 @@ impl Server {
         service: ServiceName,
         reply_writer: Gid,
         flavour: Option<WireFlavour>,
-        (capabilities, vendor): (Capabilities, VendorId),
+        capabilities: Capabilities,
     ) -> Self {
         Self {
             peers,
@@ -257,7 +260,6 @@ impl Server {
             reply_writer,
             flavour,
             capabilities,
-            vendor,
             refused: Mutex::new(HashSet::new()),
             first_contacts: Mutex::new(HashMap::new()),
             park: Mutex::new(Park::default()),
@@ -323,7 +325,7 @@ impl Server {
     /// malformed or cannot be answered.
     fn request_from(&self, sample: RawSample) -> Option<Request> {
         let vendor = self.peers.vendor_of(sample.id.writer);
-        if self.vendor != VendorId::CYCLONE_DDS && vendor == Some(VendorId::CYCLONE_DDS) {
+        if vendor == Some(VendorId::CYCLONE_DDS) {
             let mut contacts = lock(&self.first_contacts);
             if contacts.len() >= MAX_FIRST_CONTACTS {
                 contacts.clear();
@@ -598,9 +600,8 @@ impl Server {
     /// Whether the client of `recipient` can hear a response at `now`: its reply reader is
     /// matched with our writer (for an rmw_cyclonedds client, the reader that announces its
     /// `clientid=`, as rmw_cyclonedds' `check_for_response_reader` looks for it), and, for a
-    /// Cyclone DDS participant on a backend whose writers are not Cyclone DDS's, that
-    /// participant has had [`CYCLONE_FIRST_HEARTBEAT_SETTLE`] to see our writer's first
-    /// HEARTBEAT.
+    /// Cyclone DDS participant, that participant has had [`CYCLONE_FIRST_HEARTBEAT_SETTLE`] to
+    /// see our writer's first HEARTBEAT.
     fn readiness(&self, recipient: Recipient, now: Instant) -> Readiness {
         // A reply that goes back through its request (Zenoh's query) has no reader to wait for.
         if self.capabilities.service_queries {
@@ -635,9 +636,7 @@ impl Server {
             return Readiness::Later;
         }
         let participant = recipient.participant();
-        if self.vendor == VendorId::CYCLONE_DDS
-            || self.peers.vendor_of(participant) != Some(VendorId::CYCLONE_DDS)
-        {
+        if self.peers.vendor_of(participant) != Some(VendorId::CYCLONE_DDS) {
             return Readiness::Now;
         }
         let matched = self.peers.participant_matched_since(writer, participant);
