@@ -17,7 +17,7 @@ use horus_ros_msgs::example_interfaces::srv::AddTwoInts;
 use horus_ros_msgs::std_srvs::srv::{SetBool, SetBoolResponse};
 use horus_ros_msgs::{DescriptionBuilder, Message, TypeDescription};
 use horus_ros_rmw::qos::Qos;
-use horus_ros_rmw::Context;
+use horus_ros_rmw::{Backend, Context};
 use horus_ros_services::{EndpointBuilder, ServiceClient, ServiceServer};
 use serde_json::{json, Value};
 
@@ -49,11 +49,34 @@ fn context(domain: u32) -> Context {
         .expect("context")
 }
 
-/// Our endpoints as another process sees them through DDS discovery: the history depth is not
-/// announced (UNKNOWN), and the type hash only by a backend that announces USER_DATA (Cyclone;
-/// rustdds sends none, shown as INVALID).
-const OURS_HISTORY_TOPIC: &str = "UNKNOWN";
-const OURS_HISTORY_SERVICE: &str = "UNKNOWN (0)";
+/// Endpoints as another process sees them through DDS discovery: on the Cyclone backend the
+/// history Cyclone DDS announces and reports (KEEP_LAST `depth`, as `ros2` on rmw_cyclonedds
+/// prints it), on rustdds none (UNKNOWN, as on rmw_fastrtps); `service` adds the depth rclpy's
+/// `ServiceEndpointInfo` prints beside UNKNOWN. The type hash only where the backend announces
+/// USER_DATA (Cyclone; rustdds sends none, shown as INVALID).
+fn seen_history(ctx: &Context, depth: u32, service: bool) -> String {
+    match (ctx.backend(), service) {
+        (Some(Backend::Cyclone), _) => format!("KEEP_LAST ({depth})"),
+        (_, false) => "UNKNOWN".to_owned(),
+        (_, true) => "UNKNOWN (0)".to_owned(),
+    }
+}
+
+/// The JSON `history` and `depth` of an endpoint keeping `depth` samples (see [`seen_history`]).
+fn seen_history_json(ctx: &Context, depth: u32) -> (Value, Value) {
+    match ctx.backend() {
+        Some(Backend::Cyclone) => (json!("KEEP_LAST"), json!(depth)),
+        _ => (json!("UNKNOWN"), json!(0)),
+    }
+}
+
+/// Our services' local depths (the services layer's, deeper than the profile asked for) and the
+/// Cyclone peers' (rmw_qos_profile_services_default, and their topics' KEEP_LAST 10).
+const OUR_REQUEST_WRITER_DEPTH: u32 = 256;
+const OUR_REPLY_READER_DEPTH: u32 = 4096;
+const PEER_DEPTH: u32 = 10;
+/// Our topic endpoints' depth (`Qos::default()`: KEEP_LAST 10).
+const OUR_TOPIC_DEPTH: u32 = 10;
 
 /// The `Topic type hash` line value for an endpoint of ours announcing `hash`: the hash where
 /// the backend announces USER_DATA, else INVALID.
@@ -220,8 +243,8 @@ fn service_verbs() {
          - Request Writer : {request_writer}\n \
          - Response Reader : {reply_reader}\n\
          QoS profiles:\n \
-         - Request Writer :\n{ours} \
-         - Response Reader :\n{ours}\
+         - Request Writer :\n{ours_writer} \
+         - Response Reader :\n{ours_reader}\
          \n\
          Services count: 1\n\
          \n\
@@ -238,8 +261,21 @@ fn service_verbs() {
          - Request Reader :\n{theirs} \
          - Response Writer :\n{theirs}\
          \n",
-        ours = service_qos("RELIABLE", OURS_HISTORY_SERVICE, "VOLATILE"),
-        theirs = service_qos("RELIABLE", "UNKNOWN (0)", "VOLATILE"),
+        ours_writer = service_qos(
+            "RELIABLE",
+            &seen_history(&ctx, OUR_REQUEST_WRITER_DEPTH, true),
+            "VOLATILE"
+        ),
+        ours_reader = service_qos(
+            "RELIABLE",
+            &seen_history(&ctx, OUR_REPLY_READER_DEPTH, true),
+            "VOLATILE"
+        ),
+        theirs = service_qos(
+            "RELIABLE",
+            &seen_history(&ctx, PEER_DEPTH, true),
+            "VOLATILE"
+        ),
         request_reader = peer.field("/server/request_reader"),
         reply_writer = peer.field("/server/reply_writer"),
     );
@@ -286,11 +322,12 @@ fn service_verbs() {
         ),
         (Some(1), Some(1))
     );
-    let qos = |reliability: &str| {
+    let qos = |reliability: &str, depth: u32| {
+        let (history, depth) = seen_history_json(&ctx, depth);
         json!({
-            "reliability": reliability, "history": "UNKNOWN", "depth": 0, "durability": "VOLATILE",
-            "lifespan_ns": null, "deadline_ns": null, "liveliness": "AUTOMATIC",
-            "liveliness_lease_duration_ns": null,
+            "reliability": reliability, "history": history, "depth": depth,
+            "durability": "VOLATILE", "lifespan_ns": null, "deadline_ns": null,
+            "liveliness": "AUTOMATIC", "liveliness_lease_duration_ns": null,
         })
     };
     assert_eq!(
@@ -303,7 +340,10 @@ fn service_verbs() {
             "endpoint_type": "CLIENT",
             // rmw's order: reader then writer.
             "gids": [reply_reader.to_string(), request_writer.to_string()],
-            "qos": [qos("RELIABLE"), qos("RELIABLE")],
+            "qos": [
+                qos("RELIABLE", OUR_REPLY_READER_DEPTH),
+                qos("RELIABLE", OUR_REQUEST_WRITER_DEPTH)
+            ],
         })
     );
     assert_eq!(
@@ -315,7 +355,7 @@ fn service_verbs() {
             "type_hash": null,
             "endpoint_type": "SERVER",
             "gids": [peer.field("/server/request_reader"), peer.field("/server/reply_writer")],
-            "qos": [qos("RELIABLE"), qos("RELIABLE")],
+            "qos": [qos("RELIABLE", PEER_DEPTH), qos("RELIABLE", PEER_DEPTH)],
         })
     );
     // Our server, in JSON: its request reader and reply writer.
@@ -652,7 +692,7 @@ fn topic_verbs() {
     let theirs = format!(
         "Node name: cyclone_node\nNode namespace: /peer_ns\nTopic type: builtin_interfaces/msg/Time\n\
          Topic type hash: {hash}\nEndpoint type: PUBLISHER\nGID: {theirs_gid}\n{}",
-        topic_qos("RELIABLE", "UNKNOWN", "VOLATILE")
+        topic_qos("RELIABLE", &seen_history(&ctx, PEER_DEPTH, false), "VOLATILE")
     );
     // Our endpoints' hash: announced in USER_DATA on Cyclone, absent (INVALID) on rustdds.
     let ours_hash = ours_hash_text(&ctx, &hash);
@@ -660,7 +700,11 @@ fn topic_verbs() {
         "Node name: horus_node\nNode namespace: /\nTopic type: builtin_interfaces/msg/Time\n\
          Topic type hash: {ours_hash}\nEndpoint type: PUBLISHER\nGID: {}\n{}",
         publisher.gid(),
-        topic_qos("RELIABLE", OURS_HISTORY_TOPIC, "TRANSIENT_LOCAL")
+        topic_qos(
+            "RELIABLE",
+            &seen_history(&ctx, OUR_TOPIC_DEPTH, false),
+            "TRANSIENT_LOCAL"
+        )
     );
     let mut publishers = [
         (theirs_gid.clone(), theirs),
@@ -674,7 +718,7 @@ fn topic_verbs() {
         publishers[0].1,
         publishers[1].1,
         subscription.gid(),
-        topic_qos("BEST_EFFORT", OURS_HISTORY_TOPIC, "VOLATILE"),
+        topic_qos("BEST_EFFORT", &seen_history(&ctx, OUR_TOPIC_DEPTH, false), "VOLATILE"),
     );
     expect(D, &["topic", "info", "/peer_ns/chatter", "-v"], &verbose);
 
@@ -729,7 +773,8 @@ fn topic_verbs() {
             "endpoint_type": "PUBLISHER",
             "gid": theirs_gid,
             "qos": {
-                "reliability": "RELIABLE", "history": "UNKNOWN", "depth": 0,
+                "reliability": "RELIABLE", "history": seen_history_json(&ctx, PEER_DEPTH).0,
+                "depth": seen_history_json(&ctx, PEER_DEPTH).1,
                 "durability": "VOLATILE", "lifespan_ns": null, "deadline_ns": null,
                 "liveliness": "AUTOMATIC", "liveliness_lease_duration_ns": null,
             },

@@ -1,33 +1,106 @@
-//! The zenoh backend against an independent peer: an rclpy node on rmw_zenoh_cpp 0.2.10 written
-//! by hand with the eclipse-zenoh Python package (`tests/peers/zenoh_rmw_peer.py`, to the
-//! wire facts: tokens, keys, attachments), through our router (`horus-ros router`), and our own
-//! publisher and subscription in two processes.
+//! The zenoh backend against real ROS 2 Jazzy on rmw_zenoh_cpp 0.2.10: an rclpy node
+//! (`interop-tests/peers/jazzy_node.py` with `RMW_IMPLEMENTATION=rmw_zenoh_cpp`) through our
+//! router (`horus-ros router`; the suite's Zenoh run also drives every Jazzy-peer test through
+//! rmw_zenohd itself), and our own publisher and subscription in two processes.
 //!
 //! Run inside the private network namespace: `scripts/isolated cargo test -p horus-ros-cli --test
-//! zenoh`. The Python interpreter with `eclipse-zenoh` and `xxhash` is `HORUS_ROS_ZENOH_PYTHON`,
-//! else `HORUS_ROS_INTEROP_PYTHON` (scripts/setup installs both packages there). Each test has
-//! a router of its own on its own port, so they run in parallel. Waits are bounded and woken by
-//! the processes' output (`graph --watch` lines, the peer's lines), never polled.
+//! zenoh`. Each test has a router of its own on its own port, so they run in parallel. Waits are
+//! bounded and woken by the processes' output (`graph --watch` lines, the peer's lines), never
+//! polled.
 
 mod common;
 mod zenoh_common;
 
-use serde_json::Value;
-use zenoh_common::{dotted, field, horus, horus_command, router, talker, Proc, LIMIT};
+use std::time::Duration;
 
-/// The peer's node, publisher and subscription are on our graph with the GIDs rmw_zenoh
-/// computes; its samples reach our subscription; ours reach its subscriber with rmw_zenoh's
-/// key and attachment; killed, it leaves the graph.
+use horus_ros_msgs::std_srvs::srv::{SetBool, SetBoolRequest, SetBoolResponse};
+use horus_ros_rmw::zenoh::config::{self, ConfigKind};
+use horus_ros_rmw::Context;
+use horus_ros_services::{
+    EndpointBuilder, NodeServices, ServiceClient, ServiceError, ServiceServer, TransportError,
+};
+use serde_json::{json, Value};
+use zenoh_common::{horus, horus_command, rclpy_on_zenoh, router, Proc, LIMIT};
+
+/// A Zenoh context in this process joined to the router on `port`.
+fn zenoh_context(port: u16, domain: u32) -> Context {
+    let get =
+        |k: &str| (k == config::CONFIG_OVERRIDE_ENV).then(|| zenoh_common::session_override(port));
+    let session = config::config(ConfigKind::Session, get).expect("session config");
+    Context::builder()
+        .domain_id(domain)
+        .implementation(horus_ros_rmw::zenoh::implementation(session))
+        .build()
+        .expect("context")
+}
+
+/// The GID rclpy's graph API gives the endpoint of `node` of `kind` (`PUBLISHER`,
+/// `SUBSCRIPTION`) on `topic`, from the peer's `{"graph": …}` lines, once one lists it.
+fn rclpy_sees(peer: &mut Proc, topic: &str, node: &str, kind: &str) -> String {
+    let find = |line: &str| -> Option<String> {
+        let view: Value = serde_json::from_str(line).ok()?;
+        let key = if kind == "PUBLISHER" {
+            "publishers"
+        } else {
+            "subscriptions"
+        };
+        view["graph"]["endpoints"][topic][key]
+            .as_array()?
+            .iter()
+            .filter_map(Value::as_str)
+            .find(|e| {
+                e.contains(&format!("Node name: {node}\n"))
+                    && e.contains(&format!("Endpoint type: {kind}"))
+            })?
+            .lines()
+            .find_map(|l| l.strip_prefix("GID: ").map(str::to_owned))
+    };
+    let line = peer.any_line_where(
+        &format!("of rclpy's graph with {node}'s {kind} on {topic}"),
+        |l| find(l).is_some(),
+    );
+    find(&line).unwrap_or_default()
+}
+
+/// An rclpy node on rmw_zenoh_cpp and ours, through our router: each sees the other's node,
+/// topics, services and GIDs as rclpy's graph API gives them; samples and calls go both ways
+/// (`topic echo`, `topic pub`, `service call`, our typed client, rclpy's client of our server,
+/// `param list` of our node); killed, the peer leaves our graph and our client finds no server.
 #[test]
-fn an_rmw_zenoh_peer_through_our_router() {
+fn an_rclpy_node_on_rmw_zenoh_through_our_router() {
     let (port, domain) = (17447, 0);
     let _router = router(port);
+    let context = zenoh_context(port, domain);
+    let node = context.create_node("horus_server", "/").expect("node");
+    let _node_services = NodeServices::start(&node).expect("node services");
+    let _server = ServiceServer::<SetBool>::builder()
+        .node(&node)
+        .name("/horus_set")
+        .on_request(|r: SetBoolRequest| {
+            Ok(SetBoolResponse {
+                success: r.data,
+                message: format!("horus got {}", r.data),
+            })
+        })
+        .build()
+        .expect("server");
     let mut watch = Proc::spawn(
         horus_command(port, domain, &["graph", "--watch"]),
         "horus-ros graph --watch",
     );
-    let (mut peer, created) = talker(port, domain, &[]);
-    let pub_gid = dotted(field(&created, "pub_gid"));
+    let mut peer = rclpy_on_zenoh(
+        port,
+        domain,
+        &json!({
+            "namespace": "/", "name": "talker", "graph": true,
+            "publishers": [{"topic": "/chatter", "type": "std_msgs/msg/String", "period_s": 0.1}],
+            "subscriptions": [{"topic": "/back", "type": "std_msgs/msg/String"}],
+            "servers": [{"service": "/set_flag", "type": "std_srvs/srv/SetBool"}],
+            "clients": [{"service": "/horus_set", "type": "std_srvs/srv/SetBool",
+                         "calls": [{"data": true}], "wait_s": 20, "timeout_s": 10}],
+        }),
+    );
+    let pub_gid = rclpy_sees(&mut peer, "/chatter", "talker", "PUBLISHER");
     watch.line_where("'+ node /talker'", |l| l.ends_with("+ node /talker"));
     watch.line_where("'+ publisher /chatter … gid <the peer's>'", |l| {
         l.contains("+ publisher /chatter [std_msgs/msg/String]") && l.contains(&pub_gid)
@@ -50,21 +123,17 @@ fn an_rmw_zenoh_peer_through_our_router() {
     assert!(info.contains(&format!("GID: {pub_gid}")), "{info}");
     assert!(info.contains("History (Depth): KEEP_LAST (10)"), "{info}");
     let services = horus(port, domain, &["service", "list", "-t"]);
-    assert!(
-        services
-            .lines()
-            .any(|l| l == "/add_two_ints [example_interfaces/srv/AddTwoInts]"),
-        "{services}"
-    );
-    let service = horus(port, domain, &["service", "info", "-v", "/add_two_ints"]);
+    for want in [
+        "/set_flag [std_srvs/srv/SetBool]",
+        "/horus_set [std_srvs/srv/SetBool]",
+        "/horus_server/get_parameters [rcl_interfaces/srv/GetParameters]",
+        "/talker/get_parameters [rcl_interfaces/srv/GetParameters]",
+    ] {
+        assert!(services.lines().any(|l| l == want), "{want}: {services}");
+    }
+    let service = horus(port, domain, &["service", "info", "-v", "/set_flag"]);
     assert!(service.contains("Services count: 1"), "{service}");
-    assert!(
-        service.contains(&format!(
-            " - Request Reader : {}",
-            dotted(field(&created, "srv_gid"))
-        )),
-        "the server's request side has the GID rmw_zenoh computes: {service}"
-    );
+    assert!(service.contains("Node name: talker"), "{service}");
     let node_info = horus(port, domain, &["node", "info", "/talker"]);
     assert!(
         node_info.contains("/chatter: std_msgs/msg/String"),
@@ -75,8 +144,8 @@ fn an_rmw_zenoh_peer_through_our_router() {
     let echo = horus(port, domain, &["topic", "echo", "/chatter", "--once"]);
     assert!(echo.starts_with("data: 'Hello World: "), "{echo}");
 
-    // Ours reach its subscriber, with rmw_zenoh's key, payload and attachment.
-    let publisher = Proc::spawn(
+    // Ours reach its subscription, and rclpy's graph has our publisher with the GID we give it.
+    let _publisher = Proc::spawn(
         horus_command(
             port,
             domain,
@@ -92,57 +161,76 @@ fn an_rmw_zenoh_peer_through_our_router() {
         ),
         "horus-ros topic pub",
     );
-    let line = peer.line_where("of a sample on /back", |l| l.contains("\"key\""));
-    let sample: Value = serde_json::from_str(&line).expect("JSON");
+    peer.line_where("of a sample of ours heard", |l| {
+        l.contains("\"heard\"") && l.contains("from horus")
+    });
+    let ours = horus(port, domain, &["topic", "info", "-v", "/back"]);
+    let our_gid = ours
+        .split("Endpoint type: PUBLISHER\nGID: ")
+        .nth(1)
+        .and_then(|rest| rest.lines().next())
+        .unwrap_or_else(|| panic!("our publisher's GID: {ours}"))
+        .to_owned();
+    let node_name = ours
+        .split("Endpoint type: PUBLISHER")
+        .next()
+        .and_then(|block| block.rsplit("Node name: ").next())
+        .and_then(|rest| rest.lines().next())
+        .unwrap_or_default()
+        .to_owned();
     assert_eq!(
-        field(&sample, "key"),
-        "0/back/std_msgs::msg::dds_::String_/RIHS01_df668c740482bbd48fb39d76a70dfd4bd59db1288021743503259e948f6b1a18"
-    );
-    assert_eq!(field(&sample, "data"), "from horus");
-    assert!(
-        field(&sample, "payload").starts_with("00010000"),
-        "{sample}"
-    );
-    let attachment = field(&sample, "attachment");
-    assert_eq!(attachment.len(), 66, "33 bytes: {sample}");
-    assert_eq!(&attachment[32..34], "10", "the GID's length byte: {sample}");
-    assert!(sample["seq"].as_i64().is_some_and(|s| s >= 1), "{sample}");
-    assert_eq!(
-        sample["gid_is_token_hash"],
-        Value::Bool(true),
-        "the attachment's GID is the XXH3-128 of our MP token: {sample}"
-    );
-    // Our MP token, chunk by chunk (rmw_zenoh's liveliness_utils.cpp layout).
-    let tokens = sample["publisher_tokens"].as_array().expect("tokens");
-    assert_eq!(tokens.len(), 1, "{sample}");
-    let token = tokens[0].as_str().expect("a token");
-    let chunks: Vec<&str> = token.split('/').collect();
-    assert_eq!(chunks.len(), 13, "{token}");
-    assert_eq!(&chunks[..2], ["@ros2_lv", "0"], "{token}");
-    assert!(
-        chunks[3].parse::<u64>().is_ok() && chunks[4].parse::<u64>().is_ok(),
-        "{token}"
-    );
-    let node = format!("_horus_ros_{}", publisher.child.id());
-    assert_eq!(
-        &chunks[5..12],
-        [
-            "MP",
-            "%",
-            "%",
-            node.as_str(),
-            "%back",
-            "std_msgs::msg::dds_::String_",
-            "RIHS01_df668c740482bbd48fb39d76a70dfd4bd59db1288021743503259e948f6b1a18"
-        ],
-        "{token}"
+        rclpy_sees(&mut peer, "/back", &node_name, "PUBLISHER"),
+        our_gid
     );
 
-    // Killed (no goodbye): its tokens go, and the graph drops it.
+    // rclpy's client calls our server; our `service call` calls rclpy's server.
+    let reply = peer.any_line_where("of a reply from our server", |l| {
+        l.contains("\"reply\"") && l.contains("/horus_set")
+    });
+    assert!(reply.contains("\"message\": \"horus got true\""), "{reply}");
+    let call = horus(
+        port,
+        domain,
+        &[
+            "service",
+            "call",
+            "/set_flag",
+            "std_srvs/srv/SetBool",
+            "{data: true}",
+        ],
+    );
+    assert!(
+        call.ends_with(
+            "response:\nstd_srvs.srv.SetBool_Response(success=True, message='set to True')\n\n"
+        ),
+        "{call}"
+    );
+    peer.any_line_where("of our request served", |l| l.contains("\"served\""));
+
+    // Our node's parameter services answer.
+    let params = horus(port, domain, &["param", "list", "/horus_server"]);
+    assert!(params.lines().any(|l| l == "  use_sim_time"), "{params}");
+
+    // Our typed client calls rclpy's server; the peer killed (no goodbye, as a crash), it
+    // leaves the graph and the client finds no server.
+    let mut client = ServiceClient::<SetBool>::builder()
+        .node(&node)
+        .name("/set_flag")
+        .build()
+        .expect("client");
+    assert!(client.wait_for_service(LIMIT), "rclpy's server");
+    let set = client
+        .call(SetBoolRequest { data: false }, LIMIT)
+        .expect("rclpy's answer");
+    assert_eq!(set.message, "set to False");
     peer.kill();
     watch.line_where("'- node /talker'", |l| l.ends_with("- node /talker"));
     let nodes = horus(port, domain, &["node", "list"]);
     assert!(!nodes.lines().any(|l| l == "/talker"), "{nodes}");
+    match client.call(SetBoolRequest { data: true }, Duration::from_secs(3)) {
+        Err(ServiceError::NoServer | ServiceError::Transport(TransportError::ServerGone)) => {}
+        other => panic!("expected NoServer or ServerGone, got {other:?}"),
+    }
 }
 
 /// `horus-ros topic pub -r 10 /numbers std_msgs/msg/Int32 "{data: <data>}"` on Zenoh, once it
@@ -196,7 +284,7 @@ fn the_router_stops_on_sigint_and_sigterm() {
 fn the_daemon_serves_the_zenoh_graph() {
     let (port, domain) = (17451, 4);
     let _router = router(port);
-    let (_peer, _created) = talker(port, domain, &[]);
+    let _peer = rclpy_on_zenoh(port, domain, &json!({"namespace": "/", "name": "talker"}));
     let direct = horus(port, domain, &["node", "list"]);
     assert!(direct.lines().any(|l| l == "/talker"), "{direct}");
 
@@ -335,9 +423,6 @@ fn succeeding_commands_log_no_error_or_warning() {
     use horus_ros_msgs::example_interfaces::srv::{
         AddTwoInts, AddTwoIntsRequest, AddTwoIntsResponse,
     };
-    use horus_ros_rmw::zenoh::config::{self, ConfigKind};
-    use horus_ros_rmw::Context;
-    use horus_ros_services::{EndpointBuilder, NodeServices, ServiceServer};
 
     /// Zenoh's warning when a session's start conditions take longer than `scouting/delay`
     /// (500 ms) on a loaded machine: a timing report, not a failure.
@@ -345,14 +430,7 @@ fn succeeding_commands_log_no_error_or_warning() {
 
     let (port, domain) = (17453, 6);
     let _router = router(port);
-    let get =
-        |k: &str| (k == config::CONFIG_OVERRIDE_ENV).then(|| zenoh_common::session_override(port));
-    let session = config::config(ConfigKind::Session, get).expect("session config");
-    let context = Context::builder()
-        .domain_id(domain)
-        .implementation(horus_ros_rmw::zenoh::implementation(session))
-        .build()
-        .expect("context");
+    let context = zenoh_context(port, domain);
     let node = context.create_node("horus_server", "/").expect("node");
     let _node_services = NodeServices::start(&node).expect("node services");
     let _server = ServiceServer::<AddTwoInts>::builder()

@@ -16,8 +16,8 @@ const MULTIARCH: &str = "x86_64-linux-gnu";
 const VENV: &str = "/venv";
 /// The pinned packages of the environment, in the order `--check` lists them: Cyclone DDS's
 /// Python binding, rosbags, and real ROS 2 Jazzy (rclpy on rmw_fastrtps_cpp / Fast DDS, and the
-/// interface packages), and the Zenoh peers' eclipse-zenoh and xxhash.
-const PIP_PINS: [&str; 19] = [
+/// interface packages).
+const PIP_PINS: [&str; 17] = [
     "cyclonedds==11.0.1",
     "rosbags==0.11.9",
     "ros-jazzy-rclpy[fastrtps]==7.1.6",
@@ -35,8 +35,6 @@ const PIP_PINS: [&str; 19] = [
     "ros-jazzy-unique-identifier-msgs==2.5.0",
     "ros-jazzy-rosgraph-msgs==2.0.3",
     "ros-jazzy-common-interfaces==5.3.6",
-    "eclipse-zenoh==1.9.0",
-    "xxhash==3.5.0",
 ];
 
 /// The `.dist-info` directory pip makes for a pin: `<name>-<version>.dist-info`, the name's runs

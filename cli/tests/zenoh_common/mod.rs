@@ -1,10 +1,10 @@
-//! What the zenoh tests share: a router of our own, `horus-ros --backend zenoh` joining it, the
-//! rmw_zenoh peer (`peers/zenoh_rmw_peer.py`), and processes read line by line.
+//! What the zenoh tests share: a router of our own, `horus-ros --backend zenoh` joining it, a
+//! real rclpy node on rmw_zenoh_cpp 0.2.10 joining it (`interop-tests/peers/jazzy_node.py`),
+//! and processes read line by line.
 
 #![allow(dead_code)]
 
 use std::io::{BufRead, BufReader};
-use std::path::PathBuf;
 use std::process::{Child, Command, Stdio};
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
@@ -13,13 +13,6 @@ use serde_json::Value;
 
 /// How long a process may take to print an expected line.
 pub const LIMIT: Duration = Duration::from_secs(20);
-
-/// The interpreter with eclipse-zenoh and xxhash.
-pub fn python() -> PathBuf {
-    std::env::var_os("HORUS_ROS_ZENOH_PYTHON")
-        .map(PathBuf::from)
-        .unwrap_or_else(crate::common::python)
-}
 
 /// `ZENOH_CONFIG_OVERRIDE` of a session that joins the router on `port`.
 pub fn session_override(port: u16) -> String {
@@ -31,6 +24,10 @@ pub struct Proc {
     /// The process.
     pub child: Child,
     lines: mpsc::Receiver<String>,
+    /// Every line read so far.
+    seen: Vec<String>,
+    /// How many of them [`line_where`](Self::line_where) has gone past.
+    cursor: usize,
     name: String,
 }
 
@@ -55,23 +52,48 @@ impl Proc {
         Self {
             child,
             lines: rx,
+            seen: Vec::new(),
+            cursor: 0,
             name: name.to_owned(),
         }
     }
 
-    /// Reads lines until one satisfies `want`, at most [`LIMIT`]; that line.
+    /// Reads lines until one satisfies `want`, at most [`LIMIT`]; that line. Lines before it
+    /// are passed over (but kept for [`any_line_where`](Self::any_line_where)).
     pub fn line_where(&mut self, what: &str, mut want: impl FnMut(&str) -> bool) -> String {
+        let at = self.find_from(self.cursor, what, &mut want);
+        self.cursor = at + 1;
+        self.seen[at].clone()
+    }
+
+    /// The first line ever printed that satisfies `want` (waiting at most [`LIMIT`] for it),
+    /// whatever [`line_where`](Self::line_where) passed over.
+    pub fn any_line_where(&mut self, what: &str, mut want: impl FnMut(&str) -> bool) -> String {
+        let at = self.find_from(0, what, &mut want);
+        self.seen[at].clone()
+    }
+
+    /// The index of the first line from `from` on that satisfies `want`, reading more lines
+    /// as needed (at most [`LIMIT`]).
+    fn find_from(&mut self, from: usize, what: &str, want: &mut impl FnMut(&str) -> bool) -> usize {
+        if let Some(i) = (from..self.seen.len()).find(|&i| want(&self.seen[i])) {
+            return i;
+        }
         let deadline = Instant::now() + LIMIT;
-        let mut seen = Vec::new();
         loop {
             let left = deadline.saturating_duration_since(Instant::now());
             match self.lines.recv_timeout(left) {
-                Ok(line) if want(&line) => return line,
-                Ok(line) => seen.push(line),
+                Ok(line) => {
+                    self.seen.push(line);
+                    let i = self.seen.len() - 1;
+                    if i >= from && want(&self.seen[i]) {
+                        return i;
+                    }
+                }
                 Err(_) => panic!(
                     "{}: no line {what} within {LIMIT:?}; it printed:\n{}",
                     self.name,
-                    seen.join("\n")
+                    self.seen.join("\n")
                 ),
             }
         }
@@ -135,31 +157,20 @@ pub fn horus(port: u16, domain: u32, args: &[&str]) -> String {
     out.stdout
 }
 
-/// The peer, once it printed its tokens.
-pub fn talker(port: u16, domain: u32, extra: &[&str]) -> (Proc, Value) {
-    let script = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/peers/zenoh_rmw_peer.py");
-    let mut command = Command::new(python());
+/// A real rclpy node on rmw_zenoh_cpp joining the router on `port`, as `spec` describes it
+/// (`interop-tests/peers/jazzy_node.py`: name, servers, clients, publishers, subscriptions,
+/// `"graph": true` for rclpy's own view), once it printed its ready line.
+pub fn rclpy_on_zenoh(port: u16, domain: u32, spec: &Value) -> Proc {
+    let mut spec = spec.clone();
+    spec["domain"] = Value::from(domain);
+    let mut command = Command::new(crate::common::python());
     command
-        .arg(&script)
-        .args([port.to_string(), domain.to_string(), "60".to_owned()])
-        .args(extra);
-    let mut peer = Proc::spawn(command, "zenoh_rmw_peer.py");
-    let line = peer.line_where("of JSON", |l| l.starts_with('{'));
-    let created: Value = serde_json::from_str(&line).expect("the peer's JSON line");
-    (peer, created)
-}
-
-/// A GID as ros2cli prints it: dotted lower-case hex.
-pub fn dotted(hex: &str) -> String {
-    hex.as_bytes()
-        .chunks(2)
-        .map(|c| std::str::from_utf8(c).expect("hex"))
-        .collect::<Vec<_>>()
-        .join(".")
-}
-
-pub fn field<'a>(v: &'a Value, name: &str) -> &'a str {
-    v[name]
-        .as_str()
-        .unwrap_or_else(|| panic!("no {name} in {v}"))
+        .arg(crate::common::peer_script("jazzy_node.py"))
+        .arg(spec.to_string())
+        .env("RMW_IMPLEMENTATION", "rmw_zenoh_cpp")
+        .env("ROS_DOMAIN_ID", domain.to_string())
+        .env("ZENOH_CONFIG_OVERRIDE", session_override(port));
+    let mut peer = Proc::spawn(command, "an rclpy node on rmw_zenoh_cpp");
+    peer.line_where("'ready'", |l| l.starts_with("{\"ready\""));
+    peer
 }

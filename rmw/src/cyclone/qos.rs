@@ -40,7 +40,10 @@ pub(crate) fn endpoint_qos(qos: &DdsQos) -> EndpointQos {
     q
 }
 
-/// What Cyclone reports of an endpoint: history is not carried by discovery, so it is none.
+/// What Cyclone reports of an endpoint. Its history is what Cyclone DDS's built-in topics give
+/// (the HISTORY a Cyclone DDS peer announces in its discovery data, else the DDS default that
+/// Cyclone fills in, KEEP_LAST 1), as rmw_cyclonedds reports it (jazzy `rmw_node.cpp`
+/// `dds_qos_to_rmw_qos` on the built-in topics' samples).
 fn dds_qos(q: &EndpointQos) -> DdsQos {
     DdsQos {
         reliability: match q.reliability {
@@ -53,7 +56,10 @@ fn dds_qos(q: &EndpointQos) -> DdsQos {
             cyc::Durability::Volatile => DdsDurability::Volatile,
             cyc::Durability::TransientLocal => DdsDurability::TransientLocal,
         },
-        history: None,
+        history: Some(match q.history {
+            cyc::History::KeepAll => DdsHistory::KeepAll,
+            cyc::History::KeepLast(depth) => DdsHistory::KeepLast(depth),
+        }),
         deadline: q.deadline,
         lifespan: q.lifespan,
         liveliness: match q.liveliness {
@@ -64,8 +70,7 @@ fn dds_qos(q: &EndpointQos) -> DdsQos {
     }
 }
 
-/// The ROS view of a discovered endpoint's QoS, as for the rustdds backend: history is not
-/// carried by discovery, so it is UNKNOWN (see `Qos::from_dds`).
+/// The ROS view of a discovered endpoint's QoS, as rmw_cyclonedds gives it (history included).
 pub(crate) fn discovered(q: &EndpointQos) -> Qos {
     Qos::from_dds(&dds_qos(q))
 }
@@ -104,17 +109,12 @@ mod tests {
         assert_eq!(q.history, cyc::History::KeepLast(7));
         assert_eq!(q.deadline, Some(Duration::from_millis(250)));
         assert_eq!(q.lifespan, None);
-        assert_eq!(
-            dds_qos(&q),
-            DdsQos {
-                history: None,
-                ..dds
-            }
-        );
+        assert_eq!(dds_qos(&q), dds);
         let back = discovered(&q);
         assert_eq!(back.reliability, ReliabilityPolicy::BestEffort);
         assert_eq!(back.durability, DurabilityPolicy::TransientLocal);
-        assert_eq!(back.history, HistoryPolicy::Unknown);
+        assert_eq!(back.history, HistoryPolicy::KeepLast);
+        assert_eq!(back.depth, 7);
         assert_eq!(back.deadline.total_nanos(), 250_000_000);
         assert!(back.lifespan.is_infinite());
         let all = endpoint_qos(
