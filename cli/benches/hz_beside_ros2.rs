@@ -11,11 +11,13 @@
 //! `scripts/isolated cargo bench -p horus-ros-cli --bench hz_beside_ros2`.
 
 use std::path::PathBuf;
-use std::process::{Child, Command, Stdio};
+use std::process::{Command, Stdio};
 use std::sync::mpsc::Receiver;
 use std::time::{Duration, Instant};
 
-use horus_ros_test_support::bench::{env_usize, loadavg, refuse_outside_namespace};
+use horus_ros_test_support::bench::{
+    cpu_hogs, env_count, env_usize, loadavg, refuse_outside_namespace, Stopped,
+};
 use horus_ros_test_support::jazzy::{self, Rmw};
 use horus_ros_test_support::line_reader;
 
@@ -23,16 +25,6 @@ const DOMAIN: u32 = 93;
 const TOPIC: &str = "/hz_beside_ros2";
 /// How long each `topic hz` may take to its first report (Python and rclpy start included).
 const FIRST_REPORT: Duration = Duration::from_secs(60);
-
-/// A child process stopped (by its PID) when dropped.
-struct Stopped(Child);
-
-impl Drop for Stopped {
-    fn drop(&mut self) {
-        let _ = self.0.kill();
-        let _ = self.0.wait();
-    }
-}
 
 /// A `topic hz` process and its standard output, line by line.
 struct Hz {
@@ -145,20 +137,8 @@ fn main() {
     );
     let rate = env_usize("HORUS_ROS_BENCH_HZ_RATE", 100);
     let secs = Duration::from_secs(env_usize("HORUS_ROS_BENCH_HZ_SECS", 10) as u64);
-    let hogs = std::env::var("HORUS_ROS_BENCH_HZ_HOGS")
-        .ok()
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(2usize);
-    let _hogs: Vec<Stopped> = (0..hogs)
-        .map(|_| {
-            Stopped(
-                Command::new("yes")
-                    .stdout(Stdio::null())
-                    .spawn()
-                    .expect("start yes"),
-            )
-        })
-        .collect();
+    let hogs = env_count("HORUS_ROS_BENCH_HZ_HOGS", 2);
+    let _hogs = cpu_hogs(hogs);
     println!(
         "topic hz of an rclpy publisher at {rate} Hz, horus-ros beside ros2 (run together, {} s \
          from each one's first report), {hogs} CPU hogs, load {}",

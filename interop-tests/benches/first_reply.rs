@@ -12,27 +12,17 @@
 //! `HORUS_BENCH_FIRST_REPLY_HOGS` (processes spinning on the CPU meanwhile, as `yes` does;
 //! default 2, 0 for none).
 
-use std::process::{Child, Command, Stdio};
+use std::process::Stdio;
 
 use horus_ros_rmw::Backend;
 use horus_ros_services::prelude::*;
-use horus_ros_test_support::bench::{env_usize, loadavg, refuse_outside_namespace};
+use horus_ros_test_support::bench::{
+    cpu_hogs, env_count, env_usize, loadavg, refuse_outside_namespace, Stopped,
+};
 use horus_ros_test_support::jazzy::{self, Rmw};
-use interop_tests::peers::clients::{run_round, Round};
+use interop_tests::peers::clients::{add_two_ints_server, run_round, Round, ADD_TWO_INTS};
 
-const SERVICE: &str = "/add_two_ints";
-const ADD_TWO_INTS: &str = "example_interfaces/srv/AddTwoInts";
 const DOMAIN: u32 = 91;
-
-/// A child process stopped (by its PID) when dropped.
-struct Stopped(Child);
-
-impl Drop for Stopped {
-    fn drop(&mut self) {
-        let _ = self.0.kill();
-        let _ = self.0.wait();
-    }
-}
 
 /// The server under test, alive while this lives.
 enum Server {
@@ -51,19 +41,7 @@ fn ours(backend: Backend) -> Server {
         .backend(backend)
         .build()
         .expect("context");
-    let node = context
-        .create_node("add_two_ints_server", "/")
-        .expect("node");
-    let server = ServiceServer::<AddTwoInts>::builder()
-        .node(&node)
-        .name(SERVICE)
-        .on_request(|r| {
-            Ok(AddTwoIntsResponse {
-                sum: r.a.wrapping_add(r.b),
-            })
-        })
-        .build()
-        .expect("server");
+    let server = add_two_ints_server(&context, "add_two_ints_server");
     Server::Ours(context, server)
 }
 
@@ -95,10 +73,11 @@ struct Totals {
 fn measure(make: impl Fn() -> Server, runs: usize) -> Totals {
     let _server = make();
     // Warm-up: one client, waiting for the server to be there.
+    let (service, type_name) = ADD_TWO_INTS;
     run_round(
         Rmw::CycloneDds,
-        SERVICE,
-        ADD_TWO_INTS,
+        service,
+        type_name,
         &Round::single_clients(1, 1),
         DOMAIN,
     );
@@ -106,7 +85,7 @@ fn measure(make: impl Fn() -> Server, runs: usize) -> Totals {
     for _ in 0..runs {
         for processes in [8, 8, 8, 16] {
             let round = Round::single_clients(processes, 20);
-            let tally = run_round(Rmw::CycloneDds, SERVICE, ADD_TWO_INTS, &round, DOMAIN);
+            let tally = run_round(Rmw::CycloneDds, service, type_name, &round, DOMAIN);
             totals.first += tally.first_replies;
             totals.clients += round.total_clients();
             totals.replies += tally.replies;
@@ -122,20 +101,8 @@ fn main() {
         "scripts/isolated cargo bench -p interop-tests --bench first_reply",
     );
     let runs = env_usize("HORUS_BENCH_FIRST_REPLY_RUNS", 3);
-    let hogs = std::env::var("HORUS_BENCH_FIRST_REPLY_HOGS")
-        .ok()
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(2usize);
-    let _hogs: Vec<Stopped> = (0..hogs)
-        .map(|_| {
-            Stopped(
-                Command::new("yes")
-                    .stdout(Stdio::null())
-                    .spawn()
-                    .expect("start yes"),
-            )
-        })
-        .collect();
+    let hogs = env_count("HORUS_BENCH_FIRST_REPLY_HOGS", 2);
+    let _hogs = cpu_hogs(hogs);
     println!(
         "first replies to real rmw_cyclonedds_cpp 2.2.2 clients started together: {runs} runs of \
          (3 rounds of 8 processes + 16 at once) x 20 calls per server, {hogs} CPU hogs, load {}",

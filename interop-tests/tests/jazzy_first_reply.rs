@@ -22,24 +22,7 @@ use horus_ros_msgs::std_srvs::srv::{SetBool, SetBoolResponse};
 use horus_ros_rmw::Backend;
 use horus_ros_services::prelude::*;
 use horus_ros_test_support::jazzy::Rmw;
-use interop_tests::peers::clients::{run_round, Round};
-
-const SERVICE: &str = "/add_two_ints";
-const ADD_TWO_INTS: &str = "example_interfaces/srv/AddTwoInts";
-
-fn adder(context: &Context) -> ServiceServer<AddTwoInts> {
-    let node = context.create_node("first_reply_adder", "/").expect("node");
-    ServiceServer::<AddTwoInts>::builder()
-        .node(&node)
-        .name(SERVICE)
-        .on_request(|r| {
-            Ok(AddTwoIntsResponse {
-                sum: r.a.wrapping_add(r.b),
-            })
-        })
-        .build()
-        .expect("server")
-}
+use interop_tests::peers::clients::{add_two_ints_server, run_round, Round, ADD_TWO_INTS};
 
 /// Runs `rounds` of rmw_cyclonedds clients one after the other against one AddTwoInts server
 /// on this run's backend; every client of every round must get its first reply and, if
@@ -49,10 +32,11 @@ fn cyclonedds_rounds(domain: u32, rounds: &[Round], every_reply: bool) {
         .domain_id(domain)
         .build()
         .expect("context");
-    let server = adder(&context);
+    let server = add_two_ints_server(&context, "first_reply_adder");
     for (n, round) in rounds.iter().enumerate() {
         let served_before = server.served_count();
-        let tally = run_round(Rmw::CycloneDds, SERVICE, ADD_TWO_INTS, round, domain);
+        let (service, type_name) = ADD_TWO_INTS;
+        let tally = run_round(Rmw::CycloneDds, service, type_name, round, domain);
         let (clients, calls) = (round.total_clients(), round.total_calls());
         eprintln!(
             "{:?} backend, round {n} ({} processes of {} clients, {} calls each): {} of {clients} \
@@ -92,32 +76,29 @@ fn rmw_cyclonedds_clients_started_together_get_every_first_reply() {
     cyclonedds_rounds(74, &rounds, false);
 }
 
+/// `count` rounds of `processes` processes of as many clients, making `calls` calls each with
+/// history `depth`; in every other round one client per process is answered before the others
+/// are created.
+fn rounds_of_several(count: usize, processes: usize, calls: u64, depth: usize) -> Vec<Round> {
+    (0..count)
+        .map(|n| Round {
+            processes,
+            clients: processes,
+            calls,
+            lead: n % 2,
+            depth,
+        })
+        .collect()
+}
+
 #[test]
 fn rmw_cyclonedds_clients_of_one_process_started_together_get_every_reply() {
-    let rounds: Vec<Round> = (0..4)
-        .map(|n| Round {
-            processes: 3,
-            clients: 3,
-            calls: 1,
-            lead: n % 2,
-            depth: 10,
-        })
-        .collect();
-    cyclonedds_rounds(75, &rounds, true);
+    cyclonedds_rounds(75, &rounds_of_several(4, 3, 1, 10), true);
 }
 
 #[test]
 fn rmw_cyclonedds_clients_with_a_deeper_history_started_together_get_every_reply() {
-    let rounds: Vec<Round> = (0..2)
-        .map(|n| Round {
-            processes: 4,
-            clients: 4,
-            calls: 3,
-            lead: n % 2,
-            depth: 128,
-        })
-        .collect();
-    cyclonedds_rounds(77, &rounds, true);
+    cyclonedds_rounds(77, &rounds_of_several(2, 4, 3, 128), true);
 }
 
 #[test]

@@ -68,3 +68,37 @@ pub fn refuse_outside_namespace(bench: &str, run: &str) {
     );
     std::process::exit(2);
 }
+
+/// A child process killed and reaped when dropped.
+#[derive(Debug)]
+pub struct Stopped(pub std::process::Child);
+
+impl Drop for Stopped {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}
+
+/// The number in the variable `name` (zero allowed), else `default`.
+pub fn env_count(name: &str, default: usize) -> usize {
+    std::env::var(name)
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(default)
+}
+
+/// `n` processes spinning on the CPU (`yes` writing to nothing), stopped when dropped: the load
+/// a benchmark runs under.
+pub fn cpu_hogs(n: usize) -> Vec<Stopped> {
+    (0..n)
+        .map(|_| {
+            Stopped(
+                std::process::Command::new("yes")
+                    .stdout(std::process::Stdio::null())
+                    .spawn()
+                    .expect("start yes"),
+            )
+        })
+        .collect()
+}

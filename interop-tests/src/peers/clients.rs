@@ -5,8 +5,29 @@
 use std::process::{Child, Command, Stdio};
 use std::time::Duration;
 
+use horus_ros_msgs::example_interfaces::srv::{AddTwoInts, AddTwoIntsResponse};
+use horus_ros_services::prelude::{Context, ServiceServer};
+use horus_ros_services::EndpointBuilder;
 use horus_ros_test_support::jazzy::Rmw;
 use serde_json::Value;
+
+/// The service the clients of these rounds call, and its type.
+pub const ADD_TWO_INTS: (&str, &str) = ("/add_two_ints", "example_interfaces/srv/AddTwoInts");
+
+/// Our AddTwoInts server on [`ADD_TWO_INTS`], from a node `node_name` of `context`.
+pub fn add_two_ints_server(context: &Context, node_name: &str) -> ServiceServer<AddTwoInts> {
+    let node = context.create_node(node_name, "/").expect("node");
+    ServiceServer::<AddTwoInts>::builder()
+        .node(&node)
+        .name(ADD_TWO_INTS.0)
+        .on_request(|r| {
+            Ok(AddTwoIntsResponse {
+                sum: r.a.wrapping_add(r.b),
+            })
+        })
+        .build()
+        .expect("server")
+}
 
 /// What each peer process gives itself from start to its last reply: a "did not hang" limit.
 pub const PEER_TIMEOUT_S: u64 = 60;
