@@ -1,15 +1,17 @@
-//! horus-ros actions against real ROS 2 Jazzy processes (rclpy 7.1 on rmw_fastrtps_cpp, run with
-//! `$HORUS_ROS_INTEROP_PYTHON`, `tests/peers/jazzy_fibonacci.py`), on test_msgs' Fibonacci:
+//! horus-ros actions against real ROS 2 Jazzy processes (rclpy 7.1 on the run's RMW,
+//! `HORUS_ROS_PEER_RMW`: rmw_fastrtps_cpp by default, or rmw_cyclonedds_cpp;
+//! `tests/peers/jazzy_fibonacci.py`), on test_msgs' Fibonacci:
 //!
 //! - our [`ActionClient`] drives rclpy's `ActionServer`: an accepted goal (feedback in order,
 //!   result), a rejected goal, a cancel mid-goal, two goals at once, and the server process
 //!   killed mid-goal (the client's waits end with `ServerGone`);
 //! - rclpy's `ActionClient` drives our [`ActionServer`]: the same cases.
 //!
-//! The actions' services need `related_sample_identity` (rmw_fastrtps' service convention),
-//! which only the rustdds backend speaks: on the Cyclone backend (like rmw_cyclonedds itself)
-//! the tests check the refusal instead (our goal requests fail at once with a transport error;
-//! rclpy's get no answer).
+//! With rmw_fastrtps peers the actions' services need `related_sample_identity` (rmw_fastrtps'
+//! service convention), which only the rustdds backend speaks: on the Cyclone backend (like
+//! rmw_cyclonedds itself) the tests check the refusal instead (our goal requests fail at once
+//! with a transport error; rclpy's get no answer). rmw_cyclonedds peers are served and called on
+//! both backends.
 //!
 //! Run inside `scripts/isolated`; each test has its own DDS domain.
 
@@ -26,10 +28,11 @@ use horus_ros_actions::{FeedbackError, GetResultError, SendGoalError};
 use horus_ros_msgs::action_msgs::msg::GoalStatus;
 use horus_ros_msgs::action_msgs::srv::CancelGoalResponse;
 use horus_ros_services::TransportError;
+use horus_ros_test_support::jazzy::Rmw;
 use serde_json::Value;
 
-/// How long the killed server may take to be noticed: its participant's lease (Fast DDS: 20 s)
-/// and margin.
+/// How long the killed server may take to be noticed: its participant's lease (Fast DDS: 20 s,
+/// Cyclone DDS: 10 s) and margin.
 const LEASE_WAIT: Duration = Duration::from_secs(60);
 
 /// An rclpy process, its JSON lines read as they come.
@@ -49,7 +52,7 @@ impl Peer {
             .arg(script)
             .args(args)
             .env("ROS_DOMAIN_ID", domain.to_string())
-            .env("RMW_IMPLEMENTATION", "rmw_fastrtps_cpp")
+            .env("RMW_IMPLEMENTATION", Rmw::of_peers().name())
             .stdin(Stdio::null())
             .stdout(Stdio::piped())
             .stderr(Stdio::inherit())
@@ -102,9 +105,10 @@ fn node(domain: u32, name: &str) -> Node {
     context.create_node(name, "/").expect("node")
 }
 
-/// Whether this backend cannot speak rmw_fastrtps' service convention.
+/// Whether this backend cannot speak the peers' service convention (rmw_fastrtps').
 fn refusing(node: &Node) -> bool {
     !node.context().capabilities().carries_sample_identity
+        && Rmw::of_peers().needs_sample_identity()
 }
 
 fn rclpy_server(domain: u32, action: &str) -> Peer {
@@ -121,7 +125,8 @@ fn our_client(node: &Node, action: &str) -> ActionClient<Fibonacci> {
         .expect("client")
 }
 
-/// On the Cyclone backend: the rclpy server shows up, and a goal is refused at once.
+/// On the Cyclone backend with rmw_fastrtps peers: the rclpy server shows up, and a goal is
+/// refused at once.
 fn check_refusal(client: &ActionClient<Fibonacci>) {
     let graph = horus_ros_graph::Graph::of(client.node().context()).expect("graph");
     let send_goal = format!("{}/_action/send_goal", client.action_name());

@@ -1,5 +1,6 @@
-//! HORUS talker and listener against real ROS 2 Jazzy: an rclpy 7.1.6 node on rmw_fastrtps_cpp
-//! 8.4.3 / Fast DDS 2.14.5 (`interop-tests/peers/jazzy_node.py`) acting as demo_nodes' listener
+//! HORUS talker and listener against real ROS 2 Jazzy: an rclpy 7.1.6 node on the run's RMW
+//! (`HORUS_ROS_PEER_RMW`: rmw_fastrtps_cpp 8.4.3 / Fast DDS 2.14.5 by default, or
+//! rmw_cyclonedds_cpp 2.2.2) (`interop-tests/peers/jazzy_node.py`) acting as demo_nodes' listener
 //! and talker on `/chatter` (std_msgs/msg/String, rclpy's default QoS: KEEP_LAST 10, RELIABLE,
 //! VOLATILE), both directions, inside the test network namespace. Each test has its own domain.
 

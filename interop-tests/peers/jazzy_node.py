@@ -1,6 +1,7 @@
-"""A real ROS 2 Jazzy node: rclpy 7.1 on rmw_fastrtps_cpp 8.4 / Fast DDS 2.14 (the PyPI wheels that
-scripts/setup installs into the test environment), built from a JSON spec so that one test can
-give it everything it needs at once (interop-tests/src/rclpy/peer.rs writes the spec):
+"""A real ROS 2 Jazzy node: rclpy 7.1 on the RMW that RMW_IMPLEMENTATION names (the tests run it in
+the real peers' environment, where HORUS_ROS_PEER_RMW chooses it: rmw_fastrtps_cpp 8.4 / Fast DDS
+2.14 by default, or rmw_cyclonedds_cpp 2.2 / Cyclone DDS 0.10), built from a JSON spec so that one
+test can give it everything it needs at once (interop-tests/src/peers/peer.rs writes the spec):
 
   {"domain": 7, "namespace": "/ns", "name": "node",
    "servers": [{"service": "/ns/set", "type": "std_srvs/srv/SetBool", "introspection": true}],
@@ -14,6 +15,9 @@ give it everything it needs at once (interop-tests/src/rclpy/peer.rs writes the 
    "parameter_client": {"node": "/horus_node", "list": true, "get": ["p"], "set": {"p": 2},
                         "wait_s": 20, "timeout_s": 5},
    "graph": true, "info_heartbeat_s": 3600, "leave_when_done": false}
+
+"info_heartbeat_s" makes the periodic heartbeat of the node's `ros_discovery_info` writer that many
+seconds apart (on rmw_cyclonedds, of every writer of the node: see cyclone_heartbeat_config).
 
 Every key but domain, namespace and name is optional. What it prints on stdout, one JSON object a
 line:
@@ -153,6 +157,19 @@ def info_heartbeat_profile(seconds):
     with os.fdopen(fd, 'w') as f:
         f.write(xml)
     return path
+
+
+def cyclone_heartbeat_config(seconds):
+    """A Cyclone DDS configuration fragment (CYCLONEDDS_URI) making the periodic heartbeat of every
+    writer `seconds` apart: Cyclone DDS 0.10 has no setting per topic, so `ros_discovery_info`'s
+    writer gets it with the others (`Internal/HeartbeatInterval`, its base interval and the bounds
+    it varies within; default 100 ms, from 20 ms to 8 s). The heartbeat a writer schedules on
+    matching a reader (`ddsi_entity_match.c` `writer_add_connection`) and those answering
+    ACKNACKs are not periodic ones."""
+    interval = f'{int(seconds)} s'
+    return ('<CycloneDDS><Domain Id="any"><Internal>'
+            f'<HeartbeatInterval minsched="{interval}" max="{interval}">{interval}'
+            '</HeartbeatInterval></Internal></Domain></CycloneDDS>')
 
 
 class Peer:
@@ -370,8 +387,14 @@ class Peer:
 def main():
     spec = json.loads(sys.argv[1])
     if spec.get('info_heartbeat_s'):
-        os.environ['FASTRTPS_DEFAULT_PROFILES_FILE'] = info_heartbeat_profile(
-            spec['info_heartbeat_s'])
+        if os.environ.get('RMW_IMPLEMENTATION') == 'rmw_cyclonedds_cpp':
+            # Cyclone DDS reads a comma-separated list of configurations, later ones on top.
+            uri = [os.environ.get('CYCLONEDDS_URI', ''),
+                   cyclone_heartbeat_config(spec['info_heartbeat_s'])]
+            os.environ['CYCLONEDDS_URI'] = ','.join(u for u in uri if u)
+        else:
+            os.environ['FASTRTPS_DEFAULT_PROFILES_FILE'] = info_heartbeat_profile(
+                spec['info_heartbeat_s'])
     # No log files: rcl's external logging (spdlog) would write under ~/.ros/log.
     rclpy.init(args=[sys.argv[0], '--ros-args', '--disable-external-lib-logs'],
                domain_id=spec['domain'])

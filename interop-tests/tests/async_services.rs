@@ -1,10 +1,10 @@
 //! The `tokio` feature against independent peers: our awaited client
 //! (`AsyncServiceClient::call`) calls a Cyclone DDS server (rmw_cyclonedds convention) and a real
-//! ROS 2 Jazzy rclpy server (rmw_fastrtps_cpp: rmw_fastrtps convention); their clients call our
-//! async server (`AsyncServiceServer::builder`). As in `cyclone_services.rs` and
-//! `jazzy_services.rs`, on the Cyclone backend the rmw_fastrtps convention cannot be spoken:
-//! there the awaited call is refused at once with `Transport`, and the rclpy client gets no
-//! answer.
+//! ROS 2 Jazzy rclpy server (on the run's RMW: rmw_fastrtps_cpp, rmw_fastrtps convention, or
+//! rmw_cyclonedds_cpp); their clients call our async server (`AsyncServiceServer::builder`). As
+//! in `cyclone_services.rs` and `jazzy_services.rs`, on the Cyclone backend the rmw_fastrtps
+//! convention cannot be spoken: with rmw_fastrtps peers there the awaited call is refused at once
+//! with `Transport`, and the rclpy client gets no answer.
 
 use std::process::{Command, Stdio};
 use std::sync::Arc;
@@ -13,7 +13,8 @@ use std::time::{Duration, Instant};
 use horus_ros_msgs::std_srvs::srv::{SetBool, SetBoolRequest, SetBoolResponse};
 use horus_ros_services::prelude::*;
 use horus_ros_services::AsyncServiceServer;
-use interop_tests::peers::RclpyPeer;
+use horus_ros_test_support::jazzy::Rmw;
+use interop_tests::peers::{request_ids, RclpyPeer};
 use interop_tests::{cyclone_config, peer_script, python, Peer};
 use serde_json::{json, Value};
 use tokio::task::JoinSet;
@@ -185,7 +186,8 @@ async fn our_awaited_calls_reach_an_rclpy_server() {
     const DOMAIN: u32 = 222;
     const SERVICE: &str = "/rclpy_async/set";
     let (context, node) = node(DOMAIN, "horus_async_caller");
-    let refusing = !context.capabilities().carries_sample_identity;
+    let rmw = Rmw::of_peers();
+    let refusing = !context.capabilities().carries_sample_identity && rmw.needs_sample_identity();
     let mut peer = tokio::task::spawn_blocking(move || {
         let mut peer = RclpyPeer::start(&json!({
             "domain": DOMAIN, "namespace": "/rclpy_async", "name": "rclpy_server",
@@ -205,7 +207,7 @@ async fn our_awaited_calls_reach_an_rclpy_server() {
             .build()
             .expect("client"),
     );
-    let (_, reply_reader) = client.gids();
+    let gids = client.gids();
     if refusing {
         // Once the server is on the graph, the awaited call fails at once, naming why.
         let graph = horus_ros_graph::Graph::of(&context).expect("graph");
@@ -262,8 +264,8 @@ async fn our_awaited_calls_reach_an_rclpy_server() {
         );
     }
     assert_eq!(client.pending_requests(), 0);
-    // rmw_fastrtps took each request with the request id that names our reply reader, and
-    // the sequence numbers of our CALLS requests.
+    // The peer's RMW took each request with the request id that names our client, and the
+    // sequence numbers of our CALLS requests (see `peers::request_ids`).
     let events = tokio::task::spawn_blocking(move || {
         peer.wait_for(
             20 * SECOND,
@@ -285,12 +287,25 @@ async fn our_awaited_calls_reach_an_rclpy_server() {
     let mut sequence_numbers: Vec<i64> = events
         .iter()
         .map(|e| {
-            assert_eq!(e["client_gid"], reply_reader.to_string(), "{e}");
+            assert!(
+                e["client_gid"]
+                    .as_str()
+                    .is_some_and(|gid| request_ids::names_our_client(rmw, gids, gid)),
+                "{e}: not our client {gids:?} as {} names it",
+                rmw.name()
+            );
             e["sequence_number"].as_i64().unwrap_or_default()
         })
         .collect();
+    // In flight at once: taken in any order. Another test of this process calls at the same
+    // time, so on rmw_cyclonedds (numbers of the whole process) they need not be consecutive.
     sequence_numbers.sort_unstable();
-    assert_eq!(sequence_numbers, (1..=CALLS as i64).collect::<Vec<_>>());
+    assert!(
+        request_ids::sequence_numbers_are_ours(rmw, &sequence_numbers, false),
+        "{sequence_numbers:?} are not the numbers of our {CALLS} requests on {}",
+        rmw.name()
+    );
+    assert_eq!(sequence_numbers.len(), CALLS);
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
@@ -298,7 +313,8 @@ async fn an_rclpy_client_calls_our_async_server() {
     const DOMAIN: u32 = 223;
     const SERVICE: &str = "/horus_async/set";
     let (context, node) = node(DOMAIN, "horus_async_server");
-    let refusing = !context.capabilities().carries_sample_identity;
+    let refusing =
+        !context.capabilities().carries_sample_identity && Rmw::of_peers().needs_sample_identity();
     let server = AsyncServiceServer::<SetBool>::builder()
         .node(&node)
         .name(SERVICE)

@@ -1,9 +1,10 @@
-//! Our discovery feed against a real ROS 2 Jazzy node (rclpy 7.1.6 on rmw_fastrtps_cpp 8.4.3 /
-//! Fast DDS 2.14.5) with a `std_srvs/srv/SetBool` server and client: we see its participant
-//! (vendor Fast DDS), its four service endpoints with their DDS topic and type names, the type
-//! hashes of their USER_DATA (the wheels' own) and their QoS, its `ros_discovery_info` message
-//! listing those GIDs under its node, and the endpoints and participant leaving when it leaves.
-//! The GIDs are the ones rclpy's own graph API gives for its endpoints.
+//! Our discovery feed against a real ROS 2 Jazzy node (rclpy 7.1.6 on the run's RMW:
+//! rmw_fastrtps_cpp 8.4.3 / Fast DDS 2.14.5, or rmw_cyclonedds_cpp 2.2.2 / Cyclone DDS 0.10) with
+//! a `std_srvs/srv/SetBool` server and client: we see its participant (the vendor of its RMW's
+//! DDS), its four service endpoints with their DDS topic and type names, the type hashes of their
+//! USER_DATA (the wheels' own) and their QoS, its `ros_discovery_info` message listing those GIDs
+//! under its node, and the endpoints and participant leaving when it leaves. The GIDs are the
+//! ones rclpy's own graph API gives for its endpoints.
 
 use std::collections::BTreeSet;
 use std::time::{Duration, Instant};
@@ -11,7 +12,8 @@ use std::time::{Duration, Instant};
 use horus_ros_msgs::std_srvs::srv::{SetBoolRequest, SetBoolResponse};
 use horus_ros_msgs::Message;
 use horus_ros_rmw::qos::{DurabilityPolicy, EndpointKind, HistoryPolicy, ReliabilityPolicy};
-use horus_ros_rmw::{Context, DiscoveredEndpoint, DiscoveryEvent, Gid, VendorId};
+use horus_ros_rmw::{Backend, Context, DiscoveredEndpoint, DiscoveryEvent, Gid, VendorId};
+use horus_ros_test_support::jazzy::Rmw;
 use interop_tests::peers::{gid_in, service_topics, wheels, RclpyPeer};
 use serde_json::{json, Value};
 
@@ -33,7 +35,13 @@ fn own_gid(view: &Value, topic: &str, side: &str) -> Option<Gid> {
 }
 
 /// Checks one of the peer's service endpoints as our feed reports it.
-fn check_endpoint(e: &DiscoveredEndpoint, participant: Gid, kind: EndpointKind, topic: &str) {
+fn check_endpoint(
+    e: &DiscoveredEndpoint,
+    backend: Backend,
+    participant: Gid,
+    kind: EndpointKind,
+    topic: &str,
+) {
     let what = format!("{kind:?} {}", e.gid);
     let (type_name, ros_type) = if topic.starts_with("rq/") {
         (REQUEST_TYPE, SetBoolRequest::TYPE_NAME)
@@ -46,16 +54,38 @@ fn check_endpoint(e: &DiscoveredEndpoint, participant: Gid, kind: EndpointKind, 
     assert_eq!(e.dds_topic_name, topic, "{what}");
     assert_eq!(e.dds_type_name, type_name, "{what}");
     // rmw_dds_common encode_type_hash_for_user_data_qos: no NUL, unlike the participant's.
-    assert_eq!(
-        e.user_data,
-        format!("typehash={hash};").into_bytes(),
-        "{what}"
-    );
+    // rmw_cyclonedds puts its client's or server's id first (`create_readwrite_qos`), the same
+    // on both endpoints of one client or server.
+    let user_data = String::from_utf8_lossy(&e.user_data).into_owned();
+    let type_hash = format!("typehash={hash};");
+    match Rmw::of_peers() {
+        Rmw::CycloneDds => {
+            // A server reads requests and writes replies.
+            let server = (kind == EndpointKind::Reader) == topic.starts_with("rq/");
+            let key = if server { "serviceid=" } else { "clientid=" };
+            let id = user_data
+                .strip_suffix(&type_hash)
+                .and_then(|id| id.strip_prefix(key))
+                .and_then(|id| id.strip_suffix(';'));
+            assert!(id.is_some_and(|id| !id.is_empty()), "{what}: {user_data}");
+        }
+        _ => assert_eq!(user_data, type_hash, "{what}"),
+    }
     assert_eq!(e.type_hash.to_string(), hash, "{what}");
-    // rmw_qos_profile_services_default as rmw_fastrtps maps it; SEDP does not carry history.
+    // rmw_qos_profile_services_default as the peer's RMW maps it.
     assert_eq!(e.qos.reliability, ReliabilityPolicy::Reliable, "{what}");
     assert_eq!(e.qos.durability, DurabilityPolicy::Volatile, "{what}");
-    assert_eq!(e.qos.history, HistoryPolicy::Unknown, "{what}");
+    // Its history as our backend observes it, as the RMW it stands in for would: Cyclone DDS
+    // announces HISTORY (KEEP_LAST 10), Fast DDS does not; Cyclone DDS reports what it holds, the
+    // announced policy or the DDS default it fills in (KEEP_LAST 1), as rmw_cyclonedds does;
+    // rustdds 0.15 keeps no history of a discovered endpoint (`sedp_messages.rs` `qos()`), and
+    // rmw_fastrtps reports none (UNKNOWN).
+    let history = match (backend, Rmw::of_peers()) {
+        (Backend::Cyclone, Rmw::CycloneDds) => (HistoryPolicy::KeepLast, 10),
+        (Backend::Cyclone, _) => (HistoryPolicy::KeepLast, 1),
+        _ => (HistoryPolicy::Unknown, 0),
+    };
+    assert_eq!((e.qos.history, e.qos.depth), history, "{what}");
 }
 
 #[test]
@@ -72,6 +102,7 @@ fn feed_reports_an_rclpy_node() {
         .domain_id(DOMAIN)
         .build()
         .expect("context");
+    let backend = context.backend().expect("a built-in backend");
     let mut feed = context.discovery_feed().expect("feed");
     let started = Instant::now();
     let mut peer = RclpyPeer::start(&json!({
@@ -155,12 +186,13 @@ fn feed_reports_an_rclpy_node() {
         log.push(format!("{:?} {event:?}", started.elapsed()));
         match event {
             DiscoveryEvent::ParticipantDiscovered(p) if p.gid == participant => {
-                assert_eq!(p.vendor_id, VendorId::FAST_DDS);
+                let vendor = Rmw::of_peers().dds_vendor_id().map(VendorId);
+                assert_eq!(Some(p.vendor_id), vendor, "{p:?}");
                 saw_participant = true;
             }
             DiscoveryEvent::EndpointDiscovered(e) => {
                 if let Some((_, kind, topic)) = endpoints.iter().find(|(g, ..)| *g == e.gid) {
-                    check_endpoint(&e, participant, *kind, topic);
+                    check_endpoint(&e, backend, participant, *kind, topic);
                     assert!(
                         lost.is_empty(),
                         "{} discovered after endpoints were lost",

@@ -21,7 +21,8 @@ use horus_ros_rmw::names::ROS_TOPIC_PREFIX;
 use horus_ros_rmw::qos::Qos;
 use horus_ros_services::prelude::*;
 use interop_tests::peers::{
-    lists, service_endpoint_text, service_topics, wait_for_same_view, wheels, RclpyPeer, Us,
+    as_compared, lists, service_endpoint_text, service_topics, wait_for_same_view, wheels,
+    RclpyPeer, Us,
 };
 use serde_json::{json, Value};
 
@@ -102,8 +103,8 @@ fn service_info_is_rclpys(
             shown.endpoint_type_hashes[index] = announced.topic_type_hash;
         }
     }
-    let reader = service_endpoint_text(&shown, 0, &reader_type);
-    let writer = service_endpoint_text(&shown, 1, &writer_type);
+    let reader = as_compared(us, &service_endpoint_text(&shown, 0, &reader_type));
+    let writer = as_compared(us, &service_endpoint_text(&shown, 1, &writer_type));
     assert!(
         listed(view, reader_topic, "subscriptions").contains(&reader.as_str()),
         "{kind} of {service}: rclpy lists no such reader on {reader_topic}:\n{reader}\n{view:#}"

@@ -1,18 +1,24 @@
-//! A context that joins after a real ROS 2 Jazzy node (rclpy 7.1.6 on rmw_fastrtps_cpp 8.4.3 /
-//! Fast DDS 2.14.5) gets that node's transient-local `ros_discovery_info` sample from the
-//! heartbeat the writer sends when it matches our reader, not from a later periodic one.
+//! A context that joins after a real ROS 2 Jazzy node (rclpy 7.1.6 on the run's RMW:
+//! rmw_fastrtps_cpp 8.4.3 / Fast DDS 2.14.5, or rmw_cyclonedds_cpp 2.2.2 / Cyclone DDS 0.10) gets
+//! that node's transient-local `ros_discovery_info` sample from the heartbeat the writer sends
+//! when it matches our reader, not from a later periodic one.
 //!
-//! The node's `ros_discovery_info` writer is given (by a Fast DDS XML profile named after the
-//! topic, which rmw_fastrtps_cpp loads for it) a periodic heartbeat of once an hour, so the
-//! sample can only come through the exchange that follows a match: a Fast DDS writer heartbeats
-//! a reader it has just matched (`StatefulWriter::matched_reader_add`) and answers a pre-emptive
-//! ACKNACK with a heartbeat only when its `bitmapBase` is 0, which neither rustdds nor Cyclone
-//! DDS sends. Our feed announces a late-joiner reader once it knows the writer (see
-//! `rmw/src/late_joiner.rs`), so that heartbeat finds the writer matched.
+//! The node's `ros_discovery_info` writer is given a periodic heartbeat of once an hour, so the
+//! sample can only come through the exchange that follows a match.
+//! - Fast DDS: by an XML profile named after the topic, which rmw_fastrtps_cpp loads for it. A
+//!   Fast DDS writer heartbeats a reader it has just matched (`StatefulWriter::matched_reader_add`)
+//!   and answers a pre-emptive ACKNACK with a heartbeat only when its `bitmapBase` is 0, which
+//!   neither rustdds nor Cyclone DDS sends. Our feed announces a late-joiner reader once it knows
+//!   the writer (see `rmw/src/dds/late_joiner.rs`), so that heartbeat finds the writer matched.
+//! - Cyclone DDS: by `Internal/HeartbeatInterval` (every writer of the node: Cyclone DDS has no
+//!   setting per topic). A Cyclone DDS writer schedules a heartbeat 1 ms after matching a reader
+//!   (`ddsi_entity_match.c` `writer_add_connection`), unless it sent one within the periodic
+//!   interval (`writer_hbcontrol_must_send`).
 
 use std::time::{Duration, Instant};
 
 use horus_ros_rmw::{Context, DiscoveryEvent, VendorId};
+use horus_ros_test_support::jazzy::Rmw;
 use interop_tests::peers::RclpyPeer;
 use serde_json::json;
 
@@ -38,7 +44,10 @@ fn a_late_joining_context_gets_an_rclpy_nodes_entities_without_its_periodic_hear
         .expect("context");
     let mut feed = context.discovery_feed().expect("feed");
     let started = Instant::now();
-    let [hi, lo] = VendorId::FAST_DDS.0;
+    let VendorId(vendor) = Rmw::of_peers()
+        .dds_vendor_id()
+        .map(VendorId)
+        .expect("a DDS RMW");
     let mut writer_discovered = false;
     loop {
         let left = LIMIT.saturating_sub(started.elapsed());
@@ -50,10 +59,10 @@ fn a_late_joining_context_gets_an_rclpy_nodes_entities_without_its_periodic_hear
             peer.output()
         );
         match feed.next_timeout(left) {
-            // A Fast DDS GUID prefix starts with its vendor id.
+            // A Fast DDS or Cyclone DDS GUID prefix starts with its vendor id.
             Some(DiscoveryEvent::EndpointDiscovered(e))
                 if e.dds_topic_name == "ros_discovery_info"
-                    && e.participant_gid.data[..2] == [hi, lo] =>
+                    && e.participant_gid.data[..2] == vendor =>
             {
                 writer_discovered |= e.kind == horus_ros_rmw::qos::EndpointKind::Writer;
             }

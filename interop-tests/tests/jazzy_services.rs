@@ -1,19 +1,21 @@
-//! horus-ros services against real ROS 2 Jazzy nodes (rclpy 7.1.6 on rmw_fastrtps_cpp 8.4.3 /
-//! Fast DDS 2.14.5): request ids from the related_sample_identity, replies correlated through it
-//! (rmw_fastrtps' convention).
+//! horus-ros services against real ROS 2 Jazzy nodes (rclpy 7.1.6 on the run's RMW:
+//! rmw_fastrtps_cpp 8.4.3 / Fast DDS 2.14.5, whose request ids come from the
+//! related_sample_identity, or rmw_cyclonedds_cpp 2.2.2, whose request ids ride in a header
+//! before the payload).
 //!
 //! - Our clients call an rclpy node's servers: `std_srvs/srv/SetBool` (with service
-//!   introspection on: the request id rmw_fastrtps computed for each of our requests, from its
-//!   `_service_event`s, names our reply reader and our request's sequence number),
+//!   introspection on: the request id the peer's RMW computed for each of our requests, from its
+//!   `_service_event`s, names our client and our request's number, see `peers::request_ids`),
 //!   `test_msgs/srv/BasicTypes` (a `service!` type of ours, and a dynamic client built from the
 //!   description its `~/get_type_description` serves) and its parameter services.
 //! - An rclpy node's clients call our servers: SetBool, BasicTypes, and the parameter services of
 //!   our `NodeServices` (rclpy's `AsyncParameterClient`).
 //!
-//! Both need `related_sample_identity`, which only the rustdds backend can send and read. On
-//! the Cyclone backend (like rmw_cyclonedds itself) the tests check the refusal instead: our
-//! calls fail at once with a `Transport` error naming rmw_fastrtps and the rustdds backend, and
-//! the rclpy clients get no answer from our servers.
+//! rmw_fastrtps' convention needs `related_sample_identity`, which only the rustdds backend can
+//! send and read. With rmw_fastrtps peers on the Cyclone backend (like rmw_cyclonedds itself)
+//! the tests check the refusal instead: our calls fail at once with a `Transport` error naming
+//! rmw_fastrtps and the rustdds backend, and the rclpy clients get no answer from our servers.
+//! rmw_cyclonedds peers are called and served on both backends.
 
 use std::time::{Duration, Instant};
 
@@ -30,7 +32,8 @@ use horus_ros_msgs::type_description_interfaces::srv::{
 use horus_ros_msgs::{Byte, Message};
 use horus_ros_services::prelude::*;
 use horus_ros_services::{DynamicServiceClient, NodeServices, ParameterValueExt, ServiceType};
-use interop_tests::peers::{wheels, RclpyPeer};
+use horus_ros_test_support::jazzy::Rmw;
+use interop_tests::peers::{request_ids, wheels, RclpyPeer};
 use serde_json::{json, Value};
 
 const SECOND: Duration = Duration::from_secs(1);
@@ -128,7 +131,8 @@ fn double(v: f64) -> ParameterValue {
     ParameterValue::from_double(v)
 }
 
-/// A client on the Cyclone backend is refused at once, once the rclpy server is on the graph.
+/// A client on the Cyclone backend is refused at once, once the rclpy server (on rmw_fastrtps) is
+/// on the graph.
 fn refused<T: std::fmt::Debug>(what: &str, asked: Instant, reply: Result<T, ServiceError>) {
     match &reply {
         Err(ServiceError::Transport(cause @ TransportError::NoUsableServer { .. })) => {
@@ -157,7 +161,8 @@ fn our_clients_call_rclpy_servers() {
         .expect("context");
     let node = context.create_node("horus_caller", "/").expect("node");
     let graph = Graph::of(&context).expect("graph");
-    let refusing = !context.capabilities().carries_sample_identity;
+    let rmw = Rmw::of_peers();
+    let refusing = !context.capabilities().carries_sample_identity && rmw.needs_sample_identity();
     let mut peer = RclpyPeer::start(&json!({
         "domain": DOMAIN, "namespace": "/rclpy_ns", "name": "rclpy_server",
         "servers": [
@@ -212,9 +217,9 @@ fn our_clients_call_rclpy_servers() {
         return;
     }
 
-    // SetBool, three calls; rmw_fastrtps' request ids, from the server's introspection events.
+    // SetBool, three calls; the request ids the peer's RMW took them with, from the server's
+    // introspection events.
     assert!(set.wait_for_service(WAIT), "{}", peer.output());
-    let (_, reply_reader) = set.gids();
     for (k, data) in [true, false, true].into_iter().enumerate() {
         let reply = set.call(SetBoolRequest { data }, 5 * SECOND);
         assert_eq!(
@@ -238,12 +243,26 @@ fn our_clients_call_rclpy_servers() {
             (got.len() == 3).then_some(got)
         })
         .unwrap_or_else(|e| panic!("{e}"));
-    for (k, event) in received.iter().enumerate() {
-        // __rmw_take_request: {related_sample_identity's GUID (our reply reader), the request
-        // sample's sequence number (the k-th of our fresh request writer)}.
-        assert_eq!(event["client_gid"], reply_reader.to_string(), "{event}");
-        assert_eq!(event["sequence_number"], k + 1, "{event}");
+    for event in &received {
+        assert!(
+            event["client_gid"]
+                .as_str()
+                .is_some_and(|gid| request_ids::names_our_client(rmw, set.gids(), gid)),
+            "{event}: not our client {:?} as {} names it",
+            set.gids(),
+            rmw.name()
+        );
     }
+    // No other client of this process calls meanwhile: rmw_cyclonedds' numbers are consecutive.
+    let numbers: Vec<i64> = received
+        .iter()
+        .map(|e| e["sequence_number"].as_i64().unwrap_or_default())
+        .collect();
+    assert!(
+        request_ids::sequence_numbers_are_ours(rmw, &numbers, true),
+        "{numbers:?} are not the numbers of our 3 requests on {}",
+        rmw.name()
+    );
 
     // BasicTypes, typed: every field comes back as sent.
     let mut basic = ServiceClient::<BasicTypes>::builder()
@@ -390,7 +409,8 @@ fn rclpy_clients_call_our_servers() {
         .domain_id(DOMAIN)
         .build()
         .expect("context");
-    let refusing = !context.capabilities().carries_sample_identity;
+    let refusing =
+        !context.capabilities().carries_sample_identity && Rmw::of_peers().needs_sample_identity();
     let node = context
         .create_node("horus_node", "/horus_ns")
         .expect("node");

@@ -1,16 +1,19 @@
-//! An rclpy 7.1 client on Fast DDS (`peers/jazzy_lifecycle.py`, calling lifecycle_msgs'
-//! services as ros2lifecycle's api does) drives our [`LifecycleNode`] through every transition
+//! An rclpy 7.1 client on the run's RMW (`HORUS_ROS_PEER_RMW`: rmw_fastrtps_cpp by default, or
+//! rmw_cyclonedds_cpp; `peers/jazzy_lifecycle.py`, calling lifecycle_msgs' services as
+//! ros2lifecycle's api does) drives our [`LifecycleNode`] through every transition
 //! of the default state machine — successes, failures, errors, a panicking callback, unknown
 //! labels and ids — and takes its `~/transition_event`s, as a real Jazzy peer would.
 //!
 //! Each test has its own domain (201-203). Run inside the private network namespace:
 //! `scripts/isolated cargo test -p horus-ros-lifecycle --test jazzy_drives_ours`.
-//! The service tests run our side on the rustdds backend (the peer's services speak the Fast DDS
-//! convention only); the transition-event test runs on the backend HORUS_ROS_BACKEND chooses.
+//! The service tests run our side on the backend HORUS_ROS_BACKEND chooses, but on the rustdds
+//! backend when the peer runs on rmw_fastrtps and that backend is Cyclone (which cannot speak
+//! rmw_fastrtps' service convention); the transition-event test runs on the backend
+//! HORUS_ROS_BACKEND chooses.
 
 mod common;
 
-use common::{context, event, pair, rustdds_context, wait_matched, Behave, Peer, Scripted};
+use common::{context, event, pair, service_context, wait_matched, Behave, Peer, Scripted};
 use horus_ros_graph::Graph;
 use horus_ros_lifecycle::{CallbackReturn, LifecycleNode, State, Transition, TransitionError};
 use serde_json::{json, Value};
@@ -82,7 +85,7 @@ fn rclpy_drives_every_transition_and_the_failure_paths() {
     use CallbackReturn::*;
     use State::*;
     let domain = 201;
-    let context = rustdds_context(domain);
+    let context = service_context(domain);
     let (managed, scripted, mut peer) = setup(&context, domain);
     let mut events = Vec::new();
 
@@ -294,7 +297,7 @@ fn rclpy_drives_the_error_paths() {
     use CallbackReturn::*;
     use State::*;
     let domain = 202;
-    let context = rustdds_context(domain);
+    let context = service_context(domain);
     let (managed, scripted, mut peer) = setup(&context, domain);
     let mut events = Vec::new();
 
@@ -472,7 +475,7 @@ fn rclpy_drives_the_error_paths() {
 }
 
 /// The transition events of a node driven by its own calls reach an rclpy subscription, on the
-/// backend the environment chooses (pub/sub speaks with Fast DDS on both).
+/// backend the environment chooses (pub/sub speaks with both DDS RMWs on both).
 #[test]
 fn rclpy_takes_the_transition_events_of_programmatic_transitions() {
     use State::*;

@@ -1,15 +1,18 @@
-//! Our [`LifecycleClient`] drives a real rclpy 7.1 `rclpy.lifecycle.LifecycleNode` on Fast DDS
-//! (`peers/jazzy_lifecycle.py`) through every transition — successes, failures and the error
+//! Our [`LifecycleClient`] drives a real rclpy 7.1 `rclpy.lifecycle.LifecycleNode` on the run's
+//! RMW (`HORUS_ROS_PEER_RMW`: rmw_fastrtps_cpp by default, or rmw_cyclonedds_cpp;
+//! `peers/jazzy_lifecycle.py`) through every transition — successes, failures and the error
 //! paths — and our subscription takes its `~/transition_event`s: what rcl_lifecycle under rclpy
 //! answers and publishes is what ours does (`jazzy_drives_ours.rs` checks ours the same way).
 //!
 //! Each test has its own domain (204-205). Run inside the private network namespace:
 //! `scripts/isolated cargo test -p horus-ros-lifecycle --test jazzy_drives_rclpy`. Our side runs on
-//! the rustdds backend: the peer's services speak the Fast DDS convention only.
+//! the backend HORUS_ROS_BACKEND chooses, but on the rustdds backend when the peer runs on
+//! rmw_fastrtps and that backend is Cyclone (which cannot speak rmw_fastrtps' service
+//! convention).
 
 mod common;
 
-use common::{rustdds_context, wait_matched, Peer, CALL, LIMIT};
+use common::{service_context, wait_matched, Peer, CALL, LIMIT};
 use horus_ros_graph::Graph;
 use horus_ros_lifecycle::lifecycle_msgs::msg::TransitionEvent;
 use horus_ros_lifecycle::{
@@ -52,7 +55,7 @@ struct Driver {
 
 impl Driver {
     fn start(domain: u32) -> (Driver, horus_ros_rmw::Context) {
-        let context = rustdds_context(domain);
+        let context = service_context(domain);
         let node = context.create_node("driver", "/").expect("node");
         let events = node
             .create_subscription::<TransitionEvent>(

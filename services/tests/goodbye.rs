@@ -5,9 +5,10 @@
 //! (`plain_server`, which then ends as signalled). With the signal handlers turned off, SIGINT
 //! ends a program the default way and rclpy keeps the node.
 //!
-//! The peer is real rclpy (`tests/peers/rclpy_graph_watcher.py`) run by the interpreter named
-//! by `HORUS_ROS_INTEROP_PYTHON` (else `python3`), which must have Jazzy's rclpy. Run on either
-//! backend (`HORUS_ROS_BACKEND`), inside the test network namespace.
+//! The peer is real rclpy (`tests/peers/rclpy_graph_watcher.py`) on the run's RMW
+//! (`HORUS_ROS_PEER_RMW`: rmw_fastrtps_cpp by default, or rmw_cyclonedds_cpp), run in the real
+//! peers' environment (`horus_ros_test_support::jazzy::python`). Run on either backend
+//! (`HORUS_ROS_BACKEND`), inside the test network namespace.
 
 use std::io::Write;
 use std::os::unix::process::ExitStatusExt;
@@ -15,6 +16,7 @@ use std::process::{Child, ChildStdin, Command, ExitStatus, Stdio};
 use std::sync::mpsc::Receiver;
 use std::time::{Duration, Instant};
 
+use horus_ros_test_support::jazzy::Rmw;
 use horus_ros_test_support::{line_reader, read_all, wait_exit};
 use nix::sys::signal::{kill, Signal};
 use nix::unistd::Pid;
@@ -203,9 +205,10 @@ impl Drop for Program {
 }
 
 /// Stops `program` by `signal` once rclpy sees its `node` and its `service`, and waits until
-/// rclpy sees them go. The service only on the Cyclone backend: rustdds 0.15 sends its disposes
-/// without a key hash, which Fast DDS ignores, so its endpoints stay until its lease ends (the
-/// node goes at once all the same: it is withdrawn on `ros_discovery_info`).
+/// rclpy sees them go. The service not on the rustdds backend with rmw_fastrtps peers: rustdds
+/// 0.15 sends its disposes without a key hash, which Fast DDS ignores, so its endpoints stay
+/// until its lease ends (the node goes at once all the same: it is withdrawn on
+/// `ros_discovery_info`); Cyclone DDS (rmw_cyclonedds peers) takes those disposes.
 fn stop_and_time(
     watcher: &mut Watcher,
     program: &Program,
@@ -215,7 +218,7 @@ fn stop_and_time(
 ) {
     let mut appear = vec![format!("+ {node}")];
     let mut gone = vec![format!("- {node}")];
-    if backend() == "cyclone" {
+    if backend() == "cyclone" || Rmw::of_peers() == Rmw::CycloneDds {
         appear.push(format!("+service {service}"));
         gone.push(format!("-service {service}"));
     }

@@ -97,6 +97,25 @@ impl Rmw {
     pub fn is_dds(self) -> bool {
         self != Rmw::Zenoh
     }
+
+    /// Whether its services correlate a reply with its request through the DDS
+    /// `related_sample_identity` (rmw_fastrtps' convention), which the Cyclone backend can
+    /// neither send nor read: calls between its nodes and ours on the Cyclone backend are
+    /// refused. rmw_cyclonedds carries the request id in the payload (a header our Cyclone
+    /// backend speaks), rmw_zenoh in the query's attachment.
+    pub fn needs_sample_identity(self) -> bool {
+        self == Rmw::FastRtps
+    }
+
+    /// The DDS vendor id its participants announce (RTPS `VendorId_t`, the first two bytes of
+    /// their GUID prefix): Fast DDS 1.15, Cyclone DDS 1.16; none for Zenoh.
+    pub fn dds_vendor_id(self) -> Option<[u8; 2]> {
+        match self {
+            Rmw::FastRtps => Some([0x01, 0x0f]),
+            Rmw::CycloneDds => Some([0x01, 0x10]),
+            Rmw::Zenoh => None,
+        }
+    }
 }
 
 /// `<prefix>/share` of [`python`]'s environment: each package's interface files (`.msg`,

@@ -1,5 +1,6 @@
-"""A real ROS 2 Jazzy process (rclpy on rmw_fastrtps_cpp) serving or calling the action
-test_msgs/action/Fibonacci, as rclpy's own action tests and the action tutorials write them.
+"""A real ROS 2 Jazzy process (rclpy on the RMW that RMW_IMPLEMENTATION names) serving or calling
+the action test_msgs/action/Fibonacci, as rclpy's own action tests and the action tutorials write
+them.
 
 server ACTION PERIOD
     An rclpy ActionServer on ACTION: rejects orders above 40, accepts every cancel request;

@@ -7,10 +7,11 @@
 //! - an rclpy node (the Jazzy wheels, `tests/peers/jazzy_test_msgs.py`) hears the
 //!   `test_msgs/msg/Arrays` that `test_msgs_node` publishes and calls its
 //!   `test_msgs/srv/BasicTypes`, with generated test_msgs types on our side: what rclpy prints is
-//!   what we sent. rclpy's service client (rmw_fastrtps) needs `related_sample_identity`, which
-//!   only the rustdds backend carries; on the Cyclone backend the test checks the refusal
-//!   instead (rclpy gets no reply and our server no request), as interop-tests'
-//!   `jazzy_services.rs` does.
+//!   what we sent. rclpy runs on the run's RMW (`HORUS_ROS_PEER_RMW`). On rmw_fastrtps its
+//!   service client needs `related_sample_identity`, which only the rustdds backend carries; on
+//!   the Cyclone backend the test then checks the refusal instead (rclpy gets no reply and our
+//!   server no request), as interop-tests' `jazzy_services.rs` does. On rmw_cyclonedds it is
+//!   answered on both backends.
 
 use std::process::{Child, Command, Stdio};
 use std::time::Duration;
@@ -258,7 +259,8 @@ fn rclpy_hears_and_calls_test_msgs_node() {
 
     const DOMAIN: u32 = 43;
     let backend = Backend::from_env_with(|k| std::env::var(k).ok()).expect("the backend");
-    let refusing = !backend.carries_sample_identity();
+    let refusing = !backend.carries_sample_identity()
+        && horus_ros_test_support::jazzy::Rmw::of_peers().needs_sample_identity();
     // Serving one request ends it; refused, it never gets one and is killed at the end.
     let node = binary("test_msgs_node", DOMAIN, &["--serve", "1"]);
 

@@ -12,6 +12,12 @@
 //! (`INVALID`) there. Likewise for enclaves, which travel in participant USER_DATA: on rustdds
 //! our nodes show none (`""`) to rclpy, and others' are unknown to us, so not compared.
 //!
+//! History is reported per observer: rmw_fastrtps reports none for remote endpoints (UNKNOWN),
+//! rmw_cyclonedds what Cyclone DDS holds (the HISTORY a Cyclone DDS peer announces, else the
+//! DDS default it fills in), rmw_zenoh what the tokens carry. So histories are compared where
+//! our backend and the peers' RMW observe alike (rustdds beside rmw_fastrtps_cpp, Zenoh beside
+//! rmw_zenoh_cpp), and left out of both views elsewhere.
+//!
 //! One difference is ours, not the protocol's: rmw lists its own participant's
 //! `ros_discovery_info` writer and reader(s) under that DDS topic (they are discovered like any
 //! endpoint), while our graph lists those of other participants only (the context reports its
@@ -31,7 +37,8 @@ use horus_ros_rmw::names::{
     SERVICE_REPLY_SUFFIX, SERVICE_REQUEST_SUFFIX,
 };
 use horus_ros_rmw::qos::{EndpointKind, HistoryPolicy, Qos};
-use horus_ros_rmw::{Context, Gid};
+use horus_ros_rmw::{Backend, Context, Gid};
+use horus_ros_test_support::jazzy::Rmw;
 use serde_json::{json, Map, Value};
 
 use super::peer::{Line, RclpyPeer};
@@ -41,14 +48,21 @@ use super::peer::{Line, RclpyPeer};
 pub struct Us {
     participant: Gid,
     announces_user_data: bool,
+    /// Whether our backend and the peers' RMW report endpoints' history alike.
+    histories_compared: bool,
 }
 
 impl Us {
-    /// The participant of `context`.
+    /// The participant of `context`, beside peers on this run's RMW ([`Rmw::of_peers`]).
     pub fn of(context: &Context) -> Self {
+        let histories_compared = matches!(
+            (context.backend(), Rmw::of_peers()),
+            (Some(Backend::RustDds), Rmw::FastRtps) | (Some(Backend::Zenoh), Rmw::Zenoh)
+        );
         Self {
             participant: context.gid(),
             announces_user_data: context.capabilities().announces_user_data,
+            histories_compared,
         }
     }
 
@@ -215,6 +229,38 @@ fn without_our_builtins(theirs: &Value, us: &Us) -> Value {
     theirs
 }
 
+/// An endpoint's text as views are compared (see [`wait_for_same_view`]): its `History
+/// (Depth)` line left out unless `us` compares histories.
+pub fn as_compared(us: &Us, text: &str) -> String {
+    if us.histories_compared {
+        return text.to_owned();
+    }
+    text.lines()
+        .filter(|l| !l.trim_start().starts_with("History (Depth):"))
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+/// `view` with every endpoint's `History (Depth)` line left out, unless `us` compares them.
+fn histories_as_compared(mut view: Value, us: &Us) -> Value {
+    if us.histories_compared {
+        return view;
+    }
+    if let Some(topics) = view["endpoints"].as_object_mut() {
+        for topic in topics.values_mut() {
+            for side in ["publishers", "subscriptions"] {
+                if let Some(list) = topic.get_mut(side).and_then(Value::as_array_mut) {
+                    for text in list.iter_mut() {
+                        *text = Value::from(as_compared(us, text.as_str().unwrap_or_default()));
+                    }
+                    list.sort_by_key(Value::to_string);
+                }
+            }
+        }
+    }
+    view
+}
+
 /// What differs between two views, key by key (for failure messages).
 pub fn difference(ours: &Value, theirs: &Value) -> String {
     let mut out = String::new();
@@ -305,7 +351,8 @@ pub fn wait_for_same_view(
     let mut last = (Value::Null, Value::Null);
     let same = peer.wait_for(limit, "our view equal to rclpy's", |lines| {
         let theirs = without_our_builtins(lines.iter().rev().find_map(|l| l.get("graph"))?, us);
-        let ours = graph.read(|c| our_view(c, us, &theirs));
+        let ours = histories_as_compared(graph.read(|c| our_view(c, us, &theirs)), us);
+        let theirs = histories_as_compared(theirs, us);
         if ours == theirs && complete(&ours) {
             Some(ours)
         } else {

@@ -11,6 +11,7 @@ use std::time::{Duration, Instant};
 use horus_ros_graph::Graph;
 use horus_ros_rmw::backend::Backend;
 use horus_ros_rmw::{Context, Gid};
+use horus_ros_test_support::jazzy::Rmw;
 use serde_json::{json, Value};
 
 /// The bound on every wait for the peer (its start includes importing rclpy).
@@ -18,12 +19,20 @@ pub const LIMIT: Duration = Duration::from_secs(30);
 /// The bound on one of our service calls.
 pub const CALL: Duration = Duration::from_secs(10);
 
-/// A context in `domain` on the rustdds backend: the rclpy peers run on Fast DDS, whose service
-/// convention the Cyclone backend does not speak (as rmw_cyclonedds does not).
-pub fn rustdds_context(domain: u32) -> Context {
+/// A context in `domain` whose services reach the rclpy peers: on the backend the environment
+/// chooses (HORUS_ROS_BACKEND), except where the peers' RMW correlates replies through
+/// `related_sample_identity` (rmw_fastrtps), which that backend cannot carry (the Cyclone
+/// backend, as rmw_cyclonedds cannot): then on the rustdds backend.
+pub fn service_context(domain: u32) -> Context {
+    let chosen = Backend::from_env_with(|name| std::env::var(name).ok()).expect("a backend");
+    let backend = if !chosen.carries_sample_identity() && Rmw::of_peers().needs_sample_identity() {
+        Backend::RustDds
+    } else {
+        chosen
+    };
     Context::builder()
         .domain_id(domain)
-        .backend(Backend::RustDds)
+        .backend(backend)
         .build()
         .expect("context")
 }

@@ -1,6 +1,7 @@
-"""A real ROS 2 Jazzy process (rclpy 7.1 on rmw_fastrtps_cpp / Fast DDS 2.14, the wheels
-scripts/setup installs) for the lifecycle tests: an rclpy.lifecycle node, a lifecycle client
-using lifecycle_msgs' services as ros2lifecycle's api does, or both.
+"""A real ROS 2 Jazzy process (rclpy 7.1 on the RMW that RMW_IMPLEMENTATION names:
+rmw_fastrtps_cpp / Fast DDS 2.14 or rmw_cyclonedds_cpp, as scripts/setup installs them) for the
+lifecycle tests: an rclpy.lifecycle node, a lifecycle client using lifecycle_msgs' services as
+ros2lifecycle's api does, or both.
 
 usage: jazzy_lifecycle.py SPEC_JSON, with SPEC
   {"domain": 7, "name": "peer",
