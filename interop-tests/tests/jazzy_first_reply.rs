@@ -18,11 +18,12 @@
 //!   process, against a server on the rustdds backend (the backend for Fast DDS peers: Cyclone
 //!   DDS cannot read the request id rmw_fastrtps sends as inline QoS).
 
-use horus_ros_msgs::std_srvs::srv::{SetBool, SetBoolResponse};
 use horus_ros_rmw::Backend;
 use horus_ros_services::prelude::*;
 use horus_ros_test_support::jazzy::Rmw;
-use interop_tests::peers::clients::{add_two_ints_server, run_round, Round, ADD_TWO_INTS};
+use interop_tests::peers::clients::{
+    add_two_ints_server, run_round, set_bool_server, Round, ADD_TWO_INTS,
+};
 
 /// Runs `rounds` of rmw_cyclonedds clients one after the other against one AddTwoInts server
 /// on this run's backend; every client of every round must get its first reply and, if
@@ -113,17 +114,7 @@ fn every_call_of_rmw_fastrtps_clients_started_together_is_answered() {
     let node = context
         .create_node("first_reply_setter", "/")
         .expect("node");
-    let server = ServiceServer::<SetBool>::builder()
-        .node(&node)
-        .name("/set_bool")
-        .on_request(|r| {
-            Ok(SetBoolResponse {
-                success: r.data,
-                message: String::new(),
-            })
-        })
-        .build()
-        .expect("server");
+    let server = set_bool_server(&node, "/set_bool");
     // Four processes of one client, then one process of four.
     for (processes, clients) in [(4, 1), (1, 4)] {
         let round = Round {

@@ -16,7 +16,7 @@ use std::time::Duration;
 
 use horus_ros_graph::{Graph, GraphCache, ServiceEndpointInfo, ServiceEndpointType};
 use horus_ros_msgs::std_msgs::msg::String as StringMsg;
-use horus_ros_msgs::std_srvs::srv::{SetBool, SetBoolResponse, Trigger};
+use horus_ros_msgs::std_srvs::srv::Trigger;
 use horus_ros_rmw::names::ROS_TOPIC_PREFIX;
 use horus_ros_rmw::qos::Qos;
 use horus_ros_services::prelude::*;
@@ -152,17 +152,7 @@ fn our_graph_is_what_rclpy_sees() {
     let node = context
         .create_node("horus_node", "/horus_ns")
         .expect("node");
-    let _server = ServiceServer::<SetBool>::builder()
-        .node(&node)
-        .name("/horus_ns/set")
-        .on_request(|r| {
-            Ok(SetBoolResponse {
-                success: r.data,
-                message: String::new(),
-            })
-        })
-        .build()
-        .expect("server");
+    let _server = interop_tests::peers::clients::set_bool_server(&node, "/horus_ns/set");
     let _client = ServiceClient::<Trigger>::builder()
         .node(&node)
         .name("/rclpy_ns/trigger")

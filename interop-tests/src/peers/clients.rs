@@ -6,7 +6,8 @@ use std::process::{Child, Command, Stdio};
 use std::time::Duration;
 
 use horus_ros_msgs::example_interfaces::srv::{AddTwoInts, AddTwoIntsResponse};
-use horus_ros_services::prelude::{Context, ServiceServer};
+use horus_ros_msgs::std_srvs::srv::{SetBool, SetBoolResponse};
+use horus_ros_services::prelude::{Context, Node, ServiceServer};
 use horus_ros_services::EndpointBuilder;
 use horus_ros_test_support::jazzy::Rmw;
 use serde_json::Value;
@@ -95,6 +96,21 @@ impl Drop for PeerProcess {
             let _ = self.0.wait();
         }
     }
+}
+
+/// Our std_srvs/SetBool server on `service` of `node`: success is the data asked for.
+pub fn set_bool_server(node: &Node, service: &str) -> ServiceServer<SetBool> {
+    ServiceServer::<SetBool>::builder()
+        .node(node)
+        .name(service)
+        .on_request(|r| {
+            Ok(SetBoolResponse {
+                success: r.data,
+                message: String::new(),
+            })
+        })
+        .build()
+        .expect("server")
 }
 
 /// Starts `round.processes` processes of clients of `service` (`type_name`, e.g.
