@@ -15,7 +15,7 @@ use common::{Peer, Streaming};
 use horus_ros_msgs::builtin_interfaces::msg::Time;
 use horus_ros_msgs::Message;
 use horus_ros_rmw::qos::Qos;
-use horus_ros_rmw::{Context, Gid};
+use horus_ros_rmw::{Backend, Context, Gid};
 use horus_ros_services::prelude::*;
 use horus_ros_test_support::{wait_exit, wait_with_output};
 use serde_json::Value;
@@ -206,20 +206,20 @@ Nodes:
 Topics:
   /cyc/chatter: builtin_interfaces/msg/Time
     Publishers (1):
-      /cyc/peer  gid {peer_writer}  RELIABLE, VOLATILE, UNKNOWN
+      /cyc/peer  gid {peer_writer}  RELIABLE, VOLATILE, {history}
     Subscriptions (0):
   /cyc/echo: builtin_interfaces/msg/Time
     Publishers (0):
     Subscriptions (1):
-      /cyc/peer  gid {peer_reader}  RELIABLE, VOLATILE, UNKNOWN
+      /cyc/peer  gid {peer_reader}  RELIABLE, VOLATILE, {history}
   /graph_test/chatter: builtin_interfaces/msg/Time
     Publishers (1):
-      /graph_test/talker  gid {chatter}  RELIABLE, VOLATILE, UNKNOWN
+      /graph_test/talker  gid {chatter}  RELIABLE, VOLATILE, {history}
     Subscriptions (0):
   /graph_test/echo: builtin_interfaces/msg/Time
     Publishers (0):
     Subscriptions (1):
-      /graph_test/talker  gid {echo}  RELIABLE, VOLATILE, UNKNOWN
+      /graph_test/talker  gid {echo}  RELIABLE, VOLATILE, {history}
 
 Services:
   /cyc/add: example_interfaces/srv/AddTwoInts
@@ -232,6 +232,13 @@ Services:
     Clients (1):
       /graph_test/caller  gids {client_reader}, {client_writer}
 ",
+        // Every endpoint here keeps 10 samples; the Cyclone backend reports the history
+        // Cyclone DDS announces (as rmw_cyclonedds), rustdds none (as rmw_fastrtps).
+        history = if ctx.backend() == Some(Backend::Cyclone) {
+            "KEEP_LAST (10)"
+        } else {
+            "UNKNOWN"
+        },
         peer_writer = peer.field("/writer"),
         peer_reader = peer.field("/reader"),
         peer_request_reader = peer.field("/server/request_reader"),

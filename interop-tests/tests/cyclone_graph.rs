@@ -105,8 +105,13 @@ fn servers_info_matches_what_cyclone_holds() {
         );
         assert_eq!(qos.reliability, ReliabilityPolicy::Reliable);
         assert_eq!(qos.durability, DurabilityPolicy::Volatile);
-        // Discovery does not carry the history depth.
-        assert_eq!(qos.history, HistoryPolicy::Unknown);
+        // rustdds reports no history for a discovered endpoint (as rmw_fastrtps); the Cyclone
+        // backend the one Cyclone DDS holds (as rmw_cyclonedds).
+        if context.backend() == Some(horus_ros_rmw::Backend::Cyclone) {
+            assert_ne!(qos.history, HistoryPolicy::Unknown);
+        } else {
+            assert_eq!(qos.history, HistoryPolicy::Unknown);
+        }
     }
     assert_eq!(
         s.endpoint_type_hashes

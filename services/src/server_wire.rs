@@ -76,7 +76,10 @@ impl ServerWire {
             service,
             reply_writer,
             flavour,
-            runtime.node.context().capabilities(),
+            (
+                runtime.node.context().capabilities(),
+                runtime.node.context().vendor_id(),
+            ),
         ));
         let watch = Arc::new(ParkWatch {
             server: Arc::clone(&server),

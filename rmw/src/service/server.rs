@@ -86,7 +86,10 @@ impl ReplyRoute {
         match self.0 {
             Route::FastRtps { reply_to, .. } if is_reader(reply_to) => Recipient::Reader(reply_to),
             Route::FastRtps { request_writer, .. } => Recipient::ParticipantOf(request_writer),
-            Route::CycloneDds { request_writer, .. } => Recipient::CycloneClient(request_writer),
+            Route::CycloneDds {
+                request_writer,
+                header,
+            } => Recipient::CycloneClient(request_writer, is_horus_client_id(header.guid)),
         }
     }
 }
@@ -150,7 +153,8 @@ enum Recipient {
     /// announces the writer's `clientid=` (rmw_cyclonedds jazzy `check_for_response_reader`); a
     /// writer that announces none (an older rmw_cyclonedds, a client whose backend cannot send
     /// USER_DATA) is taken to be heard by any reader of our reply topic in its participant.
-    CycloneClient(Gid),
+    /// The flag: whether it is a horus-ros client (its client id says so).
+    CycloneClient(Gid, bool),
     /// No reader known (rmw_fastrtps convention, the related GUID is not a reader): any reader
     /// of our reply topic in the participant of this request writer.
     ParticipantOf(Gid),
@@ -160,7 +164,7 @@ impl Recipient {
     /// An endpoint of the client's participant.
     fn participant(self) -> Gid {
         match self {
-            Self::Reader(gid) | Self::CycloneClient(gid) | Self::ParticipantOf(gid) => gid,
+            Self::Reader(gid) | Self::CycloneClient(gid, _) | Self::ParticipantOf(gid) => gid,
         }
     }
 }
@@ -216,6 +220,8 @@ pub struct Server {
     flavour: Option<WireFlavour>,
     /// What our backend can do.
     capabilities: Capabilities,
+    /// Our participant's vendor.
+    vendor: VendorId,
     /// Request writers already told about (once each) as unanswerable on this backend.
     refused: Mutex<HashSet<Gid>>,
     /// When the first request of each Cyclone DDS participant arrived (by GUID prefix).
@@ -252,7 +258,7 @@ impl Server {
         service: ServiceName,
         reply_writer: Gid,
         flavour: Option<WireFlavour>,
-        capabilities: Capabilities,
+        (capabilities, vendor): (Capabilities, VendorId),
     ) -> Self {
         Self {
             peers,
@@ -260,6 +266,7 @@ impl Server {
             reply_writer,
             flavour,
             capabilities,
+            vendor,
             refused: Mutex::new(HashSet::new()),
             first_contacts: Mutex::new(HashMap::new()),
             park: Mutex::new(Park::default()),
@@ -599,9 +606,9 @@ impl Server {
 
     /// Whether the client of `recipient` can hear a response at `now`: its reply reader is
     /// matched with our writer (for an rmw_cyclonedds client, the reader that announces its
-    /// `clientid=`, as rmw_cyclonedds' `check_for_response_reader` looks for it), and, for a
-    /// Cyclone DDS participant, that participant has had [`CYCLONE_FIRST_HEARTBEAT_SETTLE`] to
-    /// see our writer's first HEARTBEAT.
+    /// `clientid=`, as rmw_cyclonedds' `check_for_response_reader` looks for it), and, for
+    /// another Cyclone DDS participant than ours, that participant has had
+    /// [`CYCLONE_FIRST_HEARTBEAT_SETTLE`] to see our writer's first HEARTBEAT.
     fn readiness(&self, recipient: Recipient, now: Instant) -> Readiness {
         // A reply that goes back through its request (Zenoh's query) has no reader to wait for.
         if self.capabilities.service_queries {
@@ -610,7 +617,7 @@ impl Server {
         let writer = self.reply_writer;
         let heard = match recipient {
             Recipient::Reader(reader) => self.peers.is_matched(writer, reader),
-            Recipient::CycloneClient(request_writer) => {
+            Recipient::CycloneClient(request_writer, _) => {
                 match self.peers.client_id(request_writer) {
                     // Discovery has not told yet whether it announces a client id: the graph
                     // change that does wakes us.
@@ -636,7 +643,13 @@ impl Server {
             return Readiness::Later;
         }
         let participant = recipient.participant();
-        if self.peers.vendor_of(participant) != Some(VendorId::CYCLONE_DDS) {
+        // A client of our own participant hears our writer locally, with no heartbeat; a
+        // horus-ros client of our Cyclone backend's writers waits for its reader's match itself.
+        let horus_client = matches!(recipient, Recipient::CycloneClient(_, true));
+        if participant.prefix() == self.reply_writer.prefix()
+            || (horus_client && self.vendor == VendorId::CYCLONE_DDS)
+            || self.peers.vendor_of(participant) != Some(VendorId::CYCLONE_DDS)
+        {
             return Readiness::Now;
         }
         let matched = self.peers.participant_matched_since(writer, participant);

@@ -96,7 +96,8 @@ fn reply_reader(n: u32) -> Gid {
 fn server_on(graph: &Arc<Graph>, backend: Backend) -> Server {
     let peers = Arc::clone(graph) as Arc<dyn Peers>;
     let service = ServiceName::new("/add_two_ints").expect("name");
-    Server::new(peers, service, reply_writer(), None, backend.capabilities())
+    let own = (backend.capabilities(), backend.vendor_id());
+    Server::new(peers, service, reply_writer(), None, own)
 }
 
 /// An instant well past the first-heartbeat settle of a participant first heard from at `now`.
@@ -192,6 +193,19 @@ fn a_request_writer_without_client_id_is_heard_by_its_participant() {
         cyclone_reply(&server, request_writer(1), settled(now)),
         Readiness::Now
     );
+}
+
+#[test]
+fn a_client_of_our_own_participant_is_answered_at_once() {
+    let graph = Arc::new(Graph::default());
+    graph.participant(OURS, VendorId::CYCLONE_DDS);
+    let server = server_on(&graph, Backend::Cyclone);
+    let (writer, reader) = (gid(OURS, 0x0000_0103), gid(OURS, 0x0000_0204));
+    graph.endpoint(writer, Some("id.1"));
+    graph.endpoint(reader, Some("id.1"));
+    let now = Instant::now();
+    graph.matched(reply_writer(), reader, now);
+    assert_eq!(cyclone_reply(&server, writer, now), Readiness::Now);
 }
 
 #[test]
