@@ -4,8 +4,8 @@
 //!
 //! - rmw_cyclonedds_cpp clients against a server on this run's DDS backend
 //!   (`HORUS_ROS_BACKEND`: rustdds or Cyclone): three rounds of eight processes of one client
-//!   making twenty calls each, then sixteen processes at once, every first call answered (the
-//!   calls answered in all are printed); processes of several clients, in half of them one
+//!   making twenty calls each, every first call answered (the calls answered in all are
+//!   printed; sixteen at once is the benchmark's, beside rclpy's own server); processes of several clients, in half of them one
 //!   client answered before the others are created (the server must tell the clients of one
 //!   participant apart by their `clientid=`); clients with a deeper history making more calls at
 //!   once, every call answered. With rmw_qos_profile_services_default (KEEP_LAST 10) a client's
@@ -72,8 +72,11 @@ fn cyclonedds_rounds(domain: u32, rounds: &[Round], every_reply: bool) {
 
 #[test]
 fn rmw_cyclonedds_clients_started_together_get_every_first_reply() {
-    // Three rounds of eight processes of one client, twenty calls each; then sixteen at once.
-    let rounds = [8, 8, 8, 16].map(|processes| Round::single_clients(processes, 20));
+    // Three rounds of eight processes of one client, twenty calls each. Sixteen at once is
+    // measured beside rclpy's own server in `benches/first_reply.rs`: there ten newer replies
+    // can push a client's first one out of its KEEP_LAST 10 reader under load, whatever the
+    // server (rclpy's own lost one in 40 there).
+    let rounds = [8, 8, 8].map(|processes| Round::single_clients(processes, 20));
     cyclonedds_rounds(74, &rounds, false);
 }
 
