@@ -5,7 +5,7 @@
 //! (`plain_server`, which then ends as signalled). With the signal handlers turned off, SIGINT
 //! ends a program the default way and rclpy keeps the node.
 //!
-//! The peer is real rclpy (`tests/peers/rclpy_graph_watcher.py`) on the run's RMW
+//! The peer is real rclpy (`tests/peers/jazzy_graph_watcher.py`) on the run's RMW
 //! (`HORUS_ROS_PEER_RMW`: rmw_fastrtps_cpp by default, or rmw_cyclonedds_cpp), run in the real
 //! peers' environment (`horus_ros_test_support::jazzy::python`). Run on either backend
 //! (`HORUS_ROS_BACKEND`), inside the test network namespace.
@@ -72,7 +72,7 @@ impl Watcher {
         let python = horus_ros_test_support::jazzy::python();
         let script = concat!(
             env!("CARGO_MANIFEST_DIR"),
-            "/tests/peers/rclpy_graph_watcher.py"
+            "/tests/peers/jazzy_graph_watcher.py"
         );
         let mut child = Command::new(&python)
             .arg(script)

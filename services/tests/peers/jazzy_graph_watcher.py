@@ -1,4 +1,5 @@
-"""A long-lived rclpy process that watches the ROS graph's nodes, as `ros2 node list` sees them.
+"""A long-lived rclpy process (a real ROS 2 Jazzy node, on the run's RMW) that watches the ROS
+graph's nodes, as `ros2 node list` sees them.
 
 Prints `ready` once its node is up, then `+ /ns/name` when a node appears and `- /ns/name` when
 one disappears (its own node left out), and `+service /name` / `-service /name` for services. A
@@ -9,7 +10,7 @@ rclpy offers no graph event to wait on (rclpy's own `Node.wait_for_node` polls t
 0.1 s, ros2/rclpy#929), so the graph is read again after each `spin_once` of at most 20 ms: what
 it reports is at most one such period late.
 
-usage: rclpy_graph_watcher.py   (ROS_DOMAIN_ID from the environment)
+usage: jazzy_graph_watcher.py   (ROS_DOMAIN_ID from the environment)
 """
 
 import sys
