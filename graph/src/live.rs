@@ -10,6 +10,7 @@ use std::time::{Duration, Instant};
 
 use std::collections::{BTreeMap, HashMap};
 
+use horus_ros_rmw::qos::EndpointKind;
 use horus_ros_rmw::service::ClientIdLookup;
 use horus_ros_rmw::{
     Context, DiscoveryEvent, DiscoveryFeed, DiscoveryFeedError, FeedWaker, Gid, VendorId,
@@ -396,6 +397,29 @@ impl Graph {
             s.matches
                 .get(&local)
                 .is_some_and(|m| m.contains_key(&remote))
+        })
+    }
+
+    /// Waits until our endpoint `local` is matched with every endpoint of `kind` discovery lists
+    /// on the DDS topic `dds_topic` (but those in `except`), at most `timeout`; returns whether
+    /// it is.
+    pub fn wait_for_all_matched(
+        &self,
+        local: Gid,
+        dds_topic: &str,
+        kind: EndpointKind,
+        except: &[Gid],
+        timeout: Duration,
+    ) -> bool {
+        self.wait_state(timeout, |s| {
+            let matched = s.matches.get(&local);
+            s.cache.index.topics.get(dds_topic).is_none_or(|topic| {
+                topic
+                    .gids(kind)
+                    .iter()
+                    .filter(|gid| **gid != local && !except.contains(gid))
+                    .all(|gid| matched.is_some_and(|m| m.contains_key(gid)))
+            })
         })
     }
 

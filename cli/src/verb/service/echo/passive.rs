@@ -38,7 +38,7 @@ use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
 
 use horus_ros_msgs::dds_type_name;
 use horus_ros_rmw::names::ServiceName;
-use horus_ros_rmw::qos::{HistoryPolicy, Qos};
+use horus_ros_rmw::qos::{EndpointKind, HistoryPolicy, Qos};
 use horus_ros_rmw::service::{vendor_hint, CycloneHeader};
 use horus_ros_rmw::{Gid, RawEndpointSpec, RawReader, RawSample, SampleId, VendorId};
 use serde_json::{json, Value as Json};
@@ -53,6 +53,9 @@ use crate::CliError;
 /// History depth of the two readers: samples wait there only until the reader threads take
 /// them.
 const READER_DEPTH: usize = 4096;
+
+/// How long the readers wait to be matched with the writers discovery lists before reading.
+const MATCH_WAIT: Duration = Duration::from_secs(5);
 
 /// How the output is written.
 #[derive(Clone, Copy, Debug)]
@@ -277,14 +280,22 @@ pub fn run(
     // writes balances it, created right beside it.
     let mut balance_spec = reply_spec.clone();
     balance_spec.qos = Qos::services_default();
-    let _balance = session.node.create_raw_writer_unlisted(&balance_spec)?;
-    let requests = session.node.create_raw_reader_unlisted(&request_spec)?;
-    let replies = session.node.create_raw_reader_unlisted(&reply_spec)?;
+    let balance = session.node.create_raw_writer_unlisted(&balance_spec)?;
+    let mut requests = session.node.create_raw_reader_unlisted(&request_spec)?;
+    let mut replies = session.node.create_raw_reader_unlisted(&reply_spec)?;
     tracing::debug!(
         requests = %requests.gid(),
         replies = %replies.gid(),
         ?request_spec,
         "passive echo: reading"
+    );
+    start_matched(
+        session,
+        [
+            (&mut requests, &request_spec.dds_topic_name),
+            (&mut replies, &reply_spec.dds_topic_name),
+        ],
+        &[balance.gid()],
     );
     if !session.context.capabilities().carries_sample_identity {
         eprintln!(
@@ -326,6 +337,31 @@ pub fn run(
         if !pairing.expire(Instant::now(), options.reply_timeout, &mut printer) {
             return Ok(());
         }
+    }
+}
+
+/// Waits, at most [`MATCH_WAIT`] in all, until each reader is matched with every writer
+/// discovery lists on its DDS topic (but `ours`), then discards what they read until then: a
+/// request read before the reply reader was matched with its server's reply writer would be
+/// printed as `no_response` although it was answered. Says on stderr when the bound is hit.
+fn start_matched(session: &Session, readers: [(&mut RawReader, &str); 2], ours: &[Gid]) {
+    let deadline = Instant::now() + MATCH_WAIT;
+    for (reader, topic) in readers {
+        let left = deadline.saturating_duration_since(Instant::now());
+        if !session.graph.wait_for_all_matched(
+            reader.gid(),
+            topic,
+            EndpointKind::Writer,
+            ours,
+            left,
+        ) {
+            eprintln!(
+                "Warning: not matched with every writer on {topic} after {} s: the first \
+                 records may be incomplete",
+                MATCH_WAIT.as_secs()
+            );
+        }
+        while let Ok(Some(_)) = reader.take() {}
     }
 }
 
