@@ -94,8 +94,7 @@ fn a_well_formed_but_unknown_service_type_says_so_at_once() {
     assert_eq!(run.code, Some(1), "{run:?}");
     assert_eq!(
         run.stderr.trim_end(),
-        "Unknown service type 'foo/srv/Nope': it is not built into horus-ros and no node in the \
-         graph uses it (a server's ~/get_type_description would describe it)",
+        "The passed service type is invalid",
         "{run:?}"
     );
     assert!(

@@ -1,18 +1,10 @@
-//! Output tests of `lifecycle nodes|list|get|set` against a real rclpy 7.1
-//! `rclpy.lifecycle.LifecycleNode` (`lifecycle/tests/peers/jazzy_lifecycle.py`, Fast DDS), and
-//! against a horus-ros `LifecycleNode`. ros2cli is not installed: each output (stdout, stderr,
-//! exit status) is compared whole with a checked-in transcript,
-//! `tests/expected/lifecycle/<test>.txt`, recorded once from ros2lifecycle 0.32's verb bodies
-//! run on rclpy (the suite's Jazzy wheels) against the same node, and reviewed against
-//! ros2lifecycle 0.32.2 (ros2/ros2cli tag 0.32.2), whose lines define each format:
-//!
-//! - `nodes`: `ros2lifecycle/verb/nodes.py` 33-42 (the count with `-c`, else the sorted full
-//!   names of the nodes offering `~/get_state`, one a line);
-//! - `list`: `verb/list.py` 44-65 (`Node not found` on stderr, exit 1; `- {label} [{id}]` then
-//!   `\tStart: …` and `\tGoal: …`);
-//! - `get`: `verb/get.py` 41-76 (`{label} [{id}]`, prefixed by `{node}: ` without a node);
-//! - `set`: `verb/set.py` 45-89 (`Transitioning successful` on stdout, `Transitioning failed` on
-//!   stderr with exit 0, an unknown transition lists the available ones, exit 1).
+//! Tests of `lifecycle nodes|list|get|set` driving a real rclpy 7.1
+//! `rclpy.lifecycle.LifecycleNode` (`lifecycle/tests/peers/jazzy_lifecycle.py`) through its
+//! transitions (a failing callback included) and the `--json` documents, and driving a horus-ros
+//! `LifecycleNode`. That every verb prints what ros2lifecycle 0.32.2 prints (stdout, stderr,
+//! exit status) in each state is checked live, `ros2 lifecycle …` beside `horus-ros lifecycle
+//! …` on one rclpy node, on each RMW, by `tests/ros2cli_live.rs` (`ros2cli_live/cases.rs`,
+//! `lifecycles`).
 //!
 //! Each test has its own DDS domain (141-142). Run inside the private network namespace:
 //! `scripts/isolated cargo test -p horus-ros-cli --test jazzy_lifecycle`.
@@ -21,7 +13,6 @@ mod common;
 
 use std::path::PathBuf;
 
-use common::expected::Transcript;
 use common::{horus, Peer, Run, PEER_START};
 use horus_ros_lifecycle::{CallbackReturn, LifecycleCallbacks, LifecycleNode, State};
 use serde_json::{json, Value};
@@ -59,16 +50,6 @@ fn lifecycle(domain: u32, rustdds: bool, args: &[&str]) -> Run {
     horus(domain, &all)
 }
 
-/// Asserts `horus-ros lifecycle <args>` prints what ros2lifecycle prints: the transcript's next
-/// case (stdout, stderr and exit status); returns our run.
-fn same_as_ros2lifecycle(expected: &mut Transcript, domain: u32, args: &[&str]) -> Run {
-    let run = lifecycle(domain, true, args);
-    let mut all = vec!["lifecycle"];
-    all.extend_from_slice(args);
-    expected.check(&all, &run);
-    run
-}
-
 /// The run's stdout as JSON (a failure shows its stderr).
 fn json_of(run: &Run) -> Value {
     serde_json::from_str(&run.stdout)
@@ -83,17 +64,13 @@ fn expect(run: &Run, stdout: &str, stderr: &str, code: i32) {
 }
 
 #[test]
-fn verbs_print_what_ros2lifecycle_prints_for_an_rclpy_node() {
+fn verbs_drive_an_rclpy_lifecycle_node() {
     let _serial = one_at_a_time();
     let domain = 141;
     let mut peer = peer(domain);
-    let mut expected =
-        Transcript::load("lifecycle/verbs_print_what_ros2lifecycle_prints_for_an_rclpy_node.txt");
 
-    let nodes = same_as_ros2lifecycle(&mut expected, domain, &["nodes"]);
+    let nodes = lifecycle(domain, true, &["nodes"]);
     assert_eq!(nodes.stdout, "/py_managed\n");
-    same_as_ros2lifecycle(&mut expected, domain, &["nodes", "-c"]);
-    same_as_ros2lifecycle(&mut expected, domain, &["nodes", "--all"]);
     // Graph only: the same on the backend the environment chooses.
     expect(
         &lifecycle(domain, false, &["nodes"]),
@@ -102,30 +79,29 @@ fn verbs_print_what_ros2lifecycle_prints_for_an_rclpy_node() {
         0,
     );
 
-    let get = same_as_ros2lifecycle(&mut expected, domain, &["get", "py_managed"]);
+    let get = lifecycle(domain, true, &["get", "py_managed"]);
     assert_eq!(get.stdout, "unconfigured [1]\n");
-    same_as_ros2lifecycle(&mut expected, domain, &["get"]);
-    let missing = same_as_ros2lifecycle(&mut expected, domain, &["get", "/no_such_node"]);
+    let missing = lifecycle(domain, true, &["get", "/no_such_node"]);
     expect(&missing, "", "Node not found\n", 1);
-    same_as_ros2lifecycle(&mut expected, domain, &["list", "/no_such_node"]);
-    same_as_ros2lifecycle(
-        &mut expected,
-        domain,
-        &["set", "/no_such_node", "configure"],
+    expect(
+        &lifecycle(domain, true, &["set", "/no_such_node", "configure"]),
+        "",
+        "Node not found\n",
+        1,
     );
 
-    let list = same_as_ros2lifecycle(&mut expected, domain, &["list", "py_managed"]);
+    let list = lifecycle(domain, true, &["list", "py_managed"]);
     assert_eq!(
         list.stdout,
         "- configure [1]\n\tStart: unconfigured\n\tGoal: configuring\n\
          - shutdown [5]\n\tStart: unconfigured\n\tGoal: shuttingdown\n"
     );
-    let all = same_as_ros2lifecycle(&mut expected, domain, &["list", NODE, "-a"]);
+    let all = lifecycle(domain, true, &["list", NODE, "-a"]);
     assert_eq!(
         all.stdout.lines().filter(|l| l.starts_with("- ")).count(),
         25
     );
-    let unknown = same_as_ros2lifecycle(&mut expected, domain, &["set", NODE, "activate"]);
+    let unknown = lifecycle(domain, true, &["set", NODE, "activate"]);
     expect(
         &unknown,
         "",
@@ -140,8 +116,6 @@ fn verbs_print_what_ros2lifecycle_prints_for_an_rclpy_node() {
         "",
         0,
     );
-    same_as_ros2lifecycle(&mut expected, domain, &["get", NODE]);
-    same_as_ros2lifecycle(&mut expected, domain, &["list", NODE]);
     let back = lifecycle(domain, true, &["set", NODE, "cleanup"]);
     expect(&back, "Transitioning successful\n", "", 0);
     // By id: 1 (configure), 3 (activate).
@@ -161,14 +135,12 @@ fn verbs_print_what_ros2lifecycle_prints_for_an_rclpy_node() {
         lifecycle(domain, true, &["get", NODE]).stdout,
         "active [3]\n"
     );
-    same_as_ros2lifecycle(&mut expected, domain, &["list", NODE]);
 
     // A failing callback: "Transitioning failed" on stderr, exit status 0; the node stays active,
     // so both sides see the same failure.
     peer.send(&json!({"behave": {"on_deactivate": "failure"}}).to_string());
-    let failed = same_as_ros2lifecycle(&mut expected, domain, &["set", NODE, "deactivate"]);
+    let failed = lifecycle(domain, true, &["set", NODE, "deactivate"]);
     expect(&failed, "", "Transitioning failed\n", 0);
-    same_as_ros2lifecycle(&mut expected, domain, &["get"]);
 
     // --json.
     let run = lifecycle(domain, true, &["--json", "get", NODE]);
@@ -208,9 +180,12 @@ fn verbs_print_what_ros2lifecycle_prints_for_an_rclpy_node() {
         v,
         json!({"node": NODE, "transition": {"id": 7, "label": "shutdown"}, "success": true})
     );
-    same_as_ros2lifecycle(&mut expected, domain, &["get", NODE]);
-    same_as_ros2lifecycle(&mut expected, domain, &["list", NODE]);
-    expected.finish();
+    expect(
+        &lifecycle(domain, true, &["get", NODE]),
+        "finalized [4]\n",
+        "",
+        0,
+    );
 }
 
 /// Configure fails once, then succeeds.

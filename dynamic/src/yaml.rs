@@ -213,6 +213,16 @@ fn fill_struct(
 fn convert_member(schema: &Schema, m: &Member, y: &Yaml) -> Result<Value, FillError> {
     match m.ty.container {
         Container::Single => {
+            // rosidl_runtime_py's `set_message_fields` stores `str(value)` in a string field,
+            // whatever the value: a list or a dictionary too.
+            let text;
+            let y = match (&m.ty.elem, y) {
+                (Elem::Str(_) | Elem::WStr(_), Yaml::Array(_) | Yaml::Hash(_)) => {
+                    text = Yaml::String(py_display(y));
+                    &text
+                }
+                _ => y,
+            };
             convert_elem(schema, &m.ty.elem, y).map_err(|e| e.into_error(&m.name, &m.ty.elem))
         }
         Container::Array(_) | Container::Sequence(_) => {
@@ -551,6 +561,39 @@ mod tests {
             e.to_string(),
             "The 'bool_value' field must be of type 'bool'"
         );
+    }
+
+    #[test]
+    fn a_string_field_takes_pythons_str_of_any_value() {
+        let schema = Schema::from_description(&SetParameters::type_description()).expect("schema");
+        let name = |text: &str| {
+            let v = fill_from_yaml(&schema, SetParametersRequest::TYPE_NAME, text).expect("filled");
+            let Value::Struct(request) = v else {
+                panic!("{v:?}")
+            };
+            let Value::List(parameters) = &request[0] else {
+                panic!("{request:?}")
+            };
+            let Value::Struct(parameter) = &parameters[0] else {
+                panic!("{parameters:?}")
+            };
+            parameter[0].clone()
+        };
+        assert_eq!(
+            name("parameters: [{name: [1, a]}]"),
+            Value::Str("[1, 'a']".into())
+        );
+        assert_eq!(
+            name("parameters: [{name: {a: 1}}]"),
+            Value::Str("{'a': 1}".into())
+        );
+        assert_eq!(
+            name("parameters: [{name: true}]"),
+            Value::Str("True".into())
+        );
+        // In a sequence of strings, each element must be one.
+        let e = fill_error("parameters: [{value: {string_array_value: [[1]]}}]");
+        assert!(matches!(e, FillError::WrongContainer { .. }), "{e:?}");
     }
 
     #[test]

@@ -6,7 +6,6 @@
 #![allow(dead_code)]
 
 pub mod daemon;
-pub mod expected;
 pub mod fibonacci;
 pub mod streaming;
 

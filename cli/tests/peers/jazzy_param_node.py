@@ -33,21 +33,11 @@ import sys
 from jazzy_linger import spin_until_done
 
 
-def main() -> int:
-    parser = argparse.ArgumentParser()
-    parser.add_argument("domain", type=int)
-    parser.add_argument("node")
-    parser.add_argument("linger", type=float)
-    parser.add_argument("--allow-undeclared", action="store_true")
-    args = parser.parse_args()
-    os.environ["ROS_DOMAIN_ID"] = str(args.domain)
-
-    import rclpy
+def declare_parameters(node) -> None:
+    """Declares the parameters this docstring lists on `node` (also used by
+    jazzy_live_graph.py)."""
     from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescriptor
 
-    rclpy.init()
-    node = rclpy.create_node(
-        args.node, allow_undeclared_parameters=args.allow_undeclared)
     node.declare_parameter("flag", True)
     node.declare_parameter("count", 5, ParameterDescriptor(
         description="how many", integer_range=[IntegerRange(from_value=0, to_value=100, step=5)]))
@@ -64,6 +54,23 @@ def main() -> int:
     node.declare_parameter("fixed", 7, ParameterDescriptor(
         read_only=True, additional_constraints="never changes"))
     node.declare_parameter("dynamic", "any", ParameterDescriptor(dynamic_typing=True))
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser()
+    parser.add_argument("domain", type=int)
+    parser.add_argument("node")
+    parser.add_argument("linger", type=float)
+    parser.add_argument("--allow-undeclared", action="store_true")
+    args = parser.parse_args()
+    os.environ["ROS_DOMAIN_ID"] = str(args.domain)
+
+    import rclpy
+
+    rclpy.init()
+    node = rclpy.create_node(
+        args.node, allow_undeclared_parameters=args.allow_undeclared)
+    declare_parameters(node)
 
     print(json.dumps({"node": node.get_fully_qualified_name(), "pid": os.getpid()}), flush=True)
 

@@ -29,7 +29,7 @@ use yaml_rust2::{Yaml, YamlLoader};
 use crate::dynamic::convert::{to_ordereddict, ConvertOptions};
 use crate::dynamic::json::to_json;
 use crate::dynamic::pyyaml::dump;
-use crate::dynamic::yaml::fill_from_doc;
+use crate::dynamic::yaml::{fill_from_doc, FillError};
 use crate::dynamic::{sub_description, Schema, ServiceType, Value};
 use crate::session::Session;
 use crate::verb::interface::catalog::Catalog;
@@ -65,6 +65,23 @@ pub struct SendGoalArgs {
     pub feedback: bool,
 }
 
+/// The class of the exception rosidl_runtime_py's `set_message_fields` raises for `e`: a key
+/// that is no field is `getattr`'s `AttributeError`, a value that is no mapping its `TypeError`,
+/// a string `int()` or `float()` cannot read their `ValueError`, a value the field's setter
+/// refuses the setter's `AssertionError`.
+fn python_exception(e: &FillError) -> &'static str {
+    match e {
+        FillError::NoSuchField { .. } => "AttributeError",
+        FillError::NotADictionary { .. } => "TypeError",
+        FillError::InvalidInteger { .. } | FillError::InvalidFloat { .. } => "ValueError",
+        FillError::WrongType { .. }
+        | FillError::OutOfRange { .. }
+        | FillError::TooLong { .. }
+        | FillError::WrongContainer { .. } => "AssertionError",
+        _ => "Exception",
+    }
+}
+
 /// Where the verb is, for the interrupt handler: before a goal is accepted an interrupt ends
 /// the process at once (there is nothing to cancel); after, it wakes the wait to cancel.
 const PHASE_WAITING: u8 = 0;
@@ -90,9 +107,8 @@ pub fn run(global: &Global, args: &SendGoalArgs) -> Result<(), CliError> {
     // while their endpoints announce only the request and response hashes (rmw_fastrtps 8.4), so
     // no hash on the wire names the goal or the result.
     let types = types_from_files(&action_type).map_err(|e| {
-        CliError::new(format!(
-            "The passed action type is invalid: '{action_type}' is not on AMENT_PREFIX_PATH ({e})"
-        ))
+        tracing::debug!(%action_type, "not on AMENT_PREFIX_PATH: {e}");
+        CliError::new("The passed action type is invalid")
     })?;
 
     let node_name = format!("_ros2cli_send_goal_{}", action_type.replace('/', "_"));
@@ -120,6 +136,10 @@ pub fn run(global: &Global, args: &SendGoalArgs) -> Result<(), CliError> {
         });
     }
 
+    // As send_goal.py: the goal is filled before the wait for a server, so a bad goal fails at
+    // once.
+    let goal_id: [u8; 16] = *uuid::Uuid::new_v4().as_bytes();
+    let request = types.goal_request(&goal_id, &goal_doc)?;
     if !global.json {
         println!("Waiting for an action server to become available...");
     }
@@ -130,8 +150,6 @@ pub fn run(global: &Global, args: &SendGoalArgs) -> Result<(), CliError> {
     // called (e.g. a wire convention this backend does not speak).
     let client = ActionClient::open(&session, &action, &types)?;
 
-    let goal_id: [u8; 16] = *uuid::Uuid::new_v4().as_bytes();
-    let request = types.goal_request(&goal_id, &goal_doc)?;
     let goal = match &request {
         Value::Struct(fields) => fields.get(1).cloned().unwrap_or(Value::Struct(vec![])),
         _ => Value::Struct(vec![]),
@@ -379,7 +397,14 @@ impl ActionTypes {
             self.send_goal.request_type(),
             &Yaml::Hash(request),
         )
-        .map_err(|e| CliError::new(format!("Failed to populate message fields: {e}")))
+        .map_err(|e| {
+            // send_goal.py: `'Failed to populate message fields: {!r}'.format(ex)`.
+            CliError::new(format!(
+                "Failed to populate message fields: {}({})",
+                python_exception(&e),
+                crate::dynamic::repr::py_str(&e.to_string())
+            ))
+        })
     }
 
     /// The `GetResult` request of a goal.

@@ -10,7 +10,7 @@ use regex::Regex;
 use serde_json::{json, Value};
 
 use super::{absolute_node_name, client, node_names, type_string, CALL_TIMEOUT, SERVICE_WAIT};
-use crate::session::Session;
+use crate::session::{GraphSource, Session};
 use crate::verb::names;
 use crate::{CliError, Global};
 
@@ -51,8 +51,10 @@ pub fn run(global: &Global, args: &ListArgs) -> Result<(), CliError> {
         .map(|f| Regex::new(&format!("^(?:{f})")))
         .transpose()
         .map_err(|e| CliError::new(format!("invalid --filter: {e}")))?;
-    let session = Session::open(global)?;
-    let mut nodes = node_names(&session, args.include_hidden_nodes);
+    // ros2param's `NodeStrategy` (the daemon's graph, as the query verbs read it) for the
+    // nodes, then its `DirectNode` for the calls (each waits for its service).
+    let source = GraphSource::open(global)?;
+    let mut nodes = node_names(&source, args.include_hidden_nodes);
     if let Some(name) = &args.node_name {
         let name = absolute_node_name(name);
         if !nodes.iter().any(|n| n.2 == name) {
@@ -63,6 +65,7 @@ pub fn run(global: &Global, args: &ListArgs) -> Result<(), CliError> {
     // `sorted(responses.keys())`: ros2node's NodeName tuples, (name, namespace, full_name).
     nodes.sort();
     nodes.dedup();
+    let session = crate::verb::lifecycle::direct(global, source)?;
     // All clients first: their discovery overlaps (ros2param waits 5 s for each in turn).
     let mut clients = nodes
         .iter()

@@ -34,7 +34,9 @@ use horus_ros_msgs::Service;
 use horus_ros_services::{EndpointBuilder, ServiceClient, ServiceError};
 use serde_json::{json, Value};
 
-use crate::session::Session;
+use horus_ros_graph::GraphCache;
+
+use crate::session::{GraphSource, Session};
 use crate::verb::names;
 use crate::{CliError, Global};
 
@@ -99,34 +101,50 @@ pub fn absolute_node_name(name: &str) -> String {
 
 /// The full names of the nodes in the graph (hidden ones only when asked), with their (name,
 /// namespace).
-pub fn node_names(session: &Session, include_hidden: bool) -> Vec<(String, String, String)> {
-    session.graph.read(|c| {
-        c.node_names()
-            .into_iter()
-            .filter(|n| include_hidden || !names::is_hidden_node(&n.name))
-            .map(|n| {
-                (
-                    n.name.clone(),
-                    n.namespace.clone(),
-                    names::node_full_name(&n.namespace, &n.name),
-                )
-            })
-            .collect()
-    })
+pub fn node_names(source: &GraphSource, include_hidden: bool) -> Vec<(String, String, String)> {
+    source.read(|c| node_names_in(c, include_hidden))
 }
 
-/// Joins the graph and waits, as ros2node's `wait_for_node`, up to `--timeout` seconds for the
-/// node (after discovery has settled); "Node not found" when it does not appear.
+/// [`node_names`] of a graph.
+fn node_names_in(c: &GraphCache, include_hidden: bool) -> Vec<(String, String, String)> {
+    c.node_names()
+        .into_iter()
+        .filter(|n| include_hidden || !names::is_hidden_node(&n.name))
+        .map(|n| {
+            (
+                n.name.clone(),
+                n.namespace.clone(),
+                names::node_full_name(&n.namespace, &n.name),
+            )
+        })
+        .collect()
+}
+
+/// ros2param's `NodeStrategy`, then its `DirectNode`: the node is looked for in the graph the
+/// query verbs read (the daemon's, started when none runs; with `--no-daemon`, a session of our
+/// own) and, when found there, called from a node of our own that does not wait for discovery
+/// (each call waits for its service, as ros2param's). Not found there, a session of our own
+/// waits, as ros2node's `wait_for_node`, up to `--timeout` seconds for the node; "Node not
+/// found" when it does not appear.
 pub fn open_node(global: &Global, args: &NodeArgs) -> Result<(Session, String), CliError> {
     let node = absolute_node_name(&args.node_name);
-    let session = Session::open(global)?;
+    let listed = |c: &GraphCache| {
+        node_names_in(c, args.include_hidden_nodes)
+            .iter()
+            .any(|(_, _, full)| *full == node)
+    };
+    let source = GraphSource::open(global)?;
+    let session = match source {
+        GraphSource::Daemon { .. } if source.read(listed) => {
+            return Ok((Session::join(global)?, node));
+        }
+        GraphSource::Daemon { .. } => Session::open(global)?,
+        GraphSource::Direct(session) => *session,
+    };
     let deadline = Instant::now() + Duration::from_secs(args.timeout);
     loop {
         let seen = session.graph.generation();
-        if node_names(&session, args.include_hidden_nodes)
-            .iter()
-            .any(|(_, _, full)| *full == node)
-        {
+        if session.graph.read(listed) {
             return Ok((session, node));
         }
         let now = Instant::now();

@@ -42,8 +42,11 @@ pub struct CallArgs {
     pub service_type: String,
     /// Values to fill the service request with in YAML format (e.g. '{a: 1, b: 2}'), otherwise
     /// the service request will be published with default values.
-    #[arg(default_value = "{}")]
+    #[arg(default_value = "{}", conflicts_with = "stdin")]
     pub values: String,
+    /// Read values from standard input.
+    #[arg(long)]
+    pub stdin: bool,
     /// Repeat the call at a specific rate in Hz.
     #[arg(short = 'r', long, value_name = "N")]
     pub rate: Option<f64>,
@@ -72,7 +75,14 @@ pub fn run(global: &Global, args: &CallArgs) -> Result<(), CliError> {
         None => None,
     };
     let timeout = Duration::from_secs_f64(args.timeout);
-    let target = Target::prepare(&args.service_type, &args.values)?;
+    // ros2cli's `collect_stdin`: all of standard input, as the values.
+    let values = if args.stdin {
+        std::io::read_to_string(std::io::stdin())
+            .map_err(|e| CliError::new(format!("Cannot read the values from stdin: {e}")))?
+    } else {
+        args.values.clone()
+    };
+    let target = Target::prepare(&args.service_type, &values)?;
     let opened = target.open(global, &args.service_name, timeout)?;
     let mut client = opened.client()?;
     let request_repr = opened.request_repr();
@@ -161,10 +171,12 @@ impl Target {
         // fails at once on a type it cannot import, and so do we when no server in the graph
         // has it.
         if self.compiled.is_none() && !type_offered(&session, &service_type) {
-            return Err(CliError::new(format!(
-                "Unknown service type '{service_type}': it is not built into horus-ros and no \
-                 node in the graph uses it (a server's ~/get_type_description would describe it)"
-            )));
+            tracing::debug!(
+                %service_type,
+                "not compiled in, and no node in the graph uses it (a server's \
+                 ~/get_type_description would describe it)"
+            );
+            return Err(CliError::new("The passed service type is invalid"));
         }
         if !session
             .graph

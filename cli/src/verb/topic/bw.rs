@@ -13,7 +13,7 @@ use std::collections::VecDeque;
 use serde_json::json;
 
 use super::subscribe::{
-    announced_hash, drain, expand, now_ns, print_report, subscribe, wait_for_type,
+    announced_hash, drain, expand, now_ns, print_report, subscribe, wait_for_type, Interrupt,
 };
 use super::window::Ticker;
 use crate::session::Session;
@@ -58,8 +58,10 @@ pub fn run(global: &Global, args: &BwArgs) -> Result<(), CliError> {
     // (receive time in ns, serialized size)
     let mut window: VecDeque<(i64, usize)> = VecDeque::new();
     let mut ticker = Ticker::start();
+    let interrupt = Interrupt::watch(&reader);
     loop {
         ticker.wait(&mut reader);
+        interrupt.check()?;
         for s in drain(&mut reader) {
             // `len(data)` of the serialized message: header and body.
             window.push_back((now_ns(), 4 + s.body.len()));

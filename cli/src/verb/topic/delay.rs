@@ -13,7 +13,7 @@ use serde_json::json;
 
 use super::subscribe::{
     decode, drain, expand, now_ns, print_report, resolve_type, select, subscribe, wait_for_type,
-    Part,
+    Interrupt, Part,
 };
 use super::window::{Ticker, Window};
 use crate::dynamic::Value;
@@ -50,7 +50,11 @@ pub fn run(global: &Global, args: &DelayArgs) -> Result<(), CliError> {
     let session = Session::open(global)?;
     let topic = expand(&session, &args.topic)?;
     let type_name = wait_for_type(&session, &args.topic, &topic)?;
-    let t = resolve_type(&session, &type_name)?;
+    let t = resolve_type(
+        &session,
+        &type_name,
+        &format!("The message type '{type_name}' is invalid"),
+    )?;
     let has_header = t
         .schema
         .get(&t.name)
@@ -62,8 +66,10 @@ pub fn run(global: &Global, args: &DelayArgs) -> Result<(), CliError> {
     let mut delays = Window::new(args.window);
     let mut last_msg_tn: i64 = 0;
     let mut ticker = Ticker::start();
+    let interrupt = Interrupt::watch(&reader);
     loop {
         ticker.wait(&mut reader);
+        interrupt.check()?;
         for sample in drain(&mut reader) {
             let Some(value) = decode(&t.schema, &t.name, &sample) else {
                 continue;

@@ -32,8 +32,9 @@ use serde_json::{json, Map, Value as Json};
 use super::lost::LostSamples;
 use super::qos::QosArgs;
 use super::subscribe::{
-    decode, drain, expand, graph_type, numeric, print_report, publisher_qos, resolve_type, select,
-    subscribe, Filter, MessageType, Part,
+    daemon_graph, decode, drain, expand, graph_type, graph_type_in, numeric, print_report,
+    publisher_qos, publisher_qos_in, resolve_type, select, subscribe, warn_incompatible_publishers,
+    Filter, Interrupt, MessageType, Part,
 };
 use crate::dynamic::convert::{to_csv, to_ordereddict, ConvertOptions};
 use crate::dynamic::json::to_json;
@@ -188,13 +189,30 @@ pub fn run(global: &Global, args: &EchoArgs) -> Result<(), CliError> {
 
     let session = Session::open(global)?;
     let topic = expand(&session, &args.topic_name)?;
-    let (qos, notes) = args.qos.choose(&publisher_qos(&session, &topic));
+    // ros2topic looks the topic up through its daemon (`NodeStrategy`): when our own discovery
+    // has not seen it (a peer that answered late on a loaded machine), the daemon's graph does.
+    let mut publishers = publisher_qos(&session, &topic);
+    let mut daemon = None;
+    if publishers.is_empty() {
+        daemon = daemon_graph(global);
+        if let Some(c) = &daemon {
+            publishers = publisher_qos_in(c, &topic);
+        }
+    }
+    let (qos, notes) = args.qos.choose(&publishers);
     for n in notes {
         println!("{n}");
     }
+    let found = match graph_type(&session, &args.topic_name, &topic)? {
+        Some(t) => Some(t),
+        None => match &daemon {
+            Some(c) => graph_type_in(c, &args.topic_name, &topic)?,
+            None => None,
+        },
+    };
     let type_name = match &args.message_type {
         Some(t) => normalize_message_type(t)?,
-        None => match graph_type(&session, &args.topic_name, &topic)? {
+        None => match found {
             Some(t) => t,
             None => {
                 println!(
@@ -208,16 +226,28 @@ pub fn run(global: &Global, args: &EchoArgs) -> Result<(), CliError> {
         },
     };
     // `--raw` needs no description: the bytes are printed as they came.
+    // ros2topic's errors for a type it cannot import: the one given (echo.py `main`), or the
+    // topic's (api `_get_msg_class`).
+    let invalid = if args.message_type.is_some() {
+        "The passed message type is invalid".to_owned()
+    } else {
+        format!("The message type '{type_name}' is invalid")
+    };
     let message_type = if args.raw {
         None
     } else {
-        Some(resolve_type(&session, &type_name)?)
+        Some(resolve_type(&session, &type_name, &invalid)?)
     };
     let hash = match &message_type {
         Some(t) => t.hash,
         None => super::subscribe::announced_hash(&session, &topic, &type_name),
     };
     let mut reader = subscribe(&session, &topic, &type_name, hash, qos)?;
+    warn_incompatible_publishers(&session, &topic, &qos);
+    let interrupt = Interrupt::watch(&reader);
+    // What the RMW reports: the DDS RMWs none (rclpy prints `null`), rmw_zenoh_cpp 0.2 always 0.
+    let reception_sequence_number =
+        (session.context.backend() == Some(horus_ros_rmw::backend::Backend::Zenoh)).then_some(0);
 
     let mut lost = LostSamples::default();
     loop {
@@ -229,6 +259,7 @@ pub fn run(global: &Global, args: &EchoArgs) -> Result<(), CliError> {
             None => None,
         };
         reader.wait(left);
+        interrupt.check()?;
         for sample in drain(&mut reader) {
             if !args.no_lost_messages {
                 if let Some(status) = lost.observe(sample.id) {
@@ -252,7 +283,7 @@ pub fn run(global: &Global, args: &EchoArgs) -> Result<(), CliError> {
                 publication_sequence_number: (sample.id.sequence_number
                     != SampleId::UNKNOWN_SEQUENCE_NUMBER)
                     .then_some(sample.id.sequence_number),
-                reception_sequence_number: None,
+                reception_sequence_number,
             };
             let text = match &message_type {
                 None => {
@@ -439,6 +470,74 @@ fn elem_repr(schema: &Schema, e: &Elem, v: &Value) -> String {
     }
 }
 
+/// numpy's `str()` of a 1-D array of `elem` (rclpy holds a numeric fixed array `T[N]` as one):
+/// each element as numpy's `repr` writes it — taken from horus-ros-dynamic's `repr` of a
+/// one-field message of this array type, `…(a=array([w, w, …]))` — then numpy's
+/// `_formatArray` with the separator `' '`: one space between elements, lines wrapped at 75
+/// columns with a one-space hanging indent (numpy 1.26 and 2.x default print options).
+fn numpy_str(elem: &Elem, items: &[Value]) -> Option<String> {
+    use horus_ros_msgs::{DescriptionBuilder, FieldType};
+    let base: u8 = match elem {
+        Elem::Int { bits: 8, signed } => 2 + u8::from(!*signed),
+        Elem::Int { bits: 16, signed } => 4 + u8::from(!*signed),
+        Elem::Int { bits: 32, signed } => 6 + u8::from(!*signed),
+        Elem::Int { signed, .. } => 8 + u8::from(!*signed),
+        Elem::F32 => 10,
+        Elem::F64 => 11,
+        _ => return None,
+    };
+    const ARRAY_OFFSET: u8 = 48;
+    const NAME: &str = "horus_ros/msg/NumpyStr";
+    let description = DescriptionBuilder::new(NAME)
+        .push_field(
+            "a",
+            FieldType {
+                type_id: base + ARRAY_OFFSET,
+                capacity: u64::try_from(items.len()).ok()?,
+                string_capacity: 0,
+                nested_type_name: String::new(),
+            },
+        )
+        .build();
+    let schema = Schema::from_description(&description).ok()?;
+    let text = repr(
+        &schema,
+        NAME,
+        &Value::Struct(vec![Value::List(items.to_vec())]),
+    );
+    let inner = text.split_once("array([")?.1.rsplit_once(']')?.0;
+    // Each element keeps its padding: after the first, what follows a comma is the separator's
+    // space, or a line break and the repr's hanging indent (the width of `array([`), then the
+    // element.
+    let hanging_indent = " ".repeat("array([".len());
+    let words: Vec<&str> = inner
+        .split(',')
+        .enumerate()
+        .map(|(i, w)| match w.split_once('\n') {
+            Some((_, rest)) => rest.strip_prefix(hanging_indent.as_str()).unwrap_or(rest),
+            None if i > 0 => w.strip_prefix(' ').unwrap_or(w),
+            None => w,
+        })
+        .collect();
+    // `_formatArray`: every element's width limit is the line width less `len(']')`.
+    const LINE_WIDTH: usize = 75;
+    let (hanging, limit) = (" ", LINE_WIDTH - 1);
+    let (mut out, mut line) = (String::new(), hanging.to_owned());
+    for (i, word) in words.iter().enumerate() {
+        if line.len() + word.len() > limit && line.len() > hanging.len() {
+            out.push_str(line.trim_end());
+            out.push('\n');
+            line = hanging.to_owned();
+        }
+        line.push_str(word);
+        if i + 1 < words.len() {
+            line.push(' ');
+        }
+    }
+    out.push_str(&line);
+    Some(format!("[{}]", &out[hanging.len()..]))
+}
+
 /// Python `str()` of a part that is not a message, as rclpy holds it: scalars as Python
 /// prints them, numeric sequences as `array.array`, numeric fixed arrays as numpy prints
 /// 1-D arrays (`[1 2 3]`; floats as Python writes them), other lists as Python lists.
@@ -456,7 +555,7 @@ fn py_str_of(schema: &Schema, part: Part<'_>) -> String {
                     .map(|i| elem_repr(schema, &ty.elem, i))
                     .collect();
                 if matches!(ty.container, Container::Array(_)) {
-                    format!("[{}]", words.join(" "))
+                    numpy_str(&ty.elem, items).unwrap_or_else(|| format!("[{}]", words.join(" ")))
                 } else if items.is_empty() {
                     format!("array('{}')", typecode(&ty.elem))
                 } else {

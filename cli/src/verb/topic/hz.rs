@@ -14,7 +14,7 @@
 
 use super::subscribe::{
     announced_hash, decode, drain, expand, now_ns, print_report, resolve_type, subscribe,
-    wait_for_type, Filter, Part,
+    wait_for_type, Filter, Interrupt, Part,
 };
 use super::window::Window;
 use crate::session::Session;
@@ -99,7 +99,11 @@ pub fn run(global: &Global, args: &HzArgs) -> Result<(), CliError> {
     let topic = expand(&session, &args.topic_name)?;
     let type_name = wait_for_type(&session, &args.topic_name, &topic)?;
     let message_type = match filter {
-        Some(_) => Some(resolve_type(&session, &type_name)?),
+        Some(_) => Some(resolve_type(
+            &session,
+            &type_name,
+            &format!("The message type '{type_name}' is invalid"),
+        )?),
         None => None,
     };
     let hash = match &message_type {
@@ -111,8 +115,10 @@ pub fn run(global: &Global, args: &HzArgs) -> Result<(), CliError> {
         times: Window::new(args.window_size),
         last_printed_tn: 0,
     };
+    let interrupt = Interrupt::watch(&reader);
     loop {
         reader.wait(None);
+        interrupt.check()?;
         for sample in drain(&mut reader) {
             let now = now_ns();
             if let (Some(f), Some(t)) = (&filter, &message_type) {

@@ -133,6 +133,14 @@ pub fn run(global: &Global, args: &PubArgs) -> Result<(), CliError> {
     session.settle(global);
     let message_type = match known {
         Some(t) => t,
+        // ros2topic's error for a type it cannot import, where no node could describe it.
+        None if !super::subscribe::type_in_graph(&session, &type_name) => {
+            tracing::debug!(
+                type_name,
+                "not compiled in, not on AMENT_PREFIX_PATH, no node uses it"
+            );
+            return Err(CliError::new("The passed message type is invalid"));
+        }
         None => MessageType::from_graph(
             &session,
             &type_name,

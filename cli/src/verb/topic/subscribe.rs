@@ -6,6 +6,7 @@
 
 use std::time::Duration;
 
+use horus_ros_graph::GraphCache;
 use horus_ros_msgs::{dds_type_name, TypeHash};
 use horus_ros_rmw::names::TopicName;
 use horus_ros_rmw::qos::Qos;
@@ -33,7 +34,16 @@ pub fn graph_type(
     given: &str,
     topic: &TopicName,
 ) -> Result<Option<String>, CliError> {
-    let types = session.graph.read(|c| c.topic_names_and_types(true));
+    session.graph.read(|c| graph_type_in(c, given, topic))
+}
+
+/// [`graph_type`] in a graph.
+pub fn graph_type_in(
+    c: &GraphCache,
+    given: &str,
+    topic: &TopicName,
+) -> Result<Option<String>, CliError> {
+    let types = c.topic_names_and_types(true);
     let Some(t) = types.get(topic.as_str()) else {
         return Ok(None);
     };
@@ -46,6 +56,15 @@ pub fn graph_type(
             t.iter().map(|s| s.as_str()).collect::<Vec<_>>().join(", ")
         ))),
     }
+}
+
+/// The daemon's graph, as ros2topic's `NodeStrategy` reads it to look a topic up (the daemon
+/// started when none runs); `None` with `--no-daemon`, or when no daemon could be used.
+pub fn daemon_graph(global: &crate::Global) -> Option<GraphCache> {
+    if global.no_daemon {
+        return None;
+    }
+    crate::daemon::client::graph_or_spawn(global).map(|answer| answer.cache)
 }
 
 /// ros2topic `get_msg_class(…, blocking=True)`: the topic's type, printing ros2cli's warning
@@ -73,9 +92,12 @@ pub fn wait_for_type(
 
 /// The QoS profiles of the topic's publishers.
 pub fn publisher_qos(session: &Session, topic: &TopicName) -> Vec<Qos> {
-    session
-        .graph
-        .read(|c| c.publishers_info_by_topic(topic.as_str(), false))
+    session.graph.read(|c| publisher_qos_in(c, topic))
+}
+
+/// [`publisher_qos`] in a graph.
+pub fn publisher_qos_in(c: &GraphCache, topic: &TopicName) -> Vec<Qos> {
+    c.publishers_info_by_topic(topic.as_str(), false)
         .into_iter()
         .map(|p| p.qos_profile)
         .collect()
@@ -93,10 +115,33 @@ pub fn announced_hash(session: &Session, topic: &TopicName, type_name: &str) -> 
     })
 }
 
+/// Whether a node of the graph publishes or subscribes to `type_name` announcing its hash: one
+/// whose `~/get_type_description` could describe it.
+pub fn type_in_graph(session: &Session, type_name: &str) -> bool {
+    session.graph.read(|c| {
+        c.topic_names_and_types(true)
+            .into_iter()
+            .filter(|(_, types)| types.iter().any(|t| t == type_name))
+            .any(|(topic, _)| {
+                c.publishers_info_by_topic(&topic, false)
+                    .into_iter()
+                    .chain(c.subscriptions_info_by_topic(&topic, false))
+                    .any(|e| e.topic_type == type_name && e.topic_type_hash.is_set())
+            })
+    })
+}
+
 /// The message type `type_name` ([`MessageType`]: compiled in, else its interface file on
-/// `AMENT_PREFIX_PATH`, else from a node that publishes or subscribes to it). The error says why
-/// each source failed, naming the nodes asked.
-pub fn resolve_type(session: &Session, type_name: &str) -> Result<MessageType, CliError> {
+/// `AMENT_PREFIX_PATH`, else from a node that publishes or subscribes to it). When none of them
+/// has it — where ros2cli cannot import it — the error is ros2cli's `invalid` (`The passed
+/// message type is invalid` for a type given, `The message type '…' is invalid` for the
+/// topic's), the reasons logged at debug level; when a node has it but cannot describe it, the
+/// error says why, naming the nodes asked.
+pub fn resolve_type(
+    session: &Session,
+    type_name: &str,
+    invalid: &str,
+) -> Result<MessageType, CliError> {
     let failed = |why: String| {
         CliError::new(format!(
             "Could not load the type '{type_name}' of the passed topic: {why}"
@@ -105,6 +150,13 @@ pub fn resolve_type(session: &Session, type_name: &str) -> Result<MessageType, C
     let unusable = |e: String| failed(format!("its description is not usable: {e}"));
     match MessageType::installed(type_name, unusable)? {
         Ok(t) => Ok(t),
+        Err(file_error) if !type_in_graph(session, type_name) => {
+            tracing::debug!(
+                type_name,
+                "not compiled in, not on AMENT_PREFIX_PATH ({file_error}), no node uses it"
+            );
+            Err(CliError::new(invalid))
+        }
         Err(file_error) => MessageType::from_graph(
             session,
             type_name,
@@ -118,6 +170,116 @@ pub fn resolve_type(session: &Session, type_name: &str) -> Result<MessageType, C
             unusable,
         ),
     }
+}
+
+/// ros2cli's end on Ctrl-C: `ros2cli.cli.main` catches the `KeyboardInterrupt` and exits with
+/// status `signal.SIGINT` (2), printing nothing. A stream verb (`echo`, `hz`, `bw`, `delay`)
+/// keeps one while it reads: SIGINT wakes its reader, and [`Interrupt::check`] ends the loop.
+pub struct Interrupt {
+    came: std::sync::Arc<std::sync::atomic::AtomicBool>,
+    _hook: Option<horus_ros_rmw::signal_handler::SignalHook>,
+}
+
+impl Interrupt {
+    /// Watches for SIGINT, waking `reader` when it comes.
+    pub fn watch(reader: &RawReader) -> Self {
+        use horus_ros_rmw::signal_handler::{on_signal, ShutdownSignal};
+        let came = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+        let waker = reader.waker();
+        let flag = std::sync::Arc::clone(&came);
+        let hook = on_signal(&[ShutdownSignal::Interrupt], move |_| {
+            flag.store(true, std::sync::atomic::Ordering::SeqCst);
+            waker.wake();
+        })
+        .map_err(|e| tracing::debug!("no SIGINT hook: {e}"))
+        .ok();
+        Self { came, _hook: hook }
+    }
+
+    /// `Err` (exit status 2, no message) once SIGINT came.
+    pub fn check(&self) -> Result<(), CliError> {
+        if self.came.load(std::sync::atomic::Ordering::SeqCst) {
+            Err(CliError {
+                message: String::new(),
+                code: 2,
+            })
+        } else {
+            Ok(())
+        }
+    }
+}
+
+/// rclpy's default incompatible-QoS callback of a subscription (`event_handler.py`): one rcl
+/// log line on stderr per publisher of the topic whose QoS cannot match the reader's, naming the
+/// policy the DDS reports last (Fast DDS: the highest policy id that fails; Cyclone DDS: the
+/// first it checks). Zenoh matches no QoS: nothing is printed there.
+pub fn warn_incompatible_publishers(session: &Session, topic: &TopicName, reader_qos: &Qos) {
+    use horus_ros_rmw::backend::Backend;
+    let backend = session.context.backend();
+    if backend == Some(Backend::Zenoh) {
+        return;
+    }
+    for publisher in publisher_qos(session, topic) {
+        let failing = incompatible_policies(&publisher, reader_qos);
+        let last = if backend == Some(Backend::Cyclone) {
+            failing.first()
+        } else {
+            failing.iter().max_by_key(|(id, _)| *id)
+        };
+        if let Some((_, policy)) = last {
+            eprintln!(
+                "{}New publisher discovered on topic '{}', offering incompatible QoS. No \
+                 messages will be received from it. Last incompatible policy: {policy}",
+                rcl_log_prefix("WARN", session),
+                topic.as_str()
+            );
+        }
+    }
+}
+
+/// The start of an rcl log line of the CLI's node (rcutils' default console format:
+/// `[SEVERITY] [seconds.nanoseconds] [logger]: `).
+pub fn rcl_log_prefix(severity: &str, session: &Session) -> String {
+    let now = now_ns();
+    format!(
+        "[{severity}] [{}.{:09}] [{}]: ",
+        now / 1_000_000_000,
+        now % 1_000_000_000,
+        session.node.name()
+    )
+}
+
+/// The policies on which a publisher of `publisher` QoS and a reader of `reader` QoS cannot
+/// match (rmw_dds_common's errors), with their DDS policy ids, in Cyclone DDS's order of
+/// checking (`qos_match_mask_p`).
+fn incompatible_policies(publisher: &Qos, reader: &Qos) -> Vec<(u32, &'static str)> {
+    use horus_ros_rmw::qos::{DurabilityPolicy, LivelinessPolicy, ReliabilityPolicy};
+    let mut failing = Vec::new();
+    if publisher.reliability == ReliabilityPolicy::BestEffort
+        && reader.reliability == ReliabilityPolicy::Reliable
+    {
+        failing.push((11, "RELIABILITY"));
+    }
+    if publisher.durability == DurabilityPolicy::Volatile
+        && reader.durability == DurabilityPolicy::TransientLocal
+    {
+        failing.push((2, "DURABILITY"));
+    }
+    let (p, r) = (publisher.deadline, reader.deadline);
+    if !r.is_default() && (p.is_default() || r < p) {
+        failing.push((4, "DEADLINE"));
+    }
+    let (p, r) = (
+        publisher.liveliness_lease_duration,
+        reader.liveliness_lease_duration,
+    );
+    if (publisher.liveliness == LivelinessPolicy::Automatic
+        && reader.liveliness == LivelinessPolicy::ManualByTopic)
+        || (!r.is_default() && (p.is_default() || r < p))
+    {
+        failing.push((8, "LIVELINESS"));
+    }
+    failing
 }
 
 /// A raw reader of `topic` with type `type_name` (announced with `hash`) and `qos`.
