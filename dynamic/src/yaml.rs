@@ -213,14 +213,22 @@ fn fill_struct(
 fn convert_member(schema: &Schema, m: &Member, y: &Yaml) -> Result<Value, FillError> {
     match m.ty.container {
         Container::Single => {
-            // rosidl_runtime_py's `set_message_fields` stores `str(value)` in a string field,
-            // whatever the value: a list or a dictionary too.
-            let text;
+            // rosidl_runtime_py's `set_message_fields` stores `field_type(value)`: in a string
+            // field `str(value)`, whatever the value (a list or a dictionary too); in an
+            // integer field `int(value)`, which cuts a float's fraction off.
+            let converted;
             let y = match (&m.ty.elem, y) {
                 (Elem::Str(_) | Elem::WStr(_), Yaml::Array(_) | Yaml::Hash(_)) => {
-                    text = Yaml::String(py_display(y));
-                    &text
+                    converted = Yaml::String(py_display(y));
+                    &converted
                 }
+                (Elem::Int { .. }, Yaml::Real(r)) => match real(r) {
+                    Some(f) if f.is_finite() && f.abs() < 1e18 => {
+                        converted = Yaml::Integer(f.trunc() as i64);
+                        &converted
+                    }
+                    _ => y,
+                },
                 _ => y,
             };
             convert_elem(schema, &m.ty.elem, y).map_err(|e| e.into_error(&m.name, &m.ty.elem))
@@ -563,22 +571,25 @@ mod tests {
         );
     }
 
-    #[test]
-    fn a_string_field_takes_pythons_str_of_any_value() {
+    /// The value at `path` (field indexes, list items taken as their first) of a
+    /// `SetParameters` request filled from `text`.
+    fn filled(text: &str, path: &[usize]) -> Value {
         let schema = Schema::from_description(&SetParameters::type_description()).expect("schema");
-        let name = |text: &str| {
-            let v = fill_from_yaml(&schema, SetParametersRequest::TYPE_NAME, text).expect("filled");
-            let Value::Struct(request) = v else {
-                panic!("{v:?}")
+        let mut v = fill_from_yaml(&schema, SetParametersRequest::TYPE_NAME, text).expect("filled");
+        for &i in path {
+            v = match v {
+                Value::Struct(mut fields) => fields.swap_remove(i),
+                Value::List(mut items) => items.swap_remove(i),
+                other => panic!("{other:?}"),
             };
-            let Value::List(parameters) = &request[0] else {
-                panic!("{request:?}")
-            };
-            let Value::Struct(parameter) = &parameters[0] else {
-                panic!("{parameters:?}")
-            };
-            parameter[0].clone()
-        };
+        }
+        v
+    }
+
+    #[test]
+    fn scalar_fields_take_what_python_converts() {
+        // `str(value)` in a string field (`parameters[0].name`), whatever the value.
+        let name = |text: &str| filled(text, &[0, 0, 0]);
         assert_eq!(
             name("parameters: [{name: [1, a]}]"),
             Value::Str("[1, 'a']".into())
@@ -591,8 +602,15 @@ mod tests {
             name("parameters: [{name: true}]"),
             Value::Str("True".into())
         );
-        // In a sequence of strings, each element must be one.
+        // `int(value)` in an integer field (`parameters[0].value.type`): `int(2.9)` is 2.
+        let kind = |text: &str| filled(text, &[0, 0, 1, 0]);
+        assert_eq!(kind("parameters: [{value: {type: 2.9}}]"), Value::Int(2));
+        let e = fill_error("parameters: [{value: {type: -2.9}}]");
+        assert!(matches!(e, FillError::OutOfRange { .. }), "{e:?}");
+        // In a sequence, each element must be of the element's type.
         let e = fill_error("parameters: [{value: {string_array_value: [[1]]}}]");
+        assert!(matches!(e, FillError::WrongContainer { .. }), "{e:?}");
+        let e = fill_error("parameters: [{value: {integer_array_value: [1.5]}}]");
         assert!(matches!(e, FillError::WrongContainer { .. }), "{e:?}");
     }
 
