@@ -1,8 +1,8 @@
 //! Time to a complete graph: how long after it starts `horus-ros node list` answers with a
 //! peer's node complete (its name on every endpoint, no "discovery incomplete" warning), for a
 //! real ROS 2 Jazzy node on Fast DDS (rclpy 7.1.6 on rmw_fastrtps_cpp 8.4.3 / Fast DDS 2.14.5,
-//! interop-tests' rclpy peer) and a Cyclone DDS ROS participant (the DDS of rmw_cyclonedds_cpp)
-//! that were up before, on each of our backends.
+//! interop-tests' rclpy peer) and one on rmw_cyclonedds_cpp 2.2.2 / Cyclone DDS 0.10, that were
+//! up before, on each of our backends.
 //!
 //! Each series starts the peer, waits until it has created everything, lets it run for
 //! `HORUS_ROS_BENCH_PEER_AGE_MS` (default 1500 ms: past Fast DDS' initial announcements, so the
@@ -10,9 +10,9 @@
 //! runs of the release binary with `--spin-time 10`, end to end (spawn to exit; the CLI exits as
 //! soon as its graph is consistent and quiet). Printed: p50, max, and how many answers were
 //! complete; then the same through `horus-ros daemon` (the first complete answer after
-//! `daemon start`, then warm answers), and Cyclone DDS's own view (interop-tests'
-//! `cyclone_discovery_info.py`: Cyclone DDS discovery plus `ros_discovery_info` read as
-//! rmw_dds_common does, Python start-up included; ros2cli is not installable here).
+//! `daemon start`, then warm answers), and what a fresh rclpy process on rmw_cyclonedds_cpp
+//! takes to list the node and its service (`cli/tests/peers/jazzy_graph_probe.py`, Python
+//! start-up included).
 //! Against the same-run baseline of a run next to a peer-less domain (the CLI's own
 //! start-up and quiet wait), so the figures read as "discovery cost".
 //!
@@ -23,9 +23,8 @@
 //! scripts/isolated cargo bench -p horus-ros-cli --bench graph_complete
 //! ```
 
-use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
-use std::process::{Child, Command, ExitCode, Stdio};
+use std::process::{Command, ExitCode, Stdio};
 use std::time::{Duration, Instant};
 
 use interop_tests::peers::RclpyPeer;
@@ -130,69 +129,41 @@ fn node_list_run(backend: &str, domain: u32, node: &str, extra: &[&str]) -> (Dur
     }
 }
 
-/// The type hash the Cyclone peer announces for its topics (builtin_interfaces/msg/Time's: any
-/// valid RIHS01 will do for discovery).
-fn time_hash() -> String {
-    use horus_ros_msgs::Message;
-    horus_ros_msgs::builtin_interfaces::msg::Time::type_hash().to_string()
-}
+use horus_ros_test_support::jazzy::{python, Rmw};
 
-use horus_ros_test_support::jazzy::python;
-
-/// `interop-tests/peers/<name>`.
-fn peer_script(name: &str) -> PathBuf {
+/// A script of `cli/tests/peers/`.
+fn cli_peer_script(name: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../interop-tests/peers")
+        .join("tests/peers")
         .join(name)
 }
 
-/// The Cyclone DDS Python ROS participant of interop-tests, started and ready.
-fn cyclone_peer(domain: u32) -> Option<Child> {
-    let python = python();
-    let mut child = Command::new(&python)
-        .arg(peer_script("cyclone_ros_participant.py"))
-        .args([
-            &domain.to_string(),
-            "/cyc_ns",
-            "cyc_node",
-            &time_hash(),
-            "600",
-        ])
-        .env("CYCLONEDDS_URI", CYCLONE_LOOPBACK)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::inherit())
-        .spawn()
-        .map_err(|e| eprintln!("bench: cannot start the Cyclone DDS peer with {python:?}: {e}"))
-        .ok()?;
-    let stdout = child.stdout.take()?;
-    let mut line = String::new();
-    // The peer prints its line once everything is created (bounded by its own start-up).
-    if BufReader::new(stdout).read_line(&mut line).ok()? == 0 {
-        let _ = child.kill();
-        let _ = child.wait();
-        return None;
-    }
-    Some(child)
+/// A real rclpy node `/NAMESPACE/NAME` on `rmw` with a std_srvs/SetBool server and client of
+/// `/NAMESPACE/set`, started and ready.
+fn rclpy_peer(rmw: Rmw, domain: u32, namespace: &str, name: &str) -> Option<RclpyPeer> {
+    let spec = serde_json::json!({
+        "domain": domain, "namespace": namespace, "name": name,
+        "servers": [{"service": format!("{namespace}/set"), "type": "std_srvs/srv/SetBool"}],
+        "clients": [{"service": format!("{namespace}/set"), "type": "std_srvs/srv/SetBool"}],
+    });
+    let started = RclpyPeer::start_on(rmw, &spec).and_then(|mut peer| {
+        peer.ready(Duration::from_secs(30))?;
+        Ok(peer)
+    });
+    started
+        .map_err(|e| eprintln!("bench: rclpy peer on {}: {e}", rmw.name()))
+        .ok()
 }
 
-/// One run of interop-tests' Cyclone DDS graph watcher (`cyclone_discovery_info.py`): Cyclone
-/// DDS's own discovery plus `ros_discovery_info` read as rmw_dds_common reads it, i.e. what an
-/// rmw_cyclonedds_cpp tool would see. It exits 0 once `node` is announced with `readers`
-/// readers and `writers` writers all discovered. Its wall time includes Python's start-up.
-fn cyclone_watcher_run(domain: u32, node: &str, readers: u32, writers: u32) -> (Duration, bool) {
-    let (namespace, name) = node.rsplit_once('/').unwrap_or(("/", node));
-    let namespace = if namespace.is_empty() { "/" } else { namespace };
+/// One run of a fresh rclpy process on rmw_cyclonedds_cpp (`jazzy_graph_probe.py`) until its
+/// graph lists `node` and `service`: what an rmw_cyclonedds_cpp tool would see. Its wall time
+/// includes Python's start-up.
+fn rclpy_probe_run(domain: u32, node: &str, service: &str) -> (Duration, bool) {
     let started = Instant::now();
     let status = Command::new(python())
-        .arg(peer_script("cyclone_discovery_info.py"))
-        .args([
-            &domain.to_string(),
-            namespace,
-            name,
-            &readers.to_string(),
-            &writers.to_string(),
-            "10",
-        ])
+        .arg(cli_peer_script("jazzy_graph_probe.py"))
+        .args([&domain.to_string(), node, service, "10"])
+        .env("RMW_IMPLEMENTATION", Rmw::CycloneDds.name())
         .env("CYCLONEDDS_URI", CYCLONE_LOOPBACK)
         .stdin(Stdio::null())
         .stdout(Stdio::null())
@@ -201,11 +172,12 @@ fn cyclone_watcher_run(domain: u32, node: &str, readers: u32, writers: u32) -> (
     (started.elapsed(), status.is_ok_and(|s| s.success()))
 }
 
-/// Python's own start-up, for reading the watcher's figures.
+/// Python's own start-up with rclpy imported, for reading the probe's figures.
 fn python_startup_run() -> (Duration, bool) {
     let started = Instant::now();
     let status = Command::new(python())
-        .args(["-c", "import cyclonedds.domain"])
+        .args(["-c", "import rclpy"])
+        .env("RMW_IMPLEMENTATION", Rmw::CycloneDds.name())
         .status();
     (started.elapsed(), status.is_ok_and(|s| s.success()))
 }
@@ -260,7 +232,7 @@ fn main() -> ExitCode {
     let age = Duration::from_millis(env_number("HORUS_ROS_BENCH_PEER_AGE_MS", 1500));
     println!("time to a complete graph: cold `horus-ros --no-daemon --spin-time 10 node list`, {runs} runs each, peers {age:?} old");
     timed_series(
-        "python + cyclonedds import (start-up)",
+        "python + rclpy import (start-up)",
         "python",
         runs,
         python_startup_run,
@@ -269,64 +241,37 @@ fn main() -> ExitCode {
         let domain = DOMAIN + 3 * i as u32;
         let baseline = series("no peer (baseline)", backend, domain, "", runs);
 
-        match RclpyPeer::start(&serde_json::json!({
-            "domain": domain + 1, "namespace": "/fast_ns", "name": "fast_node",
-            "servers": [{"service": "/fast_ns/set", "type": "std_srvs/srv/SetBool"}],
-            "clients": [{"service": "/fast_ns/set", "type": "std_srvs/srv/SetBool"}],
-        })) {
-            Ok(mut peer) => {
-                if let Err(e) = peer.ready(Duration::from_secs(30)) {
-                    eprintln!("bench: rclpy peer: {e}");
-                } else {
-                    wait_out(age);
-                    let p50 = series(
-                        "rclpy node (Fast DDS 2.14)",
-                        backend,
-                        domain + 1,
-                        "/fast_ns/fast_node",
-                        runs,
-                    );
-                    ratio(p50, baseline);
-                    daemon_series(
-                        "  through the daemon",
-                        backend,
-                        domain + 1,
-                        "/fast_ns/fast_node",
-                        runs,
-                    );
-                    if i == 0 {
-                        timed_series("  Cyclone DDS's own view of it", "python", runs, || {
-                            cyclone_watcher_run(domain + 1, "/fast_ns/fast_node", 2, 2)
-                        });
-                    }
-                }
-            }
-            Err(e) => eprintln!("bench: rclpy peer: {e}"),
-        }
-        if let Some(mut peer) = cyclone_peer(domain + 2) {
+        for (rmw, label, namespace, name, peer_domain) in [
+            (
+                Rmw::FastRtps,
+                "rclpy node (Fast DDS 2.14)",
+                "/fast_ns",
+                "fast_node",
+                domain + 1,
+            ),
+            (
+                Rmw::CycloneDds,
+                "rclpy node (Cyclone DDS 0.10)",
+                "/cyc_ns",
+                "cyc_node",
+                domain + 2,
+            ),
+        ] {
+            let Some(peer) = rclpy_peer(rmw, peer_domain, namespace, name) else {
+                continue;
+            };
+            let node = format!("{namespace}/{name}");
             wait_out(age);
-            let p50 = series(
-                "Cyclone DDS node",
-                backend,
-                domain + 2,
-                "/cyc_ns/cyc_node",
-                runs,
-            );
+            let p50 = series(label, backend, peer_domain, &node, runs);
             ratio(p50, baseline);
-            daemon_series(
-                "  through the daemon",
-                backend,
-                domain + 2,
-                "/cyc_ns/cyc_node",
-                runs,
-            );
+            daemon_series("  through the daemon", backend, peer_domain, &node, runs);
             if i == 0 {
-                timed_series("  Cyclone DDS's own view of it", "python", runs, || {
-                    cyclone_watcher_run(domain + 2, "/cyc_ns/cyc_node", 1, 1)
+                let service = format!("{namespace}/set");
+                timed_series("  rclpy on rmw_cyclonedds_cpp", "python", runs, || {
+                    rclpy_probe_run(peer_domain, &node, &service)
                 });
             }
-            let _ = peer.kill();
-            let _ = peer.wait();
+            drop(peer);
         }
     }
     ExitCode::SUCCESS

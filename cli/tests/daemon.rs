@@ -1,5 +1,5 @@
 //! `horus-ros daemon`: its lifecycle and messages (ros2cli's), answers through it equal to direct
-//! discovery's, a Fast DDS node answered at once, nodes leaving, the idle timeout, the daemon's
+//! discovery's (on a graph with real rmw_cyclonedds_cpp nodes), a Fast DDS node answered at once, nodes leaving, the idle timeout, the daemon's
 //! settings keeping it to its own graph, a query starting it when none runs, and the fallback to
 //! direct discovery when the daemon is dead or does not answer.
 //!
@@ -20,10 +20,10 @@ use common::{
 };
 use horus_ros_msgs::builtin_interfaces::msg::Time;
 use horus_ros_msgs::example_interfaces::srv::AddTwoInts;
-use horus_ros_msgs::Message;
 use horus_ros_rmw::qos::Qos;
 use horus_ros_rmw::Context;
 use horus_ros_services::{EndpointBuilder, ServiceServer};
+use horus_ros_test_support::jazzy::Rmw;
 use interop_tests::peers::RclpyPeer;
 use nix::sys::signal::Signal;
 use nix::sys::wait::WaitStatus;
@@ -145,16 +145,24 @@ fn lifecycle_and_messages() {
 #[test]
 fn answers_equal_direct_discovery() {
     const D: u32 = 182;
-    let d = D.to_string();
-    let hash = Time::type_hash().to_string();
-    let _peer = Peer::start(
-        "cyclone_ros_participant.py",
-        &[&d, "/peer_ns", "cyclone_node", &hash, LINGER, "/peer_add"],
-    );
-    let _server = Peer::start(
-        "cyclone_add_two_ints_server.py",
-        &[&d, "/add_two_ints", LINGER],
-    );
+    // Real rmw_cyclonedds_cpp nodes (bare: no parameter services, as few endpoints as rclpy
+    // allows), whatever the run's peers use.
+    let rclpy = |spec: serde_json::Value| {
+        let mut peer = RclpyPeer::start_on(Rmw::CycloneDds, &spec).expect("start the rclpy peer");
+        peer.ready(Duration::from_secs(20))
+            .expect("the rclpy node is up");
+        peer
+    };
+    let _peer = rclpy(serde_json::json!({
+        "domain": D, "namespace": "/peer_ns", "name": "cyclone_node", "bare": true,
+        "publishers": [{"topic": "/peer_ns/chatter", "type": "std_msgs/msg/String",
+                        "period_s": 1.0}],
+        "servers": [{"service": "/peer_add", "type": "example_interfaces/srv/AddTwoInts"}],
+    }));
+    let _server = rclpy(serde_json::json!({
+        "domain": D, "namespace": "/", "name": "add_two_ints_server", "bare": true,
+        "servers": [{"service": "/add_two_ints", "type": "example_interfaces/srv/AddTwoInts"}],
+    }));
     let ctx = context(D);
     let node = ctx.create_node("horus_node", "/ours").expect("node");
     let _publisher = node

@@ -1,6 +1,6 @@
 //! `horus-ros graph`, `graph --watch` and `completions`, run as the binary against a live graph:
-//! our own nodes (in this process) and an independent Cyclone DDS peer
-//! (`interop-tests/peers/cyclone_ros_participant.py`).
+//! our own nodes (in this process) and a real rmw_cyclonedds_cpp node (rclpy 7.1.6 on
+//! rmw_cyclonedds_cpp 2.2.2, whatever the run's peers use: `interop-tests/peers/jazzy_node.py`).
 //!
 //! Every test joins its own domain (131-139), so they run in parallel; run them inside the
 //! private network namespace (`scripts/test`, or `scripts/isolated cargo test …`).
@@ -10,15 +10,18 @@ mod common;
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
-use common::{Peer, Streaming};
+use common::Streaming;
 
 use horus_ros_msgs::builtin_interfaces::msg::Time;
+use horus_ros_msgs::std_msgs::msg::String as StringMsg;
 use horus_ros_msgs::Message;
 use horus_ros_rmw::qos::Qos;
 use horus_ros_rmw::{Backend, Context, Gid};
 use horus_ros_services::prelude::*;
+use horus_ros_test_support::jazzy::Rmw;
 use horus_ros_test_support::{wait_exit, wait_with_output};
-use serde_json::Value;
+use interop_tests::peers::RclpyPeer;
+use serde_json::{json, Value};
 
 /// The longest wait for anything to appear.
 const WAIT: Duration = Duration::from_secs(20);
@@ -28,21 +31,46 @@ const SPIN_TIME: &str = "3";
 // ---------------------------------------------------------------------------------------------
 // Helpers.
 
-/// A Cyclone DDS peer announcing node NAMESPACE/NODE with a writer on `NAMESPACE/chatter`, a
-/// reader on `NAMESPACE/echo` and an AddTwoInts server; its JSON line holds `participant`,
-/// `writer`, `reader`, `server.request_reader`, `server.reply_writer`; killed when dropped.
-fn cyclone_peer(domain: u32, namespace: &str, node: &str, service: &str) -> Peer {
-    Peer::start(
-        "cyclone_ros_participant.py",
-        &[
-            &domain.to_string(),
-            namespace,
-            node,
-            &Time::type_hash().to_string(),
-            "120",
-            service,
-        ],
+/// A real rmw_cyclonedds_cpp node NAMESPACE/NODE, bare (no parameter services, no
+/// `~/get_type_description`, no /rosout; rclpy's /parameter_events publisher stays), with a
+/// publisher of `NAMESPACE/chatter` and a subscription of `NAMESPACE/echo` (std_msgs/msg/String,
+/// KEEP_LAST 10, RELIABLE, VOLATILE) and an AddTwoInts server of `service`. Returned with the
+/// GIDs rmw gave its endpoints, as rclpy lists them: the chatter writer, the echo reader, the
+/// server's request reader and reply writer, the /parameter_events writer. It leaves when
+/// dropped.
+fn rclpy_peer(domain: u32, namespace: &str, node: &str, service: &str) -> (RclpyPeer, Vec<String>) {
+    let mut peer = RclpyPeer::start_on(
+        Rmw::CycloneDds,
+        &json!({
+            "domain": domain, "namespace": namespace, "name": node, "bare": true,
+            "publishers": [{"topic": format!("{namespace}/chatter"),
+                            "type": "std_msgs/msg/String", "period_s": 1.0}],
+            "subscriptions": [{"topic": format!("{namespace}/echo"),
+                               "type": "std_msgs/msg/String"}],
+            "servers": [{"service": service, "type": "example_interfaces/srv/AddTwoInts"}],
+            "graph": true,
+        }),
     )
+    .expect("start the rclpy peer");
+    let (chatter, echo) = (
+        format!("rt{namespace}/chatter"),
+        format!("rt{namespace}/echo"),
+    );
+    let (request, reply) = (format!("rq{service}Request"), format!("rr{service}Reply"));
+    let gids = peer
+        .own_gids(
+            node,
+            &[
+                (&chatter, "publishers"),
+                (&echo, "subscriptions"),
+                (&request, "subscriptions"),
+                (&reply, "publishers"),
+                ("rt/parameter_events", "publishers"),
+            ],
+            WAIT,
+        )
+        .unwrap_or_else(|e| panic!("{e}"));
+    (peer, gids.iter().map(ToString::to_string).collect())
 }
 
 fn horus_ros() -> Command {
@@ -107,6 +135,17 @@ fn context(domain: u32) -> Context {
         .domain_id(domain)
         .build()
         .expect("context")
+}
+
+/// The history line value of an endpoint keeping `depth` samples as another process sees it: on
+/// the Cyclone backend the history Cyclone DDS announces (as rmw_cyclonedds), on rustdds none
+/// (as rmw_fastrtps).
+fn seen_history(ctx: &Context, depth: u32) -> String {
+    if ctx.backend() == Some(Backend::Cyclone) {
+        format!("KEEP_LAST ({depth})")
+    } else {
+        "UNKNOWN".to_owned()
+    }
 }
 
 /// The JSON `type_hash` of an endpoint of ours of type Time: announced in USER_DATA by a backend
@@ -174,21 +213,22 @@ fn graph_prints_the_whole_live_graph_as_text_and_json() {
         .name("add")
         .build()
         .expect("client");
-    let peer = cyclone_peer(DOMAIN, "/cyc", "peer", "/cyc/add");
+    let (peer, peer_gids) = rclpy_peer(DOMAIN, "/cyc", "peer", "/cyc/add");
 
     let (server_reader, server_writer) = server.gids();
     let (client_writer, client_reader) = client.gids();
     let g = |gid: Gid| gid.to_string();
     let expected = format!(
         "\
-Domain 131: 4 nodes, 4 topics, 2 services
+Domain 131: 4 nodes, 5 topics, 2 services
 
 Nodes:
   /cyc/peer
     Subscribers:
-      /cyc/echo: builtin_interfaces/msg/Time
+      /cyc/echo: std_msgs/msg/String
     Publishers:
-      /cyc/chatter: builtin_interfaces/msg/Time
+      /cyc/chatter: std_msgs/msg/String
+      /parameter_events: rcl_interfaces/msg/ParameterEvent
     Service Servers:
       /cyc/add: example_interfaces/srv/AddTwoInts
   /graph_test/adder
@@ -204,11 +244,11 @@ Nodes:
       /graph_test/chatter: builtin_interfaces/msg/Time
 
 Topics:
-  /cyc/chatter: builtin_interfaces/msg/Time
+  /cyc/chatter: std_msgs/msg/String
     Publishers (1):
       /cyc/peer  gid {peer_writer}  RELIABLE, VOLATILE, {history}
     Subscriptions (0):
-  /cyc/echo: builtin_interfaces/msg/Time
+  /cyc/echo: std_msgs/msg/String
     Publishers (0):
     Subscriptions (1):
       /cyc/peer  gid {peer_reader}  RELIABLE, VOLATILE, {history}
@@ -220,6 +260,10 @@ Topics:
     Publishers (0):
     Subscriptions (1):
       /graph_test/talker  gid {echo}  RELIABLE, VOLATILE, {history}
+  /parameter_events: rcl_interfaces/msg/ParameterEvent
+    Publishers (1):
+      /cyc/peer  gid {peer_events}  RELIABLE, VOLATILE, {events_history}
+    Subscriptions (0):
 
 Services:
   /cyc/add: example_interfaces/srv/AddTwoInts
@@ -232,17 +276,16 @@ Services:
     Clients (1):
       /graph_test/caller  gids {client_reader}, {client_writer}
 ",
-        // Every endpoint here keeps 10 samples; the Cyclone backend reports the history
-        // Cyclone DDS announces (as rmw_cyclonedds), rustdds none (as rmw_fastrtps).
-        history = if ctx.backend() == Some(Backend::Cyclone) {
-            "KEEP_LAST (10)"
-        } else {
-            "UNKNOWN"
-        },
-        peer_writer = peer.field("/writer"),
-        peer_reader = peer.field("/reader"),
-        peer_request_reader = peer.field("/server/request_reader"),
-        peer_reply_writer = peer.field("/server/reply_writer"),
+        // Every endpoint here keeps 10 samples but rclpy's /parameter_events writer (1000,
+        // qos_profile_parameter_events); the Cyclone backend reports the history Cyclone DDS
+        // announces (as rmw_cyclonedds), rustdds none (as rmw_fastrtps).
+        history = seen_history(&ctx, 10),
+        events_history = seen_history(&ctx, 1000),
+        peer_writer = peer_gids[0],
+        peer_reader = peer_gids[1],
+        peer_request_reader = peer_gids[2],
+        peer_reply_writer = peer_gids[3],
+        peer_events = peer_gids[4],
         chatter = g(chatter.gid()),
         echo = g(echo.gid()),
         server_reader = g(server_reader),
@@ -262,7 +305,7 @@ Services:
         let len = |v: &Value| v.as_array().map_or(0, Vec::len);
         serde_json::from_str::<Value>(&r.stdout).is_ok_and(|v| {
             len(&v["nodes"]) == 4
-                && len(&v["topics"]) == 4
+                && len(&v["topics"]) == 5
                 && v["topics"].as_array().is_some_and(|topics| {
                     topics
                         .iter()
@@ -295,15 +338,15 @@ Services:
     assert_eq!(talker_doc["name"], "talker");
     assert_eq!(talker_doc["namespace"], "/graph_test");
     // Enclaves come from participant USER_DATA: ours is announced and read on Cyclone (the CLI
-    // runs on the same backend, from HORUS_ROS_BACKEND), neither on rustdds; the Python peer
-    // announces none.
-    let our_enclave = if ctx.capabilities().announces_user_data {
+    // runs on the same backend, from HORUS_ROS_BACKEND), neither on rustdds; rmw_cyclonedds
+    // announces its own (`enclave=/;`), read on Cyclone only.
+    let enclave = if ctx.capabilities().announces_user_data {
         Value::from("/")
     } else {
         Value::Null
     };
-    assert_eq!(talker_doc["enclave"], our_enclave, "{talker_doc}");
-    assert_eq!(nodes[0]["enclave"], Value::Null, "{}", nodes[0]);
+    assert_eq!(talker_doc["enclave"], enclave, "{talker_doc}");
+    assert_eq!(nodes[0]["enclave"], enclave, "{}", nodes[0]);
     assert_eq!(talker_doc["publishers"][0]["name"], "/graph_test/chatter");
     assert_eq!(
         strings(&talker_doc["publishers"][0]["types"]),
@@ -344,8 +387,11 @@ Services:
     let peer_publisher = &topics[0]["publishers"][0];
     assert_eq!(peer_publisher["node_name"], "peer");
     assert_eq!(peer_publisher["node_namespace"], "/cyc");
-    assert_eq!(peer_publisher["gid"], peer.field("/writer"));
-    assert_eq!(peer_publisher["type_hash"], Time::type_hash().to_string());
+    assert_eq!(peer_publisher["gid"], peer_gids[0]);
+    assert_eq!(
+        peer_publisher["type_hash"],
+        StringMsg::type_hash().to_string()
+    );
     let subscription = &topics[3]["subscriptions"][0];
     assert_eq!(subscription["endpoint_type"], "SUBSCRIPTION");
     assert_eq!(subscription["gid"], g(echo.gid()));
@@ -385,10 +431,7 @@ Services:
     assert_eq!(peer_server["node_name"], "peer");
     assert_eq!(
         strings(&peer_server["gids"]),
-        [
-            peer.field("/server/request_reader"),
-            peer.field("/server/reply_writer")
-        ]
+        [peer_gids[2].clone(), peer_gids[3].clone()]
     );
 
     // -a: hidden names too, our own CLI node among them.

@@ -1,6 +1,9 @@
 //! Output tests of the query verbs — `service list|type|find|info`, `node list|info`,
-//! `topic list|info` — against a live graph: independent Cyclone DDS peers (Python,
-//! `interop-tests/peers/`) and our own nodes in this process. Whole stdout is compared line for
+//! `topic list|info` — against a live graph: real rmw_cyclonedds_cpp nodes (rclpy 7.1.6 on
+//! rmw_cyclonedds_cpp 2.2.2, whatever the run's peers use: `interop-tests/peers/jazzy_node.py`,
+//! bare: no parameter services, no `~/get_type_description`, no /rosout, only rclpy's
+//! /parameter_events publisher beside what each test gives them) and our own nodes in this
+//! process. Whole stdout is compared line for
 //! line with ros2cli's (Jazzy; Rolling's `service info -v`) format; `--json` output is parsed back.
 //!
 //! Each test has its own DDS domain. Run inside the private network namespace:
@@ -11,19 +14,65 @@ mod common;
 use std::time::Duration;
 
 use common::{expect, expect_failure, expect_json, expect_stdout, horus, service_qos, topic_qos};
-use common::{Peer, LINGER};
 use horus_ros_msgs::builtin_interfaces::msg::{Duration as RosDuration, Time};
 use horus_ros_msgs::example_interfaces::srv::AddTwoInts;
+use horus_ros_msgs::std_msgs::msg::String as StringMsg;
 use horus_ros_msgs::std_srvs::srv::{SetBool, SetBoolResponse};
 use horus_ros_msgs::{DescriptionBuilder, Message, TypeDescription};
 use horus_ros_rmw::qos::Qos;
 use horus_ros_rmw::{Backend, Context};
 use horus_ros_services::{EndpointBuilder, ServiceClient, ServiceServer};
+use horus_ros_test_support::jazzy::Rmw;
+use interop_tests::peers::RclpyPeer;
 use serde_json::{json, Value};
 
-/// The Time type hash the Cyclone participant peer announces for its topics.
-fn time_hash() -> String {
-    Time::type_hash().to_string()
+/// The type hash of the rclpy peers' topics (std_msgs/msg/String).
+fn string_hash() -> String {
+    StringMsg::type_hash().to_string()
+}
+
+/// How long an rclpy peer may take to start.
+const PEER_START: Duration = Duration::from_secs(30);
+
+/// A real rmw_cyclonedds_cpp node NAMESPACE/NAME, bare (see the module documentation), with a
+/// publisher of `NAMESPACE/chatter` and a subscription of `NAMESPACE/echo` (std_msgs/msg/String,
+/// KEEP_LAST 10, RELIABLE, VOLATILE) when `topics`, and an AddTwoInts server of `service` when
+/// given. Returned with the GIDs rmw gave its endpoints, as rclpy lists them: the chatter writer
+/// (when `topics`), then the server's request reader and reply writer (when a server). It
+/// leaves when dropped.
+fn rclpy_node(
+    domain: u32,
+    namespace: &str,
+    name: &str,
+    topics: bool,
+    service: Option<&str>,
+) -> (RclpyPeer, Vec<String>) {
+    let mut spec = json!({
+        "domain": domain, "namespace": namespace, "name": name, "bare": true, "graph": true,
+    });
+    let chatter = format!("rt{namespace}/chatter");
+    let (request, reply) = service
+        .map(|s| (format!("rq{s}Request"), format!("rr{s}Reply")))
+        .unwrap_or_default();
+    let mut endpoints = Vec::new();
+    if topics {
+        spec["publishers"] = json!([{"topic": format!("{namespace}/chatter"),
+                                     "type": "std_msgs/msg/String", "period_s": 1.0}]);
+        spec["subscriptions"] = json!([{"topic": format!("{namespace}/echo"),
+                                        "type": "std_msgs/msg/String"}]);
+        endpoints.push((chatter.as_str(), "publishers"));
+    }
+    if let Some(service) = service {
+        spec["servers"] = json!([{"service": service,
+                                  "type": "example_interfaces/srv/AddTwoInts"}]);
+        endpoints.push((request.as_str(), "subscriptions"));
+        endpoints.push((reply.as_str(), "publishers"));
+    }
+    let mut peer = RclpyPeer::start_on(Rmw::CycloneDds, &spec).expect("start the rclpy peer");
+    let gids = peer
+        .own_gids(name, &endpoints, PEER_START)
+        .unwrap_or_else(|e| panic!("{e}"));
+    (peer, gids.iter().map(ToString::to_string).collect())
 }
 
 /// A stand-in for an action's feedback message (`test_msgs/action/Fibonacci_FeedbackMessage`):
@@ -71,7 +120,7 @@ fn seen_history_json(ctx: &Context, depth: u32) -> (Value, Value) {
 }
 
 /// Our services' local depths (the services layer's, deeper than the profile asked for) and the
-/// Cyclone peers' (rmw_qos_profile_services_default, and their topics' KEEP_LAST 10).
+/// rclpy peers' (rmw_qos_profile_services_default, and their topics' KEEP_LAST 10).
 const OUR_REQUEST_WRITER_DEPTH: u32 = 256;
 const OUR_REPLY_READER_DEPTH: u32 = 4096;
 const PEER_DEPTH: u32 = 10;
@@ -100,23 +149,8 @@ fn ours_hash_json(ctx: &Context, hash: &str) -> Value {
 #[test]
 fn service_verbs() {
     const D: u32 = 101;
-    let d = D.to_string();
-    let hash = time_hash();
-    let peer = Peer::start(
-        "cyclone_ros_participant.py",
-        &[
-            &d,
-            "/peer_ns",
-            "cyclone_node",
-            &hash,
-            LINGER,
-            "/add_two_ints",
-        ],
-    );
-    let _hidden = Peer::start(
-        "cyclone_add_two_ints_server.py",
-        &[&d, "/_private/add", LINGER],
-    );
+    let (_peer, peer) = rclpy_node(D, "/peer_ns", "cyclone_node", true, Some("/add_two_ints"));
+    let _hidden = rclpy_node(D, "/", "add_two_ints_server", false, Some("/_private/add"));
     let ctx = context(D);
     let node = ctx.create_node("horus_node", "/").expect("node");
     let server = ServiceServer::<SetBool>::builder()
@@ -227,7 +261,7 @@ fn service_verbs() {
         "Type: example_interfaces/srv/AddTwoInts\nClients count: 0\nServices count: 1\n",
     );
 
-    // -v: Rolling's blocks, the client (ours) then the server (the Cyclone peer's).
+    // -v: Rolling's blocks, the client (ours) then the server (the rclpy node's).
     let (request_writer, reply_reader) = client.gids();
     let verbose = format!(
         "Type: example_interfaces/srv/AddTwoInts\n\
@@ -276,8 +310,8 @@ fn service_verbs() {
             &seen_history(&ctx, PEER_DEPTH, true),
             "VOLATILE"
         ),
-        request_reader = peer.field("/server/request_reader"),
-        reply_writer = peer.field("/server/reply_writer"),
+        request_reader = peer[1],
+        reply_writer = peer[2],
     );
     expect(D, &["service", "info", "/add_two_ints", "-v"], &verbose);
 
@@ -354,7 +388,7 @@ fn service_verbs() {
             "type": "example_interfaces/srv/AddTwoInts",
             "type_hash": null,
             "endpoint_type": "SERVER",
-            "gids": [peer.field("/server/request_reader"), peer.field("/server/reply_writer")],
+            "gids": [peer[1], peer[2]],
             "qos": [qos("RELIABLE", PEER_DEPTH), qos("RELIABLE", PEER_DEPTH)],
         })
     );
@@ -378,28 +412,10 @@ fn service_verbs() {
 #[test]
 fn node_verbs() {
     const D: u32 = 102;
-    let d = D.to_string();
-    let hash = time_hash();
-    let _peer = Peer::start(
-        "cyclone_ros_participant.py",
-        &[
-            &d,
-            "/peer_ns",
-            "cyclone_node",
-            &hash,
-            LINGER,
-            "/add_two_ints",
-        ],
-    );
-    // Two participants announcing the same node name.
-    let _twin1 = Peer::start(
-        "cyclone_ros_participant.py",
-        &[&d, "/dup", "twin", &hash, LINGER],
-    );
-    let _twin2 = Peer::start(
-        "cyclone_ros_participant.py",
-        &[&d, "/dup", "twin", &hash, LINGER],
-    );
+    let _peer = rclpy_node(D, "/peer_ns", "cyclone_node", true, Some("/add_two_ints"));
+    // Two processes with a node of the same name.
+    let _twin1 = rclpy_node(D, "/dup", "twin", true, None);
+    let _twin2 = rclpy_node(D, "/dup", "twin", true, None);
 
     let ctx = context(D);
     let node = ctx.create_node("horus_node", "/").expect("node");
@@ -408,7 +424,7 @@ fn node_verbs() {
         .create_publisher::<Time>("/horus/chatter", &qos)
         .expect("publisher");
     let _listener = node
-        .create_subscription::<Time>("/peer_ns/chatter", &qos)
+        .create_subscription::<StringMsg>("/peer_ns/chatter", &qos)
         .expect("subscription");
     let _hidden = node
         .create_publisher::<RosDuration>("/_hidden/topic", &qos)
@@ -462,9 +478,10 @@ fn node_verbs() {
         &["node", "info", "/peer_ns/cyclone_node"],
         "/peer_ns/cyclone_node\n\
          \x20 Subscribers:\n\
-         \x20   /peer_ns/echo: builtin_interfaces/msg/Time\n\
+         \x20   /peer_ns/echo: std_msgs/msg/String\n\
          \x20 Publishers:\n\
-         \x20   /peer_ns/chatter: builtin_interfaces/msg/Time\n\
+         \x20   /parameter_events: rcl_interfaces/msg/ParameterEvent\n\
+         \x20   /peer_ns/chatter: std_msgs/msg/String\n\
          \x20 Service Servers:\n\
          \x20   /add_two_ints: example_interfaces/srv/AddTwoInts\n\
          \x20 Service Clients:\n\
@@ -479,9 +496,10 @@ fn node_verbs() {
         &["node", "info", "/dup/twin"],
         "/dup/twin\n\
          \x20 Subscribers:\n\
-         \x20   /dup/echo: builtin_interfaces/msg/Time\n\
+         \x20   /dup/echo: std_msgs/msg/String\n\
          \x20 Publishers:\n\
-         \x20   /dup/chatter: builtin_interfaces/msg/Time\n\
+         \x20   /dup/chatter: std_msgs/msg/String\n\
+         \x20   /parameter_events: rcl_interfaces/msg/ParameterEvent\n\
          \x20 Service Servers:\n\
          \n\
          \x20 Service Clients:\n\
@@ -501,7 +519,7 @@ fn node_verbs() {
         &["node", "info", "/horus_node"],
         "/horus_node\n\
          \x20 Subscribers:\n\
-         \x20   /peer_ns/chatter: builtin_interfaces/msg/Time\n\
+         \x20   /peer_ns/chatter: std_msgs/msg/String\n\
          \x20 Publishers:\n\
          \x20   /horus/chatter: builtin_interfaces/msg/Time\n\
          \x20 Service Servers:\n\
@@ -519,7 +537,7 @@ fn node_verbs() {
         "/horus_node\n\
          \x20 Subscribers:\n\
          \x20   /other/_action/feedback: test_msgs/action/Fibonacci_FeedbackMessage\n\
-         \x20   /peer_ns/chatter: builtin_interfaces/msg/Time\n\
+         \x20   /peer_ns/chatter: std_msgs/msg/String\n\
          \x20 Publishers:\n\
          \x20   /_hidden/topic: builtin_interfaces/msg/Duration\n\
          \x20   /fib/_action/feedback: test_msgs/action/Fibonacci_FeedbackMessage\n\
@@ -597,7 +615,7 @@ fn node_verbs() {
             "full_name": "/horus_node",
             "name": "horus_node",
             "namespace": "/",
-            "subscribers": [{"name": "/peer_ns/chatter", "types": ["builtin_interfaces/msg/Time"]}],
+            "subscribers": [{"name": "/peer_ns/chatter", "types": ["std_msgs/msg/String"]}],
             "publishers": [{"name": "/horus/chatter", "types": ["builtin_interfaces/msg/Time"]}],
             "service_servers": [{"name": "/set_flag", "types": ["std_srvs/srv/SetBool"]}],
             "service_clients": [{"name": "/add_two_ints", "types": ["example_interfaces/srv/AddTwoInts"]}],
@@ -615,45 +633,48 @@ fn node_verbs() {
 #[test]
 fn topic_verbs() {
     const D: u32 = 103;
-    let d = D.to_string();
-    let hash = time_hash();
-    let peer = Peer::start(
-        "cyclone_ros_participant.py",
-        &[&d, "/peer_ns", "cyclone_node", &hash, LINGER],
-    );
+    let hash = string_hash();
+    let (_peer, peer) = rclpy_node(D, "/peer_ns", "cyclone_node", true, None);
     let ctx = context(D);
     let node = ctx.create_node("horus_node", "/").expect("node");
     let publisher = node
-        .create_publisher::<Time>("/peer_ns/chatter", &Qos::default().transient_local())
+        .create_publisher::<StringMsg>("/peer_ns/chatter", &Qos::default().transient_local())
         .expect("publisher");
     let subscription = node
-        .create_subscription::<Time>("/peer_ns/chatter", &Qos::default().best_effort())
+        .create_subscription::<StringMsg>("/peer_ns/chatter", &Qos::default().best_effort())
         .expect("subscription");
     let _hidden = node
         .create_publisher::<Time>("/_internal/clock", &Qos::default())
         .expect("hidden publisher");
 
-    expect(D, &["topic", "list"], "/peer_ns/chatter\n/peer_ns/echo\n");
+    // The rclpy node's /parameter_events publisher is there too.
+    expect(
+        D,
+        &["topic", "list"],
+        "/parameter_events\n/peer_ns/chatter\n/peer_ns/echo\n",
+    );
     expect(
         D,
         &["topic", "list", "-t"],
-        "/peer_ns/chatter [builtin_interfaces/msg/Time]\n/peer_ns/echo [builtin_interfaces/msg/Time]\n",
+        "/parameter_events [rcl_interfaces/msg/ParameterEvent]\n\
+         /peer_ns/chatter [std_msgs/msg/String]\n/peer_ns/echo [std_msgs/msg/String]\n",
     );
-    expect(D, &["topic", "list", "-c"], "2\n");
+    expect(D, &["topic", "list", "-c"], "3\n");
     expect(
         D,
         &["topic", "list", "--include-hidden-topics"],
-        "/_internal/clock\n/peer_ns/chatter\n/peer_ns/echo\n",
+        "/_internal/clock\n/parameter_events\n/peer_ns/chatter\n/peer_ns/echo\n",
     );
     expect(
         D,
         &["topic", "list", "-v"],
         "Published topics:\n \
-         * /peer_ns/chatter [builtin_interfaces/msg/Time] 2 publishers\n\
+         * /parameter_events [rcl_interfaces/msg/ParameterEvent] 1 publisher\n \
+         * /peer_ns/chatter [std_msgs/msg/String] 2 publishers\n\
          \n\
          Subscribed topics:\n \
-         * /peer_ns/chatter [builtin_interfaces/msg/Time] 1 subscriber\n \
-         * /peer_ns/echo [builtin_interfaces/msg/Time] 1 subscriber\n\
+         * /peer_ns/chatter [std_msgs/msg/String] 1 subscriber\n \
+         * /peer_ns/echo [std_msgs/msg/String] 1 subscriber\n\
          \n",
     );
     expect(
@@ -661,18 +682,19 @@ fn topic_verbs() {
         &["topic", "list", "-v", "--include-hidden-topics"],
         "Published topics:\n \
          * /_internal/clock [builtin_interfaces/msg/Time] 1 publisher\n \
-         * /peer_ns/chatter [builtin_interfaces/msg/Time] 2 publishers\n\
+         * /parameter_events [rcl_interfaces/msg/ParameterEvent] 1 publisher\n \
+         * /peer_ns/chatter [std_msgs/msg/String] 2 publishers\n\
          \n\
          Subscribed topics:\n \
-         * /peer_ns/chatter [builtin_interfaces/msg/Time] 1 subscriber\n \
-         * /peer_ns/echo [builtin_interfaces/msg/Time] 1 subscriber\n\
+         * /peer_ns/chatter [std_msgs/msg/String] 1 subscriber\n \
+         * /peer_ns/echo [std_msgs/msg/String] 1 subscriber\n\
          \n",
     );
 
     expect(
         D,
         &["topic", "info", "/peer_ns/chatter"],
-        "Type: builtin_interfaces/msg/Time\nPublisher count: 2\nSubscription count: 1\n",
+        "Type: std_msgs/msg/String\nPublisher count: 2\nSubscription count: 1\n",
     );
     // Hidden topics are found without any flag, as in ros2cli.
     expect(
@@ -688,16 +710,20 @@ fn topic_verbs() {
     );
 
     // -v: publishers in GID order (ours and the peer's), then the subscription.
-    let theirs_gid = peer.field("/writer");
+    let theirs_gid = peer[0].clone();
     let theirs = format!(
-        "Node name: cyclone_node\nNode namespace: /peer_ns\nTopic type: builtin_interfaces/msg/Time\n\
+        "Node name: cyclone_node\nNode namespace: /peer_ns\nTopic type: std_msgs/msg/String\n\
          Topic type hash: {hash}\nEndpoint type: PUBLISHER\nGID: {theirs_gid}\n{}",
-        topic_qos("RELIABLE", &seen_history(&ctx, PEER_DEPTH, false), "VOLATILE")
+        topic_qos(
+            "RELIABLE",
+            &seen_history(&ctx, PEER_DEPTH, false),
+            "VOLATILE"
+        )
     );
     // Our endpoints' hash: announced in USER_DATA on Cyclone, absent (INVALID) on rustdds.
     let ours_hash = ours_hash_text(&ctx, &hash);
     let ours = format!(
-        "Node name: horus_node\nNode namespace: /\nTopic type: builtin_interfaces/msg/Time\n\
+        "Node name: horus_node\nNode namespace: /\nTopic type: std_msgs/msg/String\n\
          Topic type hash: {ours_hash}\nEndpoint type: PUBLISHER\nGID: {}\n{}",
         publisher.gid(),
         topic_qos(
@@ -712,25 +738,31 @@ fn topic_verbs() {
     ];
     publishers.sort();
     let verbose = format!(
-        "Type: builtin_interfaces/msg/Time\n\nPublisher count: 2\n\n{}\n{}\nSubscription count: 1\n\n\
-         Node name: horus_node\nNode namespace: /\nTopic type: builtin_interfaces/msg/Time\n\
+        "Type: std_msgs/msg/String\n\nPublisher count: 2\n\n{}\n{}\nSubscription count: 1\n\n\
+         Node name: horus_node\nNode namespace: /\nTopic type: std_msgs/msg/String\n\
          Topic type hash: {ours_hash}\nEndpoint type: SUBSCRIPTION\nGID: {}\n{}\n",
         publishers[0].1,
         publishers[1].1,
         subscription.gid(),
-        topic_qos("BEST_EFFORT", &seen_history(&ctx, OUR_TOPIC_DEPTH, false), "VOLATILE"),
+        topic_qos(
+            "BEST_EFFORT",
+            &seen_history(&ctx, OUR_TOPIC_DEPTH, false),
+            "VOLATILE"
+        ),
     );
     expect(D, &["topic", "info", "/peer_ns/chatter", "-v"], &verbose);
 
     let list = expect_json(D, &["--json", "topic", "list"], |doc| {
-        doc.as_array().is_some_and(|a| a.len() == 2)
+        doc.as_array().is_some_and(|a| a.len() == 3)
     });
     assert_eq!(
         list,
         json!([
-            {"name": "/peer_ns/chatter", "types": ["builtin_interfaces/msg/Time"],
+            {"name": "/parameter_events", "types": ["rcl_interfaces/msg/ParameterEvent"],
+             "publisher_count": 1, "subscription_count": 0},
+            {"name": "/peer_ns/chatter", "types": ["std_msgs/msg/String"],
              "publisher_count": 2, "subscription_count": 1},
-            {"name": "/peer_ns/echo", "types": ["builtin_interfaces/msg/Time"],
+            {"name": "/peer_ns/echo", "types": ["std_msgs/msg/String"],
              "publisher_count": 0, "subscription_count": 1},
         ])
     );
@@ -740,7 +772,7 @@ fn topic_verbs() {
             &["--json", "topic", "list", "-c", "--include-hidden-topics"],
             |_| true
         ),
-        json!({"count": 3})
+        json!({"count": 4})
     );
     let info = expect_json(D, &["--json", "topic", "info", "/peer_ns/chatter"], |doc| {
         doc["publishers"].as_array().is_some_and(|a| a.len() == 2)
@@ -749,7 +781,7 @@ fn topic_verbs() {
                 .is_some_and(|a| a.len() == 1)
     });
     assert_eq!(info["name"], "/peer_ns/chatter");
-    assert_eq!(info["types"], json!(["builtin_interfaces/msg/Time"]));
+    assert_eq!(info["types"], json!(["std_msgs/msg/String"]));
     assert_eq!(
         (
             info["publisher_count"].as_u64(),
@@ -768,7 +800,7 @@ fn topic_verbs() {
         json!({
             "node_name": "cyclone_node",
             "node_namespace": "/peer_ns",
-            "type": "builtin_interfaces/msg/Time",
+            "type": "std_msgs/msg/String",
             "type_hash": hash,
             "endpoint_type": "PUBLISHER",
             "gid": theirs_gid,

@@ -1,45 +1,64 @@
-//! Output tests of `service call` against independent Cyclone DDS servers (Python,
-//! `interop-tests/peers/`): a type compiled into horus-ros-msgs
-//! (`cyclone_add_two_ints_server.py`), and one known only through the serving node's
-//! `~/get_type_description` (`cyclone_typed_server.py`, whose descriptions and RIHS01 hashes are
-//! built in Python, independently of ours: the CLI checks that the description it gets hashes to
-//! the hash it asked for). Whole stdout is compared with ros2cli's.
+//! Output tests of `service call` and `service bench` against real rmw_cyclonedds_cpp servers
+//! (rclpy 7.1.6 on rmw_cyclonedds_cpp 2.2.2, whatever the run's peers use:
+//! `interop-tests/peers/jazzy_node.py`): one of a type compiled into horus-ros-msgs
+//! (example_interfaces/srv/AddTwoInts), and one of a type known only through the serving node's
+//! `~/get_type_description` (test_msgs/srv/BasicTypes, which horus-ros does not compile in and
+//! whose files are not on the tests' `AMENT_PREFIX_PATH`: the CLI checks that the description it
+//! gets hashes to the hash it asked for). Whole stdout is compared with ros2cli's.
 //!
 //! Each test has its own DDS domain (121-129). Run inside the private network namespace:
 //! `scripts/isolated cargo test -p horus-ros-cli --test service_call`.
 
 mod common;
 
-use std::process::{Command, Stdio};
+use common::{expect, expect_failure, horus, PEER_START};
+use horus_ros_test_support::jazzy::Rmw;
+use interop_tests::peers::RclpyPeer;
+use serde_json::json;
 
-use common::{
-    cyclone_config, expect, expect_failure, horus, peer_script, python, Streaming, LINGER,
-    PEER_START,
-};
-
-/// A peer server that logs a line per request: unlike `common::Peer`, its first line is not
-/// JSON; its stdout is read until it exits (a closed pipe would kill it at its second line).
-struct Peer {
-    /// Held for its lifetime: the server runs until dropped.
-    _process: Streaming,
+/// A real rmw_cyclonedds_cpp node `name` serving `service` of type `type_name` (with service
+/// introspection when `introspection`: its `_service_event` publisher puts the type's event
+/// hash on the graph); it leaves when dropped.
+fn rclpy_server(
+    domain: u32,
+    name: &str,
+    service: &str,
+    type_name: &str,
+    introspection: bool,
+) -> RclpyPeer {
+    let mut peer = RclpyPeer::start_on(
+        Rmw::CycloneDds,
+        &json!({
+            "domain": domain, "namespace": "/", "name": name,
+            "servers": [{"service": service, "type": type_name,
+                         "introspection": introspection}],
+        }),
+    )
+    .expect("start the rclpy peer");
+    peer.ready(PEER_START).expect("the rclpy server is up");
+    peer
 }
 
-impl Peer {
-    /// Starts `script` with `args` and waits for its first line.
-    fn start(script: &str, args: &[&str]) -> Self {
-        let process = Streaming::spawn(
-            Command::new(python())
-                .arg(peer_script(script))
-                .args(args)
-                .env("CYCLONEDDS_URI", cyclone_config())
-                .stderr(Stdio::inherit()),
-        )
-        .unwrap_or_else(|e| panic!("start {script}: {e}"));
-        if process.next_line(PEER_START).is_none() {
-            panic!("{script} printed nothing within {PEER_START:?}");
-        }
-        Self { _process: process }
-    }
+/// The AddTwoInts server on `/add_two_ints`.
+fn adder(domain: u32) -> RclpyPeer {
+    rclpy_server(
+        domain,
+        "add_two_ints_server",
+        "/add_two_ints",
+        "example_interfaces/srv/AddTwoInts",
+        false,
+    )
+}
+
+/// The test_msgs/srv/BasicTypes server on `/describe`, node `typed_server`.
+fn typed_server(domain: u32, introspection: bool) -> RclpyPeer {
+    rclpy_server(
+        domain,
+        "typed_server",
+        "/describe",
+        "test_msgs/srv/BasicTypes",
+        introspection,
+    )
 }
 
 const ADD_REQUEST: &str = "requester: making request: \
@@ -47,11 +66,8 @@ const ADD_REQUEST: &str = "requester: making request: \
 const ADD_RESPONSE: &str = "response:\nexample_interfaces.srv.AddTwoInts_Response(sum=5)\n\n";
 
 #[test]
-fn compiled_type_against_a_cyclone_server() {
-    let _peer = Peer::start(
-        "cyclone_add_two_ints_server.py",
-        &["121", "/add_two_ints", LINGER],
-    );
+fn compiled_type_against_an_rmw_cyclonedds_server() {
+    let _peer = adder(121);
     let args = [
         "service",
         "call",
@@ -81,59 +97,76 @@ fn compiled_type_against_a_cyclone_server() {
     );
 }
 
-const DESCRIBE_VALUES: &str = "{label: it's, samples: [1.5, 2, -0.25], \
-                               origin: {id: 7, x: 1.0, y: 2.5}, dims: [1, 2, 300], verbose: true}";
+const BASIC_VALUES: &str = "{string_value: it's, int16_value: -7, float32_value: 0.1, \
+                            bool_value: true, uint64_value: 18446744073709551615}";
+
+/// rclpy's text of a BasicTypes request or response (`kind`) with the fields of
+/// [`BASIC_VALUES`], `float32` as written (`0.1` in a request made from YAML, its float32 value
+/// once it has been on the wire).
+fn basic_types(kind: &str, float32: &str) -> String {
+    format!(
+        "test_msgs.srv.BasicTypes_{kind}(bool_value=True, byte_value=b'\\x00', char_value=0, \
+         float32_value={float32}, float64_value=0.0, int8_value=0, uint8_value=0, \
+         int16_value=-7, uint16_value=0, int32_value=0, uint32_value=0, int64_value=0, \
+         uint64_value=18446744073709551615, string_value=\"it's\")"
+    )
+}
+
+/// rclpy's text of a BasicTypes request or response (`kind`) with every field's default.
+fn basic_defaults(kind: &str) -> String {
+    format!(
+        "test_msgs.srv.BasicTypes_{kind}(bool_value=False, byte_value=b'\\x00', char_value=0, \
+         float32_value=0.0, float64_value=0.0, int8_value=0, uint8_value=0, int16_value=0, \
+         uint16_value=0, int32_value=0, uint32_value=0, int64_value=0, uint64_value=0, \
+         string_value='')"
+    )
+}
 
 #[test]
 fn unknown_type_described_by_the_servers_node() {
-    let _peer = Peer::start("cyclone_typed_server.py", &["122", LINGER, "1"]);
+    // With service introspection the server's node has the type's event publisher, whose type
+    // hash is on the graph: the type is asked for by that hash.
+    let _peer = typed_server(122, true);
     let args = [
         "service",
         "call",
         "/describe",
-        "horus_test_msgs/srv/Describe",
-        DESCRIBE_VALUES,
+        "test_msgs/srv/BasicTypes",
+        BASIC_VALUES,
     ];
     let run = expect(
         122,
         &args,
-        "requester: making request: horus_test_msgs.srv.Describe_Request(verbose=True, \
-         samples=[1.5, 2.0, -0.25], label=\"it's\", origin=horus_test_msgs.msg.Point(id=7, \
-         x=1.0, y=2.5), dims=array([  1,   2, 300], dtype=int16))\n\n\
-         response:\nhorus_test_msgs.srv.Describe_Response(summary=\"it's: 3 samples \
-         (verbose)\", total=3.25, points=[horus_test_msgs.msg.Point(id=7, x=1.0, y=2.5), \
-         horus_test_msgs.msg.Point(id=8, x=4.25, y=2.5)], flags=array([3, 1], dtype=uint8), \
-         ratio=0.10000000149011612)\n\n",
+        &format!(
+            "requester: making request: {}\n\nresponse:\n{}\n\n",
+            basic_types("Request", "0.1"),
+            basic_types("Response", "0.10000000149011612")
+        ),
     );
     assert_eq!(run.code, Some(0));
     // Defaults for every field left out.
     expect(
         122,
-        &[
-            "service",
-            "call",
-            "/describe",
-            "horus_test_msgs/srv/Describe",
-        ],
-        "requester: making request: horus_test_msgs.srv.Describe_Request(verbose=False, \
-         samples=[], label='', origin=horus_test_msgs.msg.Point(id=0, x=0.0, y=0.0), \
-         dims=array([0, 0, 0], dtype=int16))\n\n\
-         response:\nhorus_test_msgs.srv.Describe_Response(summary=': 0 samples', total=0.0, \
-         points=[horus_test_msgs.msg.Point(id=0, x=0.0, y=0.0), \
-         horus_test_msgs.msg.Point(id=1, x=0.0, y=0.0)], flags=array([0, 0], dtype=uint8), \
-         ratio=0.10000000149011612)\n\n",
+        &["service", "call", "/describe", "test_msgs/srv/BasicTypes"],
+        &format!(
+            "requester: making request: {}\n\nresponse:\n{}\n\n",
+            basic_defaults("Request"),
+            basic_defaults("Response")
+        ),
     );
-    // Values are checked against the fetched description.
+    // Values are checked against the fetched description: an unknown field as ros2cli reports
+    // it, a value out of its type's range as rclpy's field checks do (ros2cli with
+    // `ROS_PYTHON_CHECK_FIELDS=1`; by default Jazzy's leave them off and send 300 as 44).
     expect_failure(
         122,
         &[
             "service",
             "call",
             "/describe",
-            "horus_test_msgs/srv/Describe",
-            "{labl: x}",
+            "test_msgs/srv/BasicTypes",
+            "{string_valu: x}",
         ],
-        "Failed to populate field: 'Describe_Request' object has no attribute 'labl'\n",
+        "Failed to populate field: 'BasicTypes_Request' object has no attribute 'string_valu'\n",
     );
     expect_failure(
         122,
@@ -141,41 +174,26 @@ fn unknown_type_described_by_the_servers_node() {
             "service",
             "call",
             "/describe",
-            "horus_test_msgs/srv/Describe",
-            "{dims: [1, 2]}",
+            "test_msgs/srv/BasicTypes",
+            "{int8_value: 300}",
         ],
-        "Failed to populate field: The 'dims' field must be a set or sequence with length 3 \
-         and each value of type 'int' and each integer in [-32768, 32767]\n",
-    );
-    expect_failure(
-        122,
-        &[
-            "service",
-            "call",
-            "/describe",
-            "horus_test_msgs/srv/Describe",
-            "{origin: {id: 1.5}}",
-        ],
-        "Failed to populate field: The 'id' field must be of type 'int'\n",
+        "Failed to populate field: The 'int8_value' field must be an integer in [-128, 127]\n",
     );
 }
 
 #[test]
 fn unknown_type_without_a_hash_on_the_graph_fails_in_one_line() {
-    // Without service introspection a Jazzy node shows no hash it can describe the type by.
-    let _peer = Peer::start("cyclone_typed_server.py", &["123", LINGER, "0"]);
+    // Without service introspection a Jazzy node shows no hash it can describe the type by:
+    // its endpoints carry the request's and response's hashes, and rcl's type cache holds the
+    // service type by the service's own hash, which is never on the wire.
+    let _peer = typed_server(123, false);
     expect_failure(
         123,
-        &[
-            "service",
-            "call",
-            "/describe",
-            "horus_test_msgs/srv/Describe",
-        ],
-        "Cannot call /describe: type 'horus_test_msgs/srv/Describe' is not compiled in and \
-         its server /typed_server does not describe it \
-         (horus_test_msgs/srv/Describe_Request: Type not currently in use by this node; \
-         horus_test_msgs/srv/Describe_Response: Type not currently in use by this node)\n",
+        &["service", "call", "/describe", "test_msgs/srv/BasicTypes"],
+        "Cannot call /describe: type 'test_msgs/srv/BasicTypes' is not compiled in and its \
+         server /typed_server does not describe it (test_msgs/srv/BasicTypes_Request: Type not \
+         currently in use by this node; test_msgs/srv/BasicTypes_Response: Type not currently \
+         in use by this node)\n",
     );
 }
 
@@ -277,10 +295,7 @@ fn assert_bench_report(run: &common::Run, header: &str) {
 
 #[test]
 fn bench_measures_a_server_of_a_compiled_type_and_one_described_by_its_node() {
-    let _adder = Peer::start(
-        "cyclone_add_two_ints_server.py",
-        &["126", "/add_two_ints", LINGER],
-    );
+    let _adder = adder(126);
     // The type from the graph; two clients share the calls.
     let run = horus(
         126,
@@ -330,14 +345,21 @@ fn bench_measures_a_server_of_a_compiled_type_and_one_described_by_its_node() {
         "{report}"
     );
     // A type no build of ours knows, learnt from the serving node.
-    let _typed = Peer::start("cyclone_typed_server.py", &["127", LINGER, "1"]);
+    let _typed = typed_server(127, true);
     let run = horus(
         127,
-        &["service", "bench", "/describe", "{label: x}", "-n", "10"],
+        &[
+            "service",
+            "bench",
+            "/describe",
+            "{string_value: x}",
+            "-n",
+            "10",
+        ],
     );
     assert_bench_report(
         &run,
-        "service bench /describe (horus_test_msgs/srv/Describe): 10 calls, 1 client, 10 warm-up \
+        "service bench /describe (test_msgs/srv/BasicTypes): 10 calls, 1 client, 10 warm-up \
          calls each",
     );
 }

@@ -1,5 +1,8 @@
 //! `horus-ros service echo` against our own servers and clients with introspection on, and against
-//! an independent Cyclone DDS peer (which also decodes our events with its own type declaration).
+//! real rmw_cyclonedds_cpp nodes (rclpy 7.1.6 on rmw_cyclonedds_cpp 2.2.2, whatever the run's
+//! peers use: `interop-tests/peers/jazzy_node.py`): one that decodes our events with rclpy's
+//! own `AddTwoInts.Event`, and one that publishes fixed events, which the echo prints as
+//! `ros2 service echo` does.
 //!
 //! Run inside the private network namespace (`scripts/isolated`), on each backend
 //! (`HORUS_ROS_BACKEND`).
@@ -10,12 +13,15 @@ use std::process::{Command, Stdio};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use common::{Peer, Streaming};
+use common::Streaming;
 use horus_ros_graph::Graph;
 use horus_ros_rmw::qos::Qos;
 use horus_ros_rmw::{Context, Gid};
 use horus_ros_services::prelude::*;
 use horus_ros_services::IntrospectionState;
+use horus_ros_test_support::jazzy::Rmw;
+use interop_tests::peers::RclpyPeer;
+use serde_json::{json, Value};
 
 const WAIT: Duration = Duration::from_secs(15);
 
@@ -356,24 +362,81 @@ fn off_publishes_nothing_until_turned_on() {
     assert_eq!(p.server.introspection_gid(), None);
 }
 
+/// A real rmw_cyclonedds_cpp node that reads the events of `service` (rclpy's own
+/// `AddTwoInts.Event`), printing each (`interop-tests/peers/jazzy_node.py`, "event_watches").
+fn rclpy_event_reader(domain: u32, service: &str) -> RclpyPeer {
+    let mut peer = RclpyPeer::start_on(
+        Rmw::CycloneDds,
+        &json!({
+            "domain": domain, "namespace": "/", "name": "event_reader",
+            "event_watches": [{"service": service, "type": "example_interfaces/srv/AddTwoInts"}],
+        }),
+    )
+    .expect("start the rclpy peer");
+    peer.ready(WAIT).expect("the rclpy node is up");
+    peer
+}
+
+/// A real rmw_cyclonedds_cpp node that publishes, once a reader has matched it, the four events
+/// of one call of AddTwoInts on `service` (a=2, b=3, sum=5, client GID 01.10.ab.cd.…05,
+/// sequence number 7, stamps 100.1 … 100.4 s) on its `_service_event` topic, as rclpy's
+/// introspection writes them (`interop-tests/peers/jazzy_node.py`, "event_publishers").
+fn rclpy_event_publisher(domain: u32, service: &str) -> RclpyPeer {
+    let gid = [
+        0x01, 0x10, 0xab, 0xcd, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0x05,
+    ];
+    let request = json!([{"a": 2, "b": 3}]);
+    let response = json!([{"sum": 5}]);
+    let events: Vec<Value> = (0..4u32)
+        .map(|kind| {
+            json!({
+                "event_type": kind, "stamp": [100, 100_000_000 * (kind + 1)],
+                "client_gid": gid, "sequence_number": 7,
+                "request": if kind < 2 { request.clone() } else { json!([]) },
+                "response": if kind < 2 { json!([]) } else { response.clone() },
+            })
+        })
+        .collect();
+    let mut peer = RclpyPeer::start_on(
+        Rmw::CycloneDds,
+        &json!({
+            "domain": domain, "namespace": "/", "name": "event_publisher",
+            "event_publishers": [{"service": service,
+                                  "type": "example_interfaces/srv/AddTwoInts",
+                                  "events": events}],
+        }),
+    )
+    .expect("start the rclpy peer");
+    peer.ready(WAIT).expect("the rclpy node is up");
+    peer
+}
+
 #[test]
-fn an_independent_cyclone_peer_decodes_our_events() {
+fn an_rmw_cyclonedds_node_decodes_our_events() {
     let service = "/add_two_ints_p";
     let domain = 84;
-    let listener = Peer::start(
-        "cyclone_service_events.py",
-        &["listen", "84", service, "8", "90"],
-    );
-    let mut listener = listener;
+    let mut reader = rclpy_event_reader(domain, service);
     let mut p = pair(domain, service, IntrospectionState::Contents);
     p.wait_for_echo(service);
-    // …and the peer has matched both writers too.
-    assert_eq!(listener_lines(&mut listener, 1), [r#"{"matched": 2}"#]);
-    // A Cyclone reader learns where a reliable writer's data starts from that writer's first
-    // HEARTBEAT (cyclonedds: a proxy writer without `have_seen_heartbeat` leaves a volatile
-    // reader out of sync), and a rustdds writer may write before its first heartbeat reaches
-    // the reader: that first event can then be lost (seen once in about a dozen runs). A first
-    // call brings both writers' heartbeats; the second call's events are checked.
+    // …and the rclpy reader has matched both writers too.
+    let topic = format!("{service}/_service_event");
+    reader
+        .wait_for(
+            WAIT,
+            "both event writers matched by the rclpy reader",
+            |lines| {
+                lines
+                    .iter()
+                    .filter_map(|l| l.get("matched"))
+                    .any(|m| m["topic"] == topic.as_str() && m["count"].as_u64() >= Some(2))
+                    .then_some(())
+            },
+        )
+        .unwrap_or_else(|e| panic!("{e}"));
+    // A first call brings both writers' heartbeats (a Cyclone reader learns where a reliable
+    // writer's data starts from its first HEARTBEAT, and a rustdds writer may write before its
+    // first heartbeat reaches the reader: that first event can then be lost); the second
+    // call's events are checked.
     assert_eq!(
         p.client
             .call(AddTwoIntsRequest { a: 1, b: 1 }, WAIT)
@@ -382,7 +445,7 @@ fn an_independent_cyclone_peer_decodes_our_events() {
     );
     let reply = p.client.call(AddTwoIntsRequest { a: 40, b: 2 }, WAIT);
     assert_eq!(reply.map(|r| r.sum), Ok(42));
-    let mut got = second_call_events(&mut listener);
+    let mut got = second_call_events(&mut reader);
     got.sort_by_key(|v| v["event_type"].as_u64());
     let client_gid = p.client.introspection_client_gid().to_string();
     let server_gid = p.server_side_gid().to_string();
@@ -404,43 +467,42 @@ fn an_independent_cyclone_peer_decodes_our_events() {
     }
     for v in &got {
         assert_eq!(v["sequence_number"], got[0]["sequence_number"]);
-        assert!(v["sec"].as_i64().is_some_and(|s| s > 1_600_000_000));
+        assert!(
+            v["stamp"][0].as_i64().is_some_and(|s| s > 1_600_000_000),
+            "{v}"
+        );
     }
-    assert_eq!(got[0]["request"], serde_json::json!([[40, 2]]));
-    assert_eq!(got[1]["request"], serde_json::json!([[40, 2]]));
-    assert_eq!(got[2]["response"], serde_json::json!([42]));
-    assert_eq!(got[3]["response"], serde_json::json!([42]));
-    assert_eq!(got[0]["response"], serde_json::json!([]));
-    assert_eq!(got[2]["request"], serde_json::json!([]));
+    let (request, response) = (json!([{"a": 40, "b": 2}]), json!([{"sum": 42}]));
+    assert_eq!(got[0]["request"], request);
+    assert_eq!(got[1]["request"], request);
+    assert_eq!(got[2]["response"], response);
+    assert_eq!(got[3]["response"], response);
+    assert_eq!(got[0]["response"], json!([]));
+    assert_eq!(got[2]["request"], json!([]));
+    assert_eq!(reader.finish(WAIT), Ok(Some(0)), "{}", reader.output());
 }
 
-/// `n` more JSON lines from a peer.
-fn listener_lines(peer: &mut Peer, n: usize) -> Vec<String> {
-    peer.lines(n, WAIT)
-}
-
-/// The four events of the call of 40 + 2, read from the peer's lines as they come (each within
-/// [`WAIT`]); events of other calls are skipped.
-fn second_call_events(peer: &mut Peer) -> Vec<serde_json::Value> {
-    let mut by_sequence: std::collections::BTreeMap<u64, Vec<serde_json::Value>> =
-        Default::default();
-    loop {
-        let line = listener_lines(peer, 1).remove(0);
-        let v: serde_json::Value = serde_json::from_str(&line).expect("json line");
-        let sequence = v["sequence_number"].as_u64().expect("sequence number");
-        let events = by_sequence.entry(sequence).or_default();
-        events.push(v);
-        let ours = |e: &serde_json::Value| {
-            e["request"] == serde_json::json!([[40, 2]]) || e["response"] == serde_json::json!([42])
+/// The four events of the call of 40 + 2 the rclpy reader printed, waited for at most [`WAIT`];
+/// events of other calls are left out.
+fn second_call_events(peer: &mut RclpyPeer) -> Vec<Value> {
+    peer.wait_for(WAIT, "the four events of the call of 40 + 2", |lines| {
+        let events: Vec<&Value> = lines.iter().filter_map(|l| l.get("event")).collect();
+        let ours = |e: &&Value| {
+            e["request"] == json!([{"a": 40, "b": 2}]) || e["response"] == json!([{"sum": 42}])
         };
-        if events.len() == 4 && events.iter().any(ours) {
-            return events.clone();
-        }
-    }
+        let sequence = events.iter().copied().find(ours)?["sequence_number"].clone();
+        let call: Vec<Value> = events
+            .into_iter()
+            .filter(|e| e["sequence_number"] == sequence)
+            .cloned()
+            .collect();
+        (call.len() == 4).then_some(call)
+    })
+    .unwrap_or_else(|e| panic!("{e}"))
 }
 
 #[test]
-fn events_of_an_rclpy_like_cyclone_peer_print_as_ros2_service_echo_does() {
+fn events_of_an_rclpy_publisher_print_as_ros2_service_echo_does() {
     let service = "/add_two_ints_r";
     let domain = 85;
     let mut echo = Echo::start(
@@ -448,10 +510,7 @@ fn events_of_an_rclpy_like_cyclone_peer_print_as_ros2_service_echo_does() {
         &[service, "example_interfaces/srv/AddTwoInts", "--count", "4"],
     );
     assert_eq!(echo.line(), no_publishers(service));
-    let _publisher = Peer::start(
-        "cyclone_service_events.py",
-        &["publish", "85", service, "20"],
-    );
+    let _publisher = rclpy_event_publisher(domain, service);
     let out = echo.rest();
     let gid =
         "  client_gid:\n  - 1\n  - 16\n  - 171\n  - 205\n  - 0\n  - 0\n  - 0\n  - 0\n  - 0\n  \
@@ -510,10 +569,7 @@ fn flow_style_csv_and_json() {
         a.extend(args.iter().copied());
         let mut echo = Echo::start(domain, &a);
         assert_eq!(echo.line(), no_publishers(service));
-        let _publisher = Peer::start(
-            "cyclone_service_events.py",
-            &["publish", &domain.to_string(), service, "20"],
-        );
+        let _publisher = rclpy_event_publisher(domain, service);
         assert_eq!(echo.rest(), want, "{args:?}");
     }
     let echo = Echo::start(
@@ -527,10 +583,7 @@ fn flow_style_csv_and_json() {
         ],
     );
     assert_eq!(echo.line(), no_publishers(service));
-    let _publisher = Peer::start(
-        "cyclone_service_events.py",
-        &["publish", "87", service, "20"],
-    );
+    let _publisher = rclpy_event_publisher(87, service);
     let line: serde_json::Value = serde_json::from_str(&echo.line()).expect("json");
     assert_eq!(
         line,

@@ -1,7 +1,7 @@
-//! `topic echo` and `topic pub` against an independent DDS implementation: a Cyclone DDS
-//! (Python) peer on `/chatter` as demo_nodes uses it (`interop-tests/peers/cyclone_chatter.py`:
-//! `rt/chatter`, `std_msgs::msg::dds_::String_`, rclcpp's default QoS and rmw_cyclonedds'
-//! `typehash=` USER_DATA), on whichever backend HORUS_ROS_BACKEND names. Each test has its own
+//! `topic echo` and `topic pub` against a real rmw_cyclonedds_cpp node (rclpy 7.1.6 on
+//! rmw_cyclonedds_cpp 2.2.2, whatever the run's peers use: `interop-tests/peers/jazzy_node.py`)
+//! on `/chatter` as demo_nodes uses it (`std_msgs/msg/String`, rclpy's default QoS: KEEP_LAST
+//! 10, RELIABLE, VOLATILE), on whichever backend HORUS_ROS_BACKEND names. Each test has its own
 //! domain (231, 232). Run inside the private network namespace.
 
 mod common;
@@ -9,19 +9,26 @@ mod common;
 use std::time::Duration;
 
 use common::horus;
-use interop_tests::Peer;
+use horus_ros_test_support::jazzy::Rmw;
+use interop_tests::peers::RclpyPeer;
+use serde_json::json;
 
 /// How long a peer may take to finish what it was asked.
 const LIMIT: Duration = Duration::from_secs(40);
 
 #[test]
-fn topic_echo_prints_what_a_cyclone_dds_talker_publishes() {
+fn topic_echo_prints_what_an_rmw_cyclonedds_talker_publishes() {
     let domain = 231;
-    let _peer = Peer::start(
-        "cyclone_chatter.py",
-        &[domain.to_string(), "talk".into(), "0".into(), "30".into()],
+    let mut peer = RclpyPeer::start_on(
+        Rmw::CycloneDds,
+        &json!({
+            "domain": domain, "namespace": "/", "name": "talker",
+            "publishers": [{"topic": "/chatter", "type": "std_msgs/msg/String",
+                            "period_s": 0.05}],
+        }),
     )
-    .expect("peer");
+    .expect("start the rclpy talker");
+    peer.ready(LIMIT).expect("the rclpy talker is up");
     let run = horus(
         domain,
         &["topic", "echo", "/chatter", "std_msgs/msg/String", "--once"],
@@ -39,13 +46,17 @@ fn topic_echo_prints_what_a_cyclone_dds_talker_publishes() {
 }
 
 #[test]
-fn topic_pub_is_heard_by_a_cyclone_dds_listener() {
+fn topic_pub_is_heard_by_an_rmw_cyclonedds_listener() {
     let domain = 232;
-    let peer = Peer::start(
-        "cyclone_chatter.py",
-        &[domain.to_string(), "listen".into(), "3".into(), "30".into()],
+    let mut peer = RclpyPeer::start_on(
+        Rmw::CycloneDds,
+        &json!({
+            "domain": domain, "namespace": "/", "name": "listener",
+            "subscriptions": [{"topic": "/chatter", "type": "std_msgs/msg/String"}],
+        }),
     )
-    .expect("peer");
+    .expect("start the rclpy listener");
+    peer.ready(LIMIT).expect("the rclpy listener is up");
     let run = horus(
         domain,
         &[
@@ -76,13 +87,16 @@ fn topic_pub_is_heard_by_a_cyclone_dds_listener() {
     // `-w 1` waits until our writer has matched the reader, as ros2cli's does; the reader may
     // match our writer a moment later, and a VOLATILE reader gets only what is written after
     // that (DDS semantics; rclcpp's listener loses the same first message of `ros2 topic pub`).
-    // Five are sent, the listener exits after three.
-    let out = peer.wait(LIMIT).expect("peer output");
-    assert_eq!(out.code, Some(0), "{out:?}");
-    let heard: Vec<_> = out
-        .stdout
-        .lines()
-        .filter(|l| *l == "I heard: [from horus-ros]")
-        .collect();
-    assert_eq!(heard.len(), 3, "{out:?}");
+    // Five are sent: at least three are heard, each as sent.
+    let heard = peer
+        .wait_for(LIMIT, "3 messages heard by the rclpy listener", |lines| {
+            let heard: Vec<String> = lines
+                .iter()
+                .filter_map(|l| l.get("heard")?["data"].as_str().map(str::to_owned))
+                .collect();
+            (heard.len() >= 3).then_some(heard)
+        })
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert!(heard.iter().all(|h| h == "from horus-ros"), "{heard:?}");
+    assert_eq!(peer.finish(LIMIT), Ok(Some(0)), "{}", peer.output());
 }

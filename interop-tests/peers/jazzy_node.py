@@ -14,7 +14,17 @@ test can give it everything it needs at once (interop-tests/src/peers/peer.rs wr
    "parameters": {"gain": 1.5},
    "parameter_client": {"node": "/horus_node", "list": true, "get": ["p"], "set": {"p": 2},
                         "wait_s": 20, "timeout_s": 5},
-   "graph": true, "info_heartbeat_s": 3600, "leave_when_done": false}
+   "event_watches": [{"service": "/add", "type": "example_interfaces/srv/AddTwoInts"}],
+   "event_publishers": [{"service": "/add", "type": "example_interfaces/srv/AddTwoInts",
+                         "events": [{"event_type": 0, "stamp": [100, 100000000],
+                                     "client_gid": [1, 16, ...], "sequence_number": 7,
+                                     "request": [{"a": 2, "b": 3}], "response": []}]}],
+   "bare": false, "graph": true, "info_heartbeat_s": 3600, "leave_when_done": false}
+
+"bare" leaves out what rclpy adds to every node unless told not to: the parameter services
+(start_parameter_services=False), `~/get_type_description` (the parameter
+start_type_description_service overridden to false) and the /rosout publisher
+(enable_rosout=False); its /parameter_events publisher stays (rclpy always makes it).
 
 "info_heartbeat_s" makes the periodic heartbeat of the node's `ros_discovery_info` writer that many
 seconds apart (on rmw_cyclonedds, of every writer of the node: see cyclone_heartbeat_config).
@@ -26,8 +36,14 @@ line:
   nodes with enclaves, topic and service names and types, and for every DDS topic its publishers
   and subscriptions as rclpy's TopicEndpointInfo prints them (`ros2 topic info -v`);
 - {"served": {"service", "request"}} per request a server took; {"event": {"service",
-  "event_type", "client_gid", "sequence_number"}} per introspection event of its own servers and
-  clients (their `_service_event` topics, read by a subscription of this node);
+  "event_type", "stamp": [sec, nanosec], "client_gid", "sequence_number", "request",
+  "response"}} per introspection event of its own servers and clients and of the services of
+  "event_watches" (their `_service_event` topics, read by a subscription of this node, with
+  rmw_qos_profile_services_default as `ros2 service echo` reads them); {"matched": {"topic",
+  "count"}} each time the number of writers matched to an "event_watches" subscription changes;
+- {"published_events": {"service", "count"}} once an "event_publishers" publisher (of the
+  service's Event type on its `_service_event` topic: RELIABLE, VOLATILE, KEEP_LAST 10) has a
+  matched reader and has published its events, given as fields (client_gid as 16 numbers);
 - {"reply": {"service", "index", "response"}} per call answered, {"no_reply": {...}} per call not
   answered within timeout_s, {"calls_done": {"service", "available", "answered", "calls"}};
 - {"echoed": {"type", "equal"}} per message an echo took on its "in" topic (RELIABLE,
@@ -63,6 +79,7 @@ import rclpy
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 from rclpy.parameter_client import AsyncParameterClient
+from rclpy.event_handler import SubscriptionEventCallbacks
 from rclpy.qos import (DurabilityPolicy, qos_profile_services_default, QoSProfile,
                        ReliabilityPolicy)
 from rclpy.service_introspection import ServiceIntrospectionState
@@ -107,7 +124,7 @@ def fill(message, fields):
 
 def answer(service_type, request, response):
     """What the servers answer: SetBool says what it was set to, Trigger triggers, every other
-    type echoes the request's fields that the response has (test_msgs' BasicTypes, Arrays, …)."""
+    type echoes the request's fields that the response has (AddTwoInts adds) (test_msgs' BasicTypes, Arrays, …)."""
     name = service_type.__name__
     if name == 'SetBool':
         response.success = request.data
@@ -115,6 +132,8 @@ def answer(service_type, request, response):
     elif name == 'Trigger':
         response.success = True
         response.message = 'triggered'
+    elif name == 'AddTwoInts':
+        response.sum = request.a + request.b
     else:
         for field in response.get_fields_and_field_types():
             if hasattr(request, field):
@@ -175,7 +194,12 @@ def cyclone_heartbeat_config(seconds):
 class Peer:
     def __init__(self, spec):
         self.spec = spec
-        self.node = Node(spec['name'], namespace=spec.get('namespace', '/'))
+        bare = spec.get('bare', False)
+        self.node = Node(
+            spec['name'], namespace=spec.get('namespace', '/'), enable_rosout=not bare,
+            start_parameter_services=not bare,
+            parameter_overrides=(
+                [Parameter('start_type_description_service', value=False)] if bare else []))
         self.leaving = threading.Event()
         self.last_view = None
         self.ok = True
@@ -188,6 +212,10 @@ class Peer:
             self.add_subscription(s)
         for e in spec.get('echoes', []):
             self.add_echo(e)
+        for w in spec.get('event_watches', []):
+            self.watch_events(w['service'], ros_type(w['type']), matched=True)
+        self.event_publishers = [self.add_event_publisher(p)
+                                 for p in spec.get('event_publishers', [])]
         for name, value in spec.get('parameters', {}).items():
             self.node.declare_parameter(name, value)
         self.parameter_client = spec.get('parameter_client')
@@ -195,17 +223,53 @@ class Peer:
             self.parameter_client['client'] = AsyncParameterClient(
                 self.node, self.parameter_client['node'])
 
-    def watch_events(self, service, service_type):
-        """Reads the introspection events of `service` (ours, of servers and clients)."""
+    def watch_events(self, service, service_type, matched=False):
+        """Reads the introspection events of `service` (of its servers and clients, ours or
+        others'); with `matched`, reports the writers matched to the reader."""
         def on_event(event):
             emit('event', {
                 'service': service,
                 'event_type': event.info.event_type,
+                'stamp': [event.info.stamp.sec, event.info.stamp.nanosec],
                 'client_gid': gid_text(event.info.client_gid),
                 'sequence_number': event.info.sequence_number,
+                'request': to_plain(event.request),
+                'response': to_plain(event.response),
             })
+        topic = service + '/_service_event'
+        callbacks = None
+        if matched:
+            callbacks = SubscriptionEventCallbacks(matched=lambda info: emit(
+                'matched', {'topic': topic, 'count': info.current_count}))
+        qos = qos_profile_services_default if matched else 100
         self.keep.append(self.node.create_subscription(
-            service_type.Event, service + '/_service_event', on_event, 100))
+            service_type.Event, topic, on_event, qos, event_callbacks=callbacks))
+
+    def add_event_publisher(self, p):
+        """A publisher of `p`'s events on the service's `_service_event` topic."""
+        service_type = ros_type(p['type'])
+        qos = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE,
+                         durability=DurabilityPolicy.VOLATILE)
+        publisher = self.node.create_publisher(
+            service_type.Event, p['service'] + '/_service_event', qos)
+        return {'spec': p, 'type': service_type, 'publisher': publisher, 'done': False}
+
+    def step_event_publisher(self, e):
+        """Publishes the events of `e` once a reader has matched its publisher."""
+        if e['done'] or e['publisher'].get_subscription_count() == 0:
+            return
+        for fields in e['spec']['events']:
+            event = e['type'].Event()
+            event.info.event_type = fields['event_type']
+            event.info.stamp.sec, event.info.stamp.nanosec = fields['stamp']
+            event.info.client_gid = fields['client_gid']
+            event.info.sequence_number = fields['sequence_number']
+            event.request = [fill(e['type'].Request(), r) for r in fields['request']]
+            event.response = [fill(e['type'].Response(), r) for r in fields['response']]
+            e['publisher'].publish(event)
+        e['done'] = True
+        emit('published_events', {'service': e['spec']['service'],
+                                  'count': len(e['spec']['events'])})
 
     def add_server(self, s):
         service_type = ros_type(s['type'])
@@ -379,6 +443,8 @@ class Peer:
                     emit('graph', view)
             for c in self.clients:
                 self.step_client(c)
+            for e in self.event_publishers:
+                self.step_event_publisher(e)
             self.step_parameter_client()
             if self.spec.get('leave_when_done') and self.done():
                 break

@@ -1,7 +1,8 @@
 //! Helpers for tests against independent DDS implementations.
 //!
-//! The peers are Python programs (`peers/`): small DDS participants on the Eclipse Cyclone DDS
-//! Python binding, and real ROS 2 Jazzy nodes on rclpy ([`peers`]), run with the interpreter
+//! The peers are Python programs (`peers/`): real ROS 2 Jazzy nodes on rclpy ([`peers`]), and,
+//! for what no real node does (a hostile peer, a raw view of DDS discovery data), small DDS
+//! participants on the Eclipse Cyclone DDS Python binding ([`Peer`]), run with the interpreter
 //! named by `HORUS_ROS_INTEROP_PYTHON` (set by `scripts/test` to the private virtual environment
 //! that `scripts/setup` creates; else that environment if it exists, else `python3`).
 

@@ -7,6 +7,7 @@ use std::sync::mpsc::{Receiver, RecvTimeoutError, Sender};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
+use horus_ros_test_support::jazzy::Rmw;
 use serde_json::Value;
 
 /// How long a peer asked to leave (standard input closed) may take to exit before it is killed.
@@ -49,9 +50,23 @@ impl std::fmt::Debug for RclpyPeer {
 
 impl RclpyPeer {
     /// Starts a node as `spec` describes (`domain`, `namespace`, `name`, and what it has), with
-    /// the interpreter of [`crate::python`].
+    /// the interpreter of [`crate::python`], on this run's RMW ([`Rmw::of_peers`]).
     pub fn start(spec: &Value) -> Result<Self, String> {
-        let mut child = Command::new(crate::python())
+        Self::spawn(spec, None)
+    }
+
+    /// Starts a node as [`start`](Self::start) does, on `rmw` whatever the run's peers use (for
+    /// tests of one RMW's conventions).
+    pub fn start_on(rmw: Rmw, spec: &Value) -> Result<Self, String> {
+        Self::spawn(spec, Some(rmw))
+    }
+
+    fn spawn(spec: &Value, rmw: Option<Rmw>) -> Result<Self, String> {
+        let mut command = Command::new(crate::python());
+        if let Some(rmw) = rmw {
+            command.env("RMW_IMPLEMENTATION", rmw.name());
+        }
+        let mut child = command
             .arg(crate::peer_script("jazzy_node.py"))
             .arg(spec.to_string())
             .stdin(Stdio::piped())

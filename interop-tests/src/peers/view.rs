@@ -362,3 +362,39 @@ pub fn wait_for_same_view(
     });
     same.map_err(|e| format!("{e}\n--- what differs:\n{}", difference(&last.0, &last.1)))
 }
+
+/// The GID of node `name`'s one `side` (`publishers`/`subscriptions`) endpoint on `dds_topic` in
+/// `view`, as rclpy lists it.
+pub fn gid_of(view: &Value, dds_topic: &str, side: &str, name: &str) -> Option<Gid> {
+    let line = format!("Node name: {name}\n");
+    view["endpoints"][dds_topic][side]
+        .as_array()?
+        .iter()
+        .filter_map(Value::as_str)
+        .find(|t| t.starts_with(&line))
+        .and_then(gid_in)
+}
+
+impl RclpyPeer {
+    /// The GIDs of the peer node `name`'s endpoints, each given as (DDS topic, side:
+    /// `publishers`/`subscriptions`), from rclpy's own view of the graph ("graph": true in its
+    /// spec), waited for at most `limit`: the GIDs rmw gave them.
+    pub fn own_gids(
+        &mut self,
+        name: &str,
+        endpoints: &[(&str, &str)],
+        limit: Duration,
+    ) -> Result<Vec<Gid>, String> {
+        self.wait_for(
+            limit,
+            "the peer's endpoints in its own graph view",
+            |lines| {
+                let view = lines.iter().rev().find_map(|l| l.get("graph"))?;
+                endpoints
+                    .iter()
+                    .map(|(topic, side)| gid_of(view, topic, side, name))
+                    .collect()
+            },
+        )
+    }
+}
