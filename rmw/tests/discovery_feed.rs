@@ -107,3 +107,28 @@ fn own_entities_are_reported_as_snapshot_then_changes() {
         panic!("a dropped feed can be opened again, but: {e}");
     }
 }
+
+#[test]
+fn a_wake_before_a_wait_ends_that_wait_even_after_a_try_next() {
+    // As a graph stops: it wakes the feed while its reader is between a `try_next` (which finds
+    // nothing) and the unbounded wait that follows; that wait must still end.
+    let context = Context::builder()
+        .domain_id(DOMAIN + 1)
+        .build()
+        .expect("context");
+    let mut feed = context.discovery_feed().expect("feed");
+    while feed.try_next().is_some() {}
+    feed.waker().wake();
+    while feed.try_next().is_some() {}
+    let (ended, wait_ended) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        // Events may still come (matches of our own ros_discovery_info endpoints): each ends
+        // a wait too; the wake must end the first wait that has nothing to report.
+        while feed.next_timeout(None).is_some() {}
+        let _ = ended.send(());
+    });
+    assert!(
+        wait_ended.recv_timeout(Duration::from_secs(20)).is_ok(),
+        "the wake was lost: the wait has not ended"
+    );
+}

@@ -165,8 +165,12 @@ impl CycloneDiscoveryFeed {
     /// Moves everything waiting into `pending`; `triggered` says which statuses fired (all
     /// watched endpoints are checked when unknown).
     fn drain(&mut self, triggered: Option<&[usize]>) {
-        if let Err(e) = self.guard.0.take() {
-            tracing::debug!("could not reset the discovery feed's guard: {e}");
+        // The guard is reset only when a wait reported it: reset here otherwise, a wake that
+        // came just before (a graph stopping) would be lost and the next wait never end.
+        if triggered.is_some_and(|t| t.contains(&GUARD)) {
+            if let Err(e) = self.guard.0.take() {
+                tracing::debug!("could not reset the discovery feed's guard: {e}");
+            }
         }
         // Our own changes first: they were made before anything discovery reports about them.
         while let Some(event) = self.local.try_next() {
