@@ -89,13 +89,7 @@ fn topic_pub_is_heard_by_an_rmw_cyclonedds_listener() {
     // that (DDS semantics; rclcpp's listener loses the same first message of `ros2 topic pub`).
     // Five are sent: at least three are heard, each as sent.
     let heard = peer
-        .wait_for(LIMIT, "3 messages heard by the rclpy listener", |lines| {
-            let heard: Vec<String> = lines
-                .iter()
-                .filter_map(|l| l.get("heard")?["data"].as_str().map(str::to_owned))
-                .collect();
-            (heard.len() >= 3).then_some(heard)
-        })
+        .wait_for_heard(LIMIT, 3)
         .unwrap_or_else(|e| panic!("{e}"));
     assert!(heard.iter().all(|h| h == "from horus-ros"), "{heard:?}");
     assert_eq!(peer.finish(LIMIT), Ok(Some(0)), "{}", peer.output());

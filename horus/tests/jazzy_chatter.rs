@@ -23,13 +23,7 @@ fn a_horus_talker_is_heard_by_an_rclpy_listener() {
     peer.ready(LIMIT).expect("the rclpy listener is up");
     let talker = run_talker(domain);
     let heard: Vec<String> = peer
-        .wait_for(LIMIT, "3 messages heard by the rclpy listener", |lines| {
-            let heard: Vec<String> = lines
-                .iter()
-                .filter_map(|l| l.get("heard")?["data"].as_str().map(str::to_owned))
-                .collect();
-            (heard.len() >= 3).then_some(heard)
-        })
+        .wait_for_heard(LIMIT, 3)
         .unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(talker.stop(), Ok(()));
     assert_eq!(peer.finish(LIMIT), Ok(Some(0)), "{}", peer.output());

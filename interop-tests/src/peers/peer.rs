@@ -166,6 +166,22 @@ impl RclpyPeer {
         }
     }
 
+    /// Waits at most `limit` until the node's subscriptions have heard at least `count`
+    /// messages with a `data` string field; their `data`, in the order heard.
+    pub fn wait_for_heard(&mut self, limit: Duration, count: usize) -> Result<Vec<String>, String> {
+        self.wait_for(
+            limit,
+            &format!("{count} messages heard by the rclpy node"),
+            |lines| {
+                let heard: Vec<String> = lines
+                    .iter()
+                    .filter_map(|l| l.get("heard")?["data"].as_str().map(str::to_owned))
+                    .collect();
+                (heard.len() >= count).then_some(heard)
+            },
+        )
+    }
+
     /// Receives one line or wake-up within `limit`; false if none came.
     fn take_line(&mut self, limit: Duration) -> bool {
         match self.lines.recv_timeout(limit) {
