@@ -479,7 +479,12 @@ impl Drop for Graph {
         self.shared.stop.store(true, Ordering::SeqCst);
         self.feed_waker.wake();
         if let Some(worker) = self.worker.take() {
-            let _ = worker.join();
+            // The last handle can go on the graph's own thread, when a watcher it lets go held
+            // the graph (a server's, through its peers): that thread then ends by itself, as it
+            // sees `stop` once the watcher returns. Joining itself would fail (EDEADLK).
+            if worker.thread().id() != std::thread::current().id() {
+                let _ = worker.join();
+            }
         }
         self.shared.subscribers.close_all();
     }

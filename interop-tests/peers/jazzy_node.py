@@ -33,8 +33,10 @@ Every key but domain, namespace and name is optional. What it prints on stdout, 
 line:
 - {"ready": {"node": "/ns/node"}} once every entity is created;
 - {"graph": {...}} at start and whenever rclpy's own view of the graph changed ("graph": true):
-  nodes with enclaves, topic and service names and types, and for every DDS topic its publishers
-  and subscriptions as rclpy's TopicEndpointInfo prints them (`ros2 topic info -v`);
+  nodes with enclaves, topic and service names and types, for every topic rclpy lists (with
+  no_demangle: the DDS topics on rmw_fastrtps and rmw_cyclonedds; rmw_zenoh ignores it and lists
+  ROS names) its publishers and subscriptions as rclpy's TopicEndpointInfo prints them (`ros2
+  topic info -v`), and each node's services and clients ("node_services");
 - {"served": {"service", "request"}} per request a server took; {"event": {"service",
   "event_type", "stamp": [sec, nanosec], "client_gid", "sequence_number", "request",
   "response"}} per introspection event of its own servers and clients and of the services of
@@ -158,7 +160,25 @@ def graph_view(node):
         'topics': {name: sorted(types) for name, types in node.get_topic_names_and_types()},
         'services': {name: sorted(types) for name, types in node.get_service_names_and_types()},
         'endpoints': endpoints,
+        'node_services': node_services(node),
     }
+
+
+def node_services(node):
+    """Each node's services and clients with their types, by fully qualified node name (a node
+    gone between the listing and its query is left out)."""
+    out = {}
+    for name, ns in node.get_node_names_and_namespaces():
+        try:
+            services = node.get_service_names_and_types_by_node(name, ns)
+            clients = node.get_client_names_and_types_by_node(name, ns)
+        except Exception:  # rclpy's NodeNameNonExistentError: it left meanwhile
+            continue
+        out[ns.rstrip('/') + '/' + name] = {
+            'services': {n: sorted(t) for n, t in services},
+            'clients': {n: sorted(t) for n, t in clients},
+        }
+    return out
 
 
 def info_heartbeat_profile(seconds):

@@ -1,7 +1,8 @@
 //! The `tokio` feature against real ROS 2 Jazzy nodes: our awaited client
 //! (`AsyncServiceClient::call`) calls an rclpy server, and an rclpy client calls our async server
 //! (`AsyncServiceServer::builder`), on the run's RMW: rmw_fastrtps_cpp (rmw_fastrtps
-//! convention) or, in the `*+rmw_cyclonedds_cpp` runs, rmw_cyclonedds_cpp (its request header).
+//! convention), in the `*+rmw_cyclonedds_cpp` runs rmw_cyclonedds_cpp (its request header), or in
+//! the Zenoh run rmw_zenoh_cpp (queries with the request id in their attachment).
 //! As in `jazzy_services.rs`, on the Cyclone backend the rmw_fastrtps convention cannot be
 //! spoken: with rmw_fastrtps peers there the awaited call is refused at once with `Transport`,
 //! and the rclpy client gets no answer.

@@ -5,6 +5,12 @@
 //! USER_DATA (the wheels' own) and their QoS, its `ros_discovery_info` message listing those GIDs
 //! under its node, and the endpoints and participant leaving when it leaves. The GIDs are the
 //! ones rclpy's own graph API gives for its endpoints.
+//!
+//! DDS only (not in the Zenoh run): what it checks is DDS discovery itself — SPDP participants
+//! with a DDS vendor id, SEDP endpoints on `rq/`/`rr/` topics with USER_DATA, and
+//! `ros_discovery_info` — none of which rmw_zenoh has. On Zenoh the feed is synthesized from
+//! liveliness tokens (`rmw/src/zenoh/feed.rs`, with its unit tests), and what it yields is
+//! compared with rclpy's graph API on rmw_zenoh_cpp by `jazzy_graph.rs`.
 
 use std::collections::BTreeSet;
 use std::time::{Duration, Instant};
@@ -98,6 +104,11 @@ fn feed_reports_an_rclpy_node() {
     assert_eq!(SetBoolRequest::dds_type_name(), REQUEST_TYPE);
     assert_eq!(SetBoolResponse::dds_type_name(), RESPONSE_TYPE);
 
+    assert!(
+        Rmw::of_peers().is_dds(),
+        "DDS discovery only: the peers' RMW is {} (see the module documentation)",
+        Rmw::of_peers().name()
+    );
     let context = Context::builder()
         .domain_id(DOMAIN)
         .build()

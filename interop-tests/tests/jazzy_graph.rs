@@ -1,15 +1,20 @@
-//! The live graph against a real ROS 2 Jazzy node (rclpy 7.1.6 on rmw_fastrtps_cpp 8.4.3 /
-//! Fast DDS 2.14.5) with servers, a client, a publisher, a subscription and parameters, next to
-//! a node of ours with the same kinds of entities: what we see equals what rclpy's own graph API
-//! sees, on both backends.
+//! The live graph against a real ROS 2 Jazzy node (rclpy 7.1.6 on the run's RMW: rmw_fastrtps_cpp
+//! 8.4.3 / Fast DDS 2.14.5, rmw_cyclonedds_cpp 2.2.2, or rmw_zenoh_cpp 0.2.10 beside rmw_zenohd)
+//! with servers, a client, a publisher, a subscription and parameters, next to a node of ours with
+//! the same kinds of entities: what we see equals what rclpy's own graph API sees, on every
+//! backend.
 //!
 //! - Every query rclpy makes: the node list (with enclaves), topic and service names and types,
-//!   and for every DDS topic the publishers and subscriptions with node, namespace, type, type
-//!   hash, GID and QoS, as `ros2 topic info -v` prints them (`peers::view`).
+//!   each node's services and clients, and for every topic it lists (DDS topics on DDS, ROS names
+//!   on Zenoh) the publishers and subscriptions with node, namespace, type, type hash, GID and
+//!   QoS, as `ros2 topic info -v` prints them (`peers::view`).
 //! - Our servers and clients info by service, for rclpy's services and for ours, equals what
-//!   rclpy says of the same `rq/`/`rr/` endpoints.
-//! - Every type hash on the graph — rclpy's endpoints' from their USER_DATA, ours as our types
-//!   compute them — equals the wheels' own (`share/<pkg>/srv/<Name>.json`).
+//!   rclpy says of the same `rq/`/`rr/` endpoints on DDS; on Zenoh, where rclpy (Jazzy) has no
+//!   query by service and rmw_zenoh lists no endpoint per service topic, each one's node and type
+//!   are the ones rclpy gives for that node's services or clients.
+//! - Every type hash on the graph — rclpy's endpoints' from their USER_DATA or tokens, ours as our
+//!   types compute them — equals the wheels' own (`share/<pkg>/srv/<Name>.json`; on Zenoh a
+//!   server's or client's token carries its service type's hash).
 //! - When the rclpy node leaves, its node and services leave our graph.
 
 use std::time::Duration;
@@ -61,6 +66,26 @@ fn service_info_is_rclpys(
         (info.node_name.as_str(), info.node_namespace.as_str()),
         node
     );
+    if us.on_zenoh() {
+        // rclpy's view of the node's services or clients (see the module documentation).
+        let side = match kind {
+            ServiceEndpointType::Server => "services",
+            ServiceEndpointType::Client => "clients",
+        };
+        let (name, namespace) = node;
+        let qualified = format!("{}/{name}", namespace.trim_end_matches('/'));
+        assert_eq!(
+            view["node_services"][&qualified][side][service],
+            json!([info.service_type]),
+            "{kind} of {service}: rclpy's {side} of {qualified}:\n{view:#}"
+        );
+        assert_eq!(
+            info.service_type.replace("/srv/", "::srv::dds_::"),
+            dds_type,
+            "{kind} of {service}"
+        );
+        return;
+    }
     let (request, reply) = service_topics(service);
     // A server reads requests and writes replies; a client reads replies and writes requests.
     let (reader_topic, writer_topic) = match kind {
@@ -115,15 +140,18 @@ fn service_info_is_rclpys(
     );
 }
 
-/// Every type hash set on the graph (ours as computed, rclpy's from USER_DATA) is the wheels'
-/// one for that type; returns how many were compared.
-fn hashes_are_the_wheels(cache: &GraphCache, view: &Value) -> usize {
+/// Every type hash set on the graph (ours as computed, rclpy's from USER_DATA or its tokens) is
+/// the wheels' one for that type; returns how many were compared.
+fn hashes_are_the_wheels(cache: &GraphCache, us: &Us, view: &Value) -> usize {
     let mut compared = 0;
+    let ours = us.owned_in(cache);
+    // On Zenoh the view's topics are ROS names (see `peers::view`).
+    let no_mangle = !us.on_zenoh();
     for topic in view["endpoints"].as_object().expect("endpoints").keys() {
         let infos = cache
-            .publishers_info_by_topic(topic, true)
+            .publishers_info_by_topic(topic, no_mangle)
             .into_iter()
-            .chain(cache.subscriptions_info_by_topic(topic, true));
+            .chain(cache.subscriptions_info_by_topic(topic, no_mangle));
         for info in infos {
             if !info.topic_type_hash.is_set() {
                 continue;
@@ -136,6 +164,30 @@ fn hashes_are_the_wheels(cache: &GraphCache, view: &Value) -> usize {
                 "{topic}: {info}"
             );
             compared += 1;
+        }
+    }
+    if us.on_zenoh() {
+        // rclpy's servers and clients: an `SS`/`SC` token carries the hash of the service type
+        // (rmw_zenoh_cpp 0.2.10 `rmw_create_service`/`rmw_create_client`), which our graph gives
+        // both endpoints of the entity.
+        for (service, types) in cache.service_names_and_types(true) {
+            let infos = cache
+                .servers_info_by_service(&service, false)
+                .into_iter()
+                .chain(cache.clients_info_by_service(&service, false))
+                .flatten()
+                .filter(|i| !ours(i.endpoint_gids[0]));
+            for info in infos {
+                assert!(types.contains(&info.service_type), "{service}: {info:?}");
+                for hash in &info.endpoint_type_hashes {
+                    assert_eq!(
+                        Ok(hash.to_string()),
+                        wheels::wheel_hash(&info.service_type),
+                        "{service}: {info:?}"
+                    );
+                    compared += 1;
+                }
+            }
         }
     }
     compared
@@ -181,20 +233,41 @@ fn our_graph_is_what_rclpy_sees() {
     peer.ready(WAIT).expect("the rclpy node is up");
 
     // Complete: every endpoint each node made, as both sides see it.
+    let rclpy_services = [
+        "/rclpy_ns/set",
+        "/rclpy_ns/trigger",
+        "/rclpy_ns/rclpy_node/describe_parameters",
+        "/rclpy_ns/rclpy_node/get_parameter_types",
+        "/rclpy_ns/rclpy_node/get_parameters",
+        "/rclpy_ns/rclpy_node/get_type_description",
+        "/rclpy_ns/rclpy_node/list_parameters",
+        "/rclpy_ns/rclpy_node/set_parameters",
+        "/rclpy_ns/rclpy_node/set_parameters_atomically",
+    ];
+    // On Zenoh: by ROS names, and services by node (see `peers::view`).
+    let complete_on_zenoh = |view: &Value| {
+        let by_node = |node: &str, side: &str, service: &str| {
+            view["node_services"][node][side].get(service).is_some()
+        };
+        rclpy_services
+            .iter()
+            .all(|s| by_node("/rclpy_ns/rclpy_node", "services", s))
+            && by_node("/rclpy_ns/rclpy_node", "clients", "/horus_ns/set")
+            && by_node("/horus_ns/horus_node", "services", "/horus_ns/set")
+            && by_node("/horus_ns/horus_node", "clients", "/rclpy_ns/trigger")
+            && ["horus_node", "rclpy_node"].iter().all(|n| {
+                lists(view, "/chatter", "publishers", n)
+                    && lists(view, "/chatter", "subscriptions", n)
+            })
+            && lists(view, "/rosout", "publishers", "rclpy_node")
+            && lists(view, "/parameter_events", "publishers", "rclpy_node")
+    };
     let complete = |view: &Value| {
+        if us.on_zenoh() {
+            return complete_on_zenoh(view);
+        }
         let (request, reply) = service_topics("/horus_ns/set");
-        let services = [
-            "/rclpy_ns/set",
-            "/rclpy_ns/trigger",
-            "/rclpy_ns/rclpy_node/describe_parameters",
-            "/rclpy_ns/rclpy_node/get_parameter_types",
-            "/rclpy_ns/rclpy_node/get_parameters",
-            "/rclpy_ns/rclpy_node/get_type_description",
-            "/rclpy_ns/rclpy_node/list_parameters",
-            "/rclpy_ns/rclpy_node/set_parameters",
-            "/rclpy_ns/rclpy_node/set_parameters_atomically",
-        ];
-        services.iter().all(|s| {
+        rclpy_services.iter().all(|s| {
             let (request, reply) = service_topics(s);
             lists(view, &request, "subscriptions", "rclpy_node")
                 && lists(view, &reply, "publishers", "rclpy_node")
@@ -272,11 +345,16 @@ fn our_graph_is_what_rclpy_sees() {
         ] {
             service_info_is_rclpys(cache, &us, &view, service, kind, node, dds_type);
         }
-        let compared = hashes_are_the_wheels(cache, &view);
+        let compared = hashes_are_the_wheels(cache, &us, &view);
         // At least rclpy's 11 services (22 endpoints) and both sides' /chatter endpoints.
         assert!(compared >= 26, "only {compared} hashes compared");
     });
-    assert!(view["endpoints"][format!("{ROS_TOPIC_PREFIX}/chatter")].is_object());
+    let chatter = if us.on_zenoh() {
+        "/chatter".to_owned()
+    } else {
+        format!("{ROS_TOPIC_PREFIX}/chatter")
+    };
+    assert!(view["endpoints"][chatter].is_object(), "{view:#}");
 
     // It leaves: its node and services leave our graph.
     peer.leave();

@@ -14,6 +14,13 @@
 //!   setting per topic). A Cyclone DDS writer schedules a heartbeat 1 ms after matching a reader
 //!   (`ddsi_entity_match.c` `writer_add_connection`), unless it sent one within the periodic
 //!   interval (`writer_hbcontrol_must_send`).
+//!
+//! DDS only (not in the Zenoh run): `ros_discovery_info` and its writer's heartbeats are DDS's.
+//! rmw_zenoh has neither: a late joiner learns the graph by a liveliness query and the history of
+//! its liveliness subscriber (rmw_zenoh_cpp 0.2.10 `rmw_context_impl_s.cpp`), as our Zenoh feed
+//! does (`rmw/src/zenoh/feed.rs`); rclpy nodes on rmw_zenoh_cpp that were there before a
+//! horus-ros process started are found that way by every `horus-ros` command of the Zenoh run
+//! (`cli/tests/ros2cli_live.rs`, `cli/tests/zenoh.rs`).
 
 use std::time::{Duration, Instant};
 
@@ -29,6 +36,11 @@ const LIMIT: Duration = Duration::from_secs(30);
 
 #[test]
 fn a_late_joining_context_gets_an_rclpy_nodes_entities_without_its_periodic_heartbeat() {
+    assert!(
+        Rmw::of_peers().is_dds(),
+        "DDS only: the peers' RMW is {} (see the module documentation)",
+        Rmw::of_peers().name()
+    );
     let mut peer = RclpyPeer::start(&json!({
         "domain": DOMAIN, "namespace": "/late_ns", "name": "late_node",
         "servers": [{"service": "/late_ns/set", "type": "std_srvs/srv/SetBool"}],

@@ -1,7 +1,8 @@
 //! horus-ros services against real ROS 2 Jazzy nodes (rclpy 7.1.6 on the run's RMW:
 //! rmw_fastrtps_cpp 8.4.3 / Fast DDS 2.14.5, whose request ids come from the
-//! related_sample_identity, or rmw_cyclonedds_cpp 2.2.2, whose request ids ride in a header
-//! before the payload).
+//! related_sample_identity, rmw_cyclonedds_cpp 2.2.2, whose request ids ride in a header
+//! before the payload, or rmw_zenoh_cpp 0.2.10, whose request ids ride in each query's
+//! attachment: the client's GID and its own sequence number).
 //!
 //! - Our clients call an rclpy node's servers: `std_srvs/srv/SetBool` (with service
 //!   introspection on: the request id the peer's RMW computed for each of our requests, from its
@@ -15,7 +16,8 @@
 //! send and read. With rmw_fastrtps peers on the Cyclone backend (like rmw_cyclonedds itself)
 //! the tests check the refusal instead: our calls fail at once with a `Transport` error naming
 //! rmw_fastrtps and the rustdds backend, and the rclpy clients get no answer from our servers.
-//! rmw_cyclonedds peers are called and served on both backends.
+//! rmw_cyclonedds peers are called and served on both DDS backends, rmw_zenoh peers on the
+//! Zenoh backend.
 
 use std::time::{Duration, Instant};
 

@@ -61,3 +61,41 @@ fn a_reliable_reader_does_not_match_a_best_effort_writer() {
     assert!(graph.wait_for_match(lenient.gid(), lossy.gid(), 10 * SECOND));
     assert!(!graph.is_matched(strict.gid(), lossy.gid()));
 }
+
+/// A watcher that holds the graph and lets it go when told of a change, then says so.
+struct LetsGo {
+    graph: std::sync::Mutex<Option<std::sync::Arc<Graph>>>,
+    done: std::sync::Mutex<std::sync::mpsc::Sender<()>>,
+}
+
+impl horus_ros_graph::GraphWatcher for LetsGo {
+    fn graph_changed(&self, _: &horus_ros_graph::GraphView<'_>) {
+        let graph = self.graph.lock().map(|mut g| g.take()).unwrap_or_default();
+        drop(graph);
+        let _ = self.done.lock().map(|done| done.send(()));
+    }
+}
+
+/// The graph's last handle let go on the graph's own thread (by a watcher, as a server's does
+/// through its peers): the graph ends without joining its own thread (which panicked there).
+#[test]
+fn the_graphs_last_handle_can_go_on_its_own_thread() {
+    let c = context(10);
+    let graph = Graph::of(&c).expect("graph");
+    let (done, finished) = std::sync::mpsc::channel();
+    let watcher = std::sync::Arc::new(LetsGo {
+        graph: std::sync::Mutex::new(Some(graph.clone())),
+        done: std::sync::Mutex::new(done),
+    });
+    let weak: std::sync::Weak<dyn horus_ros_graph::GraphWatcher> =
+        std::sync::Arc::downgrade(&watcher) as _;
+    graph.watch(weak);
+    drop(graph);
+    // A change: the graph's thread tells the watcher, which drops the last handle there.
+    let _node = c.create_node("changes", "/").expect("node");
+    assert_eq!(
+        finished.recv_timeout(10 * SECOND),
+        Ok(()),
+        "the watcher never returned from dropping the graph"
+    );
+}

@@ -10,6 +10,10 @@
 //!   writer), the last 8 the `publication_handle` of the sample, an instance handle local to
 //!   the server's process; the sequence number is the header's (a process-wide count at the
 //!   client, as rmw_cyclonedds' `next_request_id`).
+//! - rmw_zenoh (rmw_zenoh_cpp 0.2.10 `rmw_service_data.cpp`, `ServiceData::take_request`): both
+//!   from the query's attachment: the writer GUID is the client's GID (ours: the GID of our
+//!   client's `SC` token, its request writer's), the sequence number the client's own (1, 2, …
+//!   per client, as rmw_zenoh's `ClientData` numbers its requests).
 
 use horus_ros_rmw::service::client_id;
 use horus_ros_rmw::Gid;
@@ -26,7 +30,7 @@ fn dotted(bytes: &[u8]) -> String {
 
 /// Whether `client_gid`, as `jazzy_node.py` prints it, is the request id writer GUID under which
 /// a server on `rmw` takes the requests of our client whose request writer and reply reader are
-/// `gids` (`ServiceClient::gids`). Panics for Zenoh (no DDS request ids).
+/// `gids` (`ServiceClient::gids`).
 pub fn names_our_client(rmw: Rmw, gids: (Gid, Gid), client_gid: &str) -> bool {
     let (request_writer, reply_reader) = gids;
     match rmw {
@@ -37,18 +41,18 @@ pub fn names_our_client(rmw: Rmw, gids: (Gid, Gid), client_gid: &str) -> bool {
             client_gid.len() == dotted(&[0; 16]).len()
                 && client_gid.starts_with(&format!("{header}."))
         }
-        Rmw::Zenoh => panic!("rmw_zenoh has no DDS request ids"),
+        Rmw::Zenoh => client_gid == request_writer.to_string(),
     }
 }
 
 /// Whether `numbers`, the request ids' sequence numbers of `calls` requests of one client in the
-/// order it sent them, are what a server on `rmw` takes them with: 1, 2, … on rmw_fastrtps;
-/// consecutive on rmw_cyclonedds, where our clients number the requests of the whole process
-/// (`consecutive`: no other client of the process sent a request in between; else only
+/// order it sent them, are what a server on `rmw` takes them with: 1, 2, … on rmw_fastrtps and
+/// rmw_zenoh; consecutive on rmw_cyclonedds, where our clients number the requests of the whole
+/// process (`consecutive`: no other client of the process sent a request in between; else only
 /// distinct and increasing).
 pub fn sequence_numbers_are_ours(rmw: Rmw, numbers: &[i64], consecutive: bool) -> bool {
     match rmw {
-        Rmw::FastRtps => numbers.iter().copied().eq(1..=numbers.len() as i64),
+        Rmw::FastRtps | Rmw::Zenoh => numbers.iter().copied().eq(1..=numbers.len() as i64),
         Rmw::CycloneDds => {
             numbers.first().is_some_and(|first| *first >= 1)
                 && numbers.windows(2).all(|w| {
@@ -59,6 +63,5 @@ pub fn sequence_numbers_are_ours(rmw: Rmw, numbers: &[i64], consecutive: bool) -
                     }
                 })
         }
-        Rmw::Zenoh => panic!("rmw_zenoh has no DDS request ids"),
     }
 }

@@ -18,6 +18,21 @@
 //! our backend and the peers' RMW observe alike (rustdds beside rmw_fastrtps_cpp, Zenoh beside
 //! rmw_zenoh_cpp), and left out of both views elsewhere.
 //!
+//! On Zenoh (our Zenoh backend beside rmw_zenoh_cpp peers) the graph comes from liveliness
+//! tokens, and rclpy's graph API answers from rmw_zenoh's own graph cache (rmw_zenoh_cpp 0.2.10
+//! `graph_cache.cpp`), which knows no DDS topics: `get_topic_names_and_types` and
+//! `get_*_info_by_topic` ignore `no_demangle`/`no_mangle` and answer by ROS name with demangled
+//! types, for publishers and subscriptions only (a service is one entity there, with no
+//! endpoint per topic). So the view is then keyed by ROS topic names, our endpoints are as
+//! their tokens announce them (the QoS of the token: a depth of 0 is rmw_zenoh's default, 42),
+//! and every node's enclave is compared: each token carries its context's
+//! (`@ros2_lv/<domain>/<zid>/<node>/<entity>/<kind>/<enclave>/…`).
+//!
+//! Services are compared node by node on every RMW (`node_services`: rclpy's
+//! `get_service_names_and_types_by_node` and `get_client_names_and_types_by_node` of each node,
+//! ours from the same queries of our cache), the one view of a server's or client's node that
+//! rclpy gives on Zenoh.
+//!
 //! One difference is ours, not the protocol's: rmw lists its own participant's
 //! `ros_discovery_info` writer and reader(s) under that DDS topic (they are discovered like any
 //! endpoint), while our graph lists those of other participants only (the context reports its
@@ -50,6 +65,8 @@ pub struct Us {
     announces_user_data: bool,
     /// Whether our backend and the peers' RMW report endpoints' history alike.
     histories_compared: bool,
+    /// Whether the graph is Zenoh's (tokens; see the module documentation).
+    zenoh: bool,
 }
 
 impl Us {
@@ -63,18 +80,54 @@ impl Us {
             participant: context.gid(),
             announces_user_data: context.capabilities().announces_user_data,
             histories_compared,
+            zenoh: context.backend() == Some(Backend::Zenoh),
         }
     }
 
-    /// Whether `gid` is an entity of our participant (same GUID prefix).
+    /// Whether the graph is Zenoh's, keyed by ROS names (see the module documentation).
+    pub fn on_zenoh(&self) -> bool {
+        self.zenoh
+    }
+
+    /// Whether `gid` is an entity of our participant (same GUID prefix; on DDS only: see
+    /// [`owned_in`](Self::owned_in)).
     pub fn owns(&self, gid: Gid) -> bool {
         gid.data[..12] == self.participant.data[..12]
     }
+
+    /// Which GIDs of `cache` are our endpoints': on DDS those of our GUID prefix; on Zenoh,
+    /// where an entity's GID is the hash of its token, those our participant reported.
+    pub fn owned_in(&self, cache: &GraphCache) -> impl Fn(Gid) -> bool + '_ {
+        let ours: Option<BTreeSet<Gid>> = self.zenoh.then(|| {
+            cache
+                .snapshot()
+                .endpoints
+                .into_iter()
+                .filter(|e| self.owns(e.participant_gid))
+                .map(|e| e.gid)
+                .collect()
+        });
+        move |gid| match &ours {
+            Some(ours) => ours.contains(&gid),
+            None => self.owns(gid),
+        }
+    }
 }
 
+/// rmw_zenoh's depth where a token leaves it empty (rmw_zenoh_cpp 0.2.10 `qos.cpp`
+/// `QoS::default_qos`, read back by `liveliness_utils.cpp` `keyexpr_to_qos`).
+const ZENOH_DEFAULT_DEPTH: usize = 42;
+
 /// An endpoint of ours as a Fast DDS node sees it: the QoS it announces (the DDS QoS of its
-/// profile, read back without history), and no type hash where it announces no USER_DATA.
+/// profile, read back without history), and no type hash where it announces no USER_DATA. On
+/// Zenoh, as its token announces it: its QoS profile, a depth of 0 written as the default.
 pub fn announced(us: &Us, mut info: TopicEndpointInfo) -> TopicEndpointInfo {
+    if us.zenoh {
+        if info.qos_profile.depth == 0 && info.qos_profile.history != HistoryPolicy::KeepAll {
+            info.qos_profile.depth = ZENOH_DEFAULT_DEPTH;
+        }
+        return info;
+    }
     let kind = match info.endpoint_type {
         TopicEndpointType::Publisher => EndpointKind::Writer,
         TopicEndpointType::Subscription => EndpointKind::Reader,
@@ -126,12 +179,17 @@ fn names_and_types(names: BTreeMap<String, BTreeSet<String>>) -> Value {
     )
 }
 
-/// The DDS topics of a view: those rclpy lists, and those of every name we list.
-fn dds_topics(theirs: &Value, cache: &GraphCache) -> BTreeSet<String> {
+/// The topics of a view: those rclpy lists, and those of every name we list (DDS topics, or on
+/// Zenoh the ROS names of topics).
+fn view_topics(theirs: &Value, cache: &GraphCache, us: &Us) -> BTreeSet<String> {
     let mut topics: BTreeSet<String> = theirs["endpoints"]
         .as_object()
         .map(|o| o.keys().cloned().collect())
         .unwrap_or_default();
+    if us.zenoh {
+        topics.extend(cache.topic_names_and_types(true).into_keys());
+        return topics;
+    }
     topics.insert("ros_discovery_info".to_owned());
     for name in cache.topic_names_and_types(true).into_keys() {
         topics.insert(format!("{ROS_TOPIC_PREFIX}{name}"));
@@ -144,8 +202,32 @@ fn dds_topics(theirs: &Value, cache: &GraphCache) -> BTreeSet<String> {
     topics
 }
 
+/// The fully qualified name of a node, as the peer keys `node_services`.
+fn qualified(namespace: &str, name: &str) -> String {
+    format!("{}/{name}", namespace.trim_end_matches('/'))
+}
+
+/// Every node's services and clients with their types, as rclpy's
+/// `get_service_names_and_types_by_node` / `get_client_names_and_types_by_node` give them.
+fn node_services(cache: &GraphCache) -> Value {
+    let mut out = Map::new();
+    for n in cache.node_names() {
+        let (Ok(services), Ok(clients)) = (
+            cache.service_names_and_types_by_node(&n.name, &n.namespace),
+            cache.client_names_and_types_by_node(&n.name, &n.namespace),
+        ) else {
+            continue;
+        };
+        out.insert(
+            qualified(&n.namespace, &n.name),
+            json!({"services": names_and_types(services), "clients": names_and_types(clients)}),
+        );
+    }
+    Value::Object(out)
+}
+
 /// Our view of the graph in the shape of the peer's `{"graph": …}` (see the module
-/// documentation), over the DDS topics rclpy lists and ours.
+/// documentation), over the topics rclpy lists and ours.
 pub fn our_view(cache: &GraphCache, us: &Us, theirs: &Value) -> Value {
     let their_enclave = |namespace: &str, name: &str| -> Option<Value> {
         theirs["nodes"]
@@ -158,7 +240,9 @@ pub fn our_view(cache: &GraphCache, us: &Us, theirs: &Value) -> Value {
         .node_names()
         .into_iter()
         .map(|n| {
-            let enclave = match (n.enclave, us.announces_user_data) {
+            let enclave = match (n.enclave, us.announces_user_data || us.zenoh) {
+                // On Zenoh every token names its context's enclave: none is a finding.
+                (enclave, true) if us.zenoh => json!(enclave),
                 (Some(enclave), true) => json!(enclave),
                 (None, true) => json!(""),
                 // Without participant USER_DATA only our own nodes have one (the context
@@ -170,12 +254,16 @@ pub fn our_view(cache: &GraphCache, us: &Us, theirs: &Value) -> Value {
         })
         .collect();
     let mut endpoints = Map::new();
-    for topic in dds_topics(theirs, cache) {
+    // rmw_zenoh answers by ROS name with demangled types; rmw_fastrtps and rmw_cyclonedds
+    // by DDS topic with DDS types (`no_mangle`).
+    let no_mangle = !us.zenoh;
+    let ours = us.owned_in(cache);
+    for topic in view_topics(theirs, cache, us) {
         let text = |infos: Vec<TopicEndpointInfo>| -> Vec<String> {
             let mut texts: Vec<String> = infos
                 .into_iter()
                 .map(|i| {
-                    if us.owns(i.endpoint_gid) {
+                    if ours(i.endpoint_gid) {
                         announced(us, i)
                     } else {
                         i
@@ -186,8 +274,8 @@ pub fn our_view(cache: &GraphCache, us: &Us, theirs: &Value) -> Value {
             texts.sort();
             texts
         };
-        let publishers = text(cache.publishers_info_by_topic(&topic, true));
-        let subscriptions = text(cache.subscriptions_info_by_topic(&topic, true));
+        let publishers = text(cache.publishers_info_by_topic(&topic, no_mangle));
+        let subscriptions = text(cache.subscriptions_info_by_topic(&topic, no_mangle));
         if !publishers.is_empty() || !subscriptions.is_empty() {
             endpoints.insert(
                 topic,
@@ -202,6 +290,7 @@ pub fn our_view(cache: &GraphCache, us: &Us, theirs: &Value) -> Value {
         "topics": names_and_types(cache.topic_names_and_types(true)),
         "services": names_and_types(cache.service_names_and_types(true)),
         "endpoints": endpoints,
+        "node_services": node_services(cache),
     })
 }
 
@@ -220,7 +309,13 @@ pub fn gid_in(text: &str) -> Option<Gid> {
 /// documentation).
 fn without_our_builtins(theirs: &Value, us: &Us) -> Value {
     let mut theirs = theirs.clone();
-    let topic = &mut theirs["endpoints"]["ros_discovery_info"];
+    // Only where rclpy lists it (indexing would add it: none on Zenoh).
+    let Some(topic) = theirs
+        .get_mut("endpoints")
+        .and_then(|e| e.get_mut("ros_discovery_info"))
+    else {
+        return theirs;
+    };
     for side in ["publishers", "subscriptions"] {
         if let Some(list) = topic.get_mut(side).and_then(Value::as_array_mut) {
             list.retain(|t| !t.as_str().and_then(gid_in).is_some_and(|g| us.owns(g)));
@@ -264,7 +359,7 @@ fn histories_as_compared(mut view: Value, us: &Us) -> Value {
 /// What differs between two views, key by key (for failure messages).
 pub fn difference(ours: &Value, theirs: &Value) -> String {
     let mut out = String::new();
-    for key in ["nodes", "topics", "services"] {
+    for key in ["nodes", "topics", "services", "node_services"] {
         if ours[key] != theirs[key] {
             out += &format!(
                 "{key}:\n  ours:   {}\n  rclpy's: {}\n",

@@ -125,7 +125,9 @@ pub(crate) fn endpoints_of(token: &Token, key: &str, participant: Gid) -> Vec<Di
 /// One remote session's tokens.
 struct Session {
     gid: Gid,
-    enclave: Option<String>,
+    /// Its context's enclave, which every token names (rmw_zenoh's graph cache takes a node's
+    /// from whichever of its tokens comes first: `GraphCache::make_graph_node`).
+    enclave: String,
     /// Node tokens by node id.
     nodes: BTreeMap<u64, Token>,
     /// Entity tokens by key, with the endpoints they stand for.
@@ -258,7 +260,7 @@ impl GraphState {
                 DiscoveredParticipant {
                     gid: s.gid,
                     vendor_id: VendorId::ZENOH,
-                    enclave: s.enclave.clone(),
+                    enclave: Some(s.enclave.clone()),
                 },
             ));
             for (_, endpoints) in s.entities.values() {
@@ -451,7 +453,7 @@ impl Graph {
             .entry(zid.clone())
             .or_insert_with(|| Session {
                 gid: participant_gid(&zid),
-                enclave: None,
+                enclave: token.enclave.clone(),
                 nodes: BTreeMap::new(),
                 entities: BTreeMap::new(),
             });
@@ -464,9 +466,6 @@ impl Graph {
                 .is_some_and(|t| t.key() == key)
             {
                 return;
-            }
-            if session.enclave.is_none() {
-                session.enclave = Some(token.enclave.clone());
             }
             session.nodes.insert(token.node_id, token);
         } else {
@@ -484,7 +483,7 @@ impl Graph {
             );
         }
         let info = session.entities_info();
-        let enclave = session.enclave.clone();
+        let enclave = Some(session.enclave.clone());
         state.tokens += 1;
         if new_session {
             state.send(DiscoveryEvent::ParticipantDiscovered(
@@ -767,6 +766,35 @@ mod tests {
             Some(&DiscoveryEvent::ParticipantLost { gid: participant })
         );
         assert_eq!(lock(&graph.state).tokens, 0);
+    }
+
+    #[test]
+    fn a_sessions_enclave_comes_with_whichever_token_comes_first() {
+        // Tokens come in no particular order (the subscriber's history and the liveliness
+        // query's replies): here an entity's before its node's, both in the enclave /robot.
+        let graph = Arc::new(Graph::new("1".to_owned(), 0));
+        let (_sink, local) = crate::local_sink::LocalSink::new();
+        let mut feed = graph.open_feed(local);
+        graph.token(&TALKER_MP.replace("/MP/%/%/", "/MP/%robot/%/"), true);
+        graph.token(&NODE.replace("/NN/%/%/", "/NN/%robot/%/"), true);
+        let participant = participant_gid("f60efce6758d919f6932f83718eeed34");
+        let discovered: Vec<DiscoveredParticipant> = drain(&mut feed)
+            .into_iter()
+            .filter_map(|e| match e {
+                DiscoveryEvent::ParticipantDiscovered(p) => Some(p),
+                _ => None,
+            })
+            .collect();
+        assert_eq!(discovered.len(), 1, "{discovered:?}");
+        assert_eq!(discovered[0].gid, participant);
+        assert_eq!(discovered[0].enclave.as_deref(), Some("/robot"));
+        // A feed opened later reports it too.
+        let (_sink, local) = crate::local_sink::LocalSink::new();
+        let mut late = graph.open_feed(local);
+        assert!(matches!(
+            drain(&mut late).first(),
+            Some(DiscoveryEvent::ParticipantDiscovered(p)) if p.enclave.as_deref() == Some("/robot")
+        ));
     }
 
     #[test]
