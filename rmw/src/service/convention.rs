@@ -46,20 +46,16 @@ pub enum ConventionError {
     FastDdsPeer,
 }
 
-/// How long a client's endpoints must have been matched with an rmw_cyclonedds server's (the
-/// later of the two matches) before its first request, when the client cannot announce
-/// `clientid=`: such a server then cannot tell whether its writer reached our reader
-/// (rmw_cyclonedds `check_for_response_reader` looks for the client id), and learns of our
-/// endpoints about when we learn of its; and its request reader, a Cyclone DDS reader, loses a
-/// request that comes before it has matched our writer and had its first HEARTBEAT (see the
-/// server's first-heartbeat settle). No event tells when it has: found against real
-/// rmw_cyclonedds_cpp servers, whose first request from our rustdds client went unanswered in 1
-/// run of 8 when the settle counted from the reply match alone.
+/// How long a client's reply reader must have been matched with an rmw_cyclonedds server's
+/// reply writer before its first request, when the client cannot announce `clientid=`: such a
+/// server then cannot tell whether its writer reached our reader (rmw_cyclonedds
+/// `check_for_response_reader` looks for the client id), and learns of our reader about when we
+/// learn of its writer. No event tells when it has.
 const CYCLONE_MATCH_SETTLE: std::time::Duration = std::time::Duration::from_millis(100);
 
 impl WireFlavour {
     /// How long a client of this convention, on a backend that can do `capabilities`, lets a
-    /// server's endpoints match its own before its first request
+    /// server's reply writer match its reply reader before its first request
     /// (100 ms for the rmw_cyclonedds convention without USER_DATA); `None`:
     /// no wait, the matches tell.
     pub fn reply_match_settle(self, capabilities: Capabilities) -> Option<std::time::Duration> {

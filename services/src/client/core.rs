@@ -361,15 +361,14 @@ impl<C: Codec> ClientCore<C> {
         let capabilities = self.runtime.node.context().capabilities();
         let mut settles_at: Option<Instant> = None;
         let flavour = servers.iter().find_map(|&(reader, writer)| {
-            let request_match = graph.matched_since(self.endpoints.request_writer(), reader)?;
+            graph.matched_since(self.endpoints.request_writer(), reader)?;
             let reply_match = graph.matched_since(self.endpoints.response_reader(), writer)?;
             let flavour =
                 WireFlavour::choose(capabilities, graph.vendor_of(reader), self.flavour).ok()?;
-            // The convention may want the server's endpoints given time to match ours
-            // (`WireFlavour::reply_match_settle`), counted from the later of our two matches:
-            // the waiters look again at that instant.
+            // The convention may want the server's reply writer given time to match our reader
+            // (`WireFlavour::reply_match_settle`): the waiters look again at that instant.
             if let Some(settle) = flavour.reply_match_settle(capabilities) {
-                let settled = reply_match.max(request_match) + settle;
+                let settled = reply_match + settle;
                 if Instant::now() < settled {
                     settles_at = Some(settles_at.map_or(settled, |s| s.min(settled)));
                     return None;
@@ -395,9 +394,9 @@ impl<C: Codec> ClientCore<C> {
     }
 
     /// When a server whose endpoints are matched with ours but that [`ready_server`]
-    /// (Self::ready_server) does not give yet becomes ready with no further graph change: a
-    /// server's endpoints are given its convention's
-    /// [`reply_match_settle`](WireFlavour::reply_match_settle) to match ours. `None` if no
+    /// (Self::ready_server) does not give yet becomes ready with no further graph change: an
+    /// server's reply writer is given its convention's
+    /// [`reply_match_settle`](WireFlavour::reply_match_settle) to match our reader. `None` if no
     /// server waits for that.
     #[cfg(feature = "tokio")]
     pub(crate) fn settles_at(&self) -> Option<Instant> {
@@ -406,12 +405,12 @@ impl<C: Codec> ClientCore<C> {
         self.servers()
             .into_iter()
             .filter_map(|(reader, writer)| {
-                let request_match = graph.matched_since(self.endpoints.request_writer(), reader)?;
+                graph.matched_since(self.endpoints.request_writer(), reader)?;
                 let reply_match = graph.matched_since(self.endpoints.response_reader(), writer)?;
                 let flavour =
                     WireFlavour::choose(capabilities, graph.vendor_of(reader), self.flavour)
                         .ok()?;
-                Some(reply_match.max(request_match) + flavour.reply_match_settle(capabilities)?)
+                Some(reply_match + flavour.reply_match_settle(capabilities)?)
             })
             .min()
     }
