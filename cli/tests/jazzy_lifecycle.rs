@@ -3,7 +3,7 @@
 //! transitions (a failing callback included) and the `--json` documents, and driving a horus-ros
 //! `LifecycleNode`. That every verb prints what ros2lifecycle 0.32.2 prints (stdout, stderr,
 //! exit status) in each state is checked live, `ros2 lifecycle …` beside `horus-ros lifecycle
-//! …` on one rclpy node, on each RMW, by `tests/ros2cli_live.rs` (`ros2cli_live/cases.rs`,
+//! …` on one rclpy node, on each RMW, by `tests/cli_diff.rs` (`cli_diff/cases.rs`,
 //! `lifecycles`).
 //!
 //! Each test has its own DDS domain (141-142). Run inside the private network namespace:

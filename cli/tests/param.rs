@@ -1,7 +1,7 @@
 //! Tests of `param list|get|set|describe|dump|load|delete` beyond what ros2param prints: that
 //! the output of every verb equals ros2param 0.32.2's (stdout, stderr, exit status) is checked
 //! live, `ros2 param …` beside `horus-ros param …` on one rclpy node, on each RMW, by
-//! `tests/ros2cli_live.rs` (`ros2cli_live/cases.rs`, `params`). Here: a dump loaded back gives
+//! `tests/cli_diff.rs` (`cli_diff/cases.rs`, `params`). Here: a dump loaded back gives
 //! the parameters back (against a real rclpy node, `peers/jazzy_param_node.py`), the `--json`
 //! documents, and the verbs against our own `NodeServices` node.
 //!

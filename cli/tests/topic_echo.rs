@@ -1,7 +1,7 @@
 //! `horus-ros topic echo` against real rclpy publishers (on the peers' RMW,
 //! `HORUS_ROS_PEER_RMW`): the text is compared, live, with what ros2cli 0.32.2's `ros2 topic
 //! echo` prints for the same publisher (`ros2_echo`); the options' edge cases are compared the
-//! same way on one graph by `tests/ros2cli_live.rs`.
+//! same way on one graph by `tests/cli_diff.rs`.
 //!
 //! Types: compiled in (std_msgs, sensor_msgs), from interface files on `AMENT_PREFIX_PATH`
 //! (test_msgs from the venv's `share/`), and known only from the publisher's node

@@ -20,7 +20,7 @@
 //! its liveliness subscriber (rmw_zenoh_cpp 0.2.10 `rmw_context_impl_s.cpp`), as our Zenoh feed
 //! does (`rmw/src/zenoh/feed.rs`); rclpy nodes on rmw_zenoh_cpp that were there before a
 //! horus-ros process started are found that way by every `horus-ros` command of the Zenoh run
-//! (`cli/tests/ros2cli_live.rs`, `cli/tests/zenoh.rs`).
+//! (`cli/tests/cli_diff.rs`, `cli/tests/zenoh.rs`).
 
 use std::time::{Duration, Instant};
 

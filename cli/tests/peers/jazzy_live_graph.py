@@ -1,5 +1,5 @@
 """A real ROS 2 Jazzy graph in one rclpy process, on the RMW its environment chooses
-(RMW_IMPLEMENTATION), for `cli/tests/ros2cli_live.rs`: the graph on which `horus-ros ARGS` and
+(RMW_IMPLEMENTATION), for `cli/tests/cli_diff.rs`: the graph on which `horus-ros ARGS` and
 `ros2 ARGS` are run and compared. Every value is fixed, so that what both tools print depends
 on nothing but the graph.
 

@@ -3,7 +3,7 @@
 //! errors, is run as `horus-ros ARGS` and as `ros2 ARGS` (same ARGS, same environment) on one
 //! graph of real rclpy nodes (`peers/jazzy_live_graph.py`), and their stdout, stderr and exit
 //! status must be equal — after a normalisation limited to what changes from one run to the
-//! next (timing, random ids), named per case in `ros2cli_live/cases.rs` (`Norm`). The one
+//! next (timing, random ids), named per case in `cli_diff/cases.rs` (`Norm`). The one
 //! difference kept on purpose (`Known`: ros2cli crashing with a Python traceback on bad input,
 //! where horus-ros prints one line) is checked as its reason says, and so is one of ros2cli's
 //! timing: a stream verb stopped by SIGINT whose rclpy context its SIGINT handler shut down
@@ -25,10 +25,10 @@
 //! `scripts/cli-diff` collects for the three RMWs), then every difference as a diff. Run inside
 //! the private network namespace:
 //! `HORUS_ROS_PEER_RMW=rmw_cyclonedds_cpp scripts/isolated cargo test -p horus-ros-cli --test
-//! ros2cli_live -- --nocapture`.
+//! cli_diff -- --nocapture`.
 
 mod common;
-#[path = "ros2cli_live/mod.rs"]
+#[path = "cli_diff/mod.rs"]
 mod live;
 
 use std::time::Instant;

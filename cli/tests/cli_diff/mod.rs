@@ -1,5 +1,5 @@
 //! The live comparison of `horus-ros ARGS` with ros2cli 0.32.2's `ros2 ARGS` on one graph (see
-//! `tests/ros2cli_live.rs`): the cases ([`cases`]), the graph they run against ([`graph`]), how
+//! `tests/cli_diff.rs`): the cases ([`cases`]), the graph they run against ([`graph`]), how
 //! each case is run and compared, and the table of verbs that reports it.
 
 pub mod cases;
