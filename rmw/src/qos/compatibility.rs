@@ -39,6 +39,39 @@ pub fn check_compatible(publisher: &Qos, subscription: &Qos) -> QosCompatibility
     }
 }
 
+/// The policies on which a publisher of `publisher` QoS and a reader of `reader` QoS cannot
+/// match ([`check_compatible`]'s errors, by policy), with their DDS policy ids, in Cyclone DDS's
+/// order of checking (`qos_match_mask_p`): what an incompatible-QoS event names as the last
+/// incompatible policy (Fast DDS: the highest id; Cyclone DDS: the first it checks).
+pub fn incompatible_policies(publisher: &Qos, reader: &Qos) -> Vec<(u32, &'static str)> {
+    let mut failing = Vec::new();
+    if publisher.reliability == ReliabilityPolicy::BestEffort
+        && reader.reliability == ReliabilityPolicy::Reliable
+    {
+        failing.push((11, "RELIABILITY"));
+    }
+    if publisher.durability == DurabilityPolicy::Volatile
+        && reader.durability == DurabilityPolicy::TransientLocal
+    {
+        failing.push((2, "DURABILITY"));
+    }
+    let (p, r) = (publisher.deadline, reader.deadline);
+    if !r.is_default() && (p.is_default() || r < p) {
+        failing.push((4, "DEADLINE"));
+    }
+    let (p, r) = (
+        publisher.liveliness_lease_duration,
+        reader.liveliness_lease_duration,
+    );
+    if (publisher.liveliness == LivelinessPolicy::Automatic
+        && reader.liveliness == LivelinessPolicy::ManualByTopic)
+        || (!r.is_default() && (p.is_default() || r < p))
+    {
+        failing.push((8, "LIVELINESS"));
+    }
+    failing
+}
+
 /// The `ERROR: ...;` part of the reason.
 fn errors(publisher: &Qos, subscription: &Qos) -> String {
     let mut reason = String::new();
@@ -339,5 +372,32 @@ mod tests {
             &Qos::best_available(),
             &Qos::best_available()
         )));
+    }
+
+    #[test]
+    fn incompatible_policies_are_the_errors_by_policy() {
+        let reliable = Qos {
+            reliability: ReliabilityPolicy::Reliable,
+            durability: DurabilityPolicy::TransientLocal,
+            ..Qos::default()
+        };
+        let best_effort = Qos {
+            reliability: ReliabilityPolicy::BestEffort,
+            durability: DurabilityPolicy::Volatile,
+            ..Qos::default()
+        };
+        assert_eq!(
+            incompatible_policies(&best_effort, &reliable),
+            vec![(11, "RELIABILITY"), (2, "DURABILITY")]
+        );
+        assert!(matches!(
+            check_compatible(&best_effort, &reliable),
+            QosCompatibility::Error(_)
+        ));
+        assert!(incompatible_policies(&reliable, &best_effort).is_empty());
+        assert!(!matches!(
+            check_compatible(&reliable, &best_effort),
+            QosCompatibility::Error(_)
+        ));
     }
 }

@@ -21,7 +21,7 @@ mod policy;
 mod profile;
 mod profiles;
 
-pub use compatibility::{check_compatible, QosCompatibility};
+pub use compatibility::{check_compatible, incompatible_policies, QosCompatibility};
 #[cfg(test)]
 pub(crate) use dds::{assert_dds_defaults_per_kind, unusual_profile};
 pub use dds::{

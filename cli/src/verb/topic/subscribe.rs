@@ -220,7 +220,7 @@ pub fn warn_incompatible_publishers(session: &Session, topic: &TopicName, reader
         return;
     }
     for publisher in publisher_qos(session, topic) {
-        let failing = incompatible_policies(&publisher, reader_qos);
+        let failing = horus_ros_rmw::qos::incompatible_policies(&publisher, reader_qos);
         let last = if backend == Some(Backend::Cyclone) {
             failing.first()
         } else {
@@ -247,39 +247,6 @@ pub fn rcl_log_prefix(severity: &str, session: &Session) -> String {
         now % 1_000_000_000,
         session.node.name()
     )
-}
-
-/// The policies on which a publisher of `publisher` QoS and a reader of `reader` QoS cannot
-/// match (rmw_dds_common's errors), with their DDS policy ids, in Cyclone DDS's order of
-/// checking (`qos_match_mask_p`).
-fn incompatible_policies(publisher: &Qos, reader: &Qos) -> Vec<(u32, &'static str)> {
-    use horus_ros_rmw::qos::{DurabilityPolicy, LivelinessPolicy, ReliabilityPolicy};
-    let mut failing = Vec::new();
-    if publisher.reliability == ReliabilityPolicy::BestEffort
-        && reader.reliability == ReliabilityPolicy::Reliable
-    {
-        failing.push((11, "RELIABILITY"));
-    }
-    if publisher.durability == DurabilityPolicy::Volatile
-        && reader.durability == DurabilityPolicy::TransientLocal
-    {
-        failing.push((2, "DURABILITY"));
-    }
-    let (p, r) = (publisher.deadline, reader.deadline);
-    if !r.is_default() && (p.is_default() || r < p) {
-        failing.push((4, "DEADLINE"));
-    }
-    let (p, r) = (
-        publisher.liveliness_lease_duration,
-        reader.liveliness_lease_duration,
-    );
-    if (publisher.liveliness == LivelinessPolicy::Automatic
-        && reader.liveliness == LivelinessPolicy::ManualByTopic)
-        || (!r.is_default() && (p.is_default() || r < p))
-    {
-        failing.push((8, "LIVELINESS"));
-    }
-    failing
 }
 
 /// A raw reader of `topic` with type `type_name` (announced with `hash`) and `qos`.
