@@ -48,28 +48,28 @@ def main() -> None:
         return {s for s, _ in node.get_service_names_and_types() if not s.startswith(own + '/')}
 
     threading.Thread(target=read_commands, daemon=True).start()
+
+    def report_changes(kind, known, now):
+        """Says `+<kind> name` for each name in `now` not in `known` and `-<kind> name` for
+        each gone; returns `now`."""
+        for name in sorted(now - known):
+            say(f'+{kind} {name}')
+        for name in sorted(known - now):
+            say(f'-{kind} {name}')
+        return now
+
     known = set()
     known_services = set()
     say('ready')
     while rclpy.ok() and not stdin_closed.is_set():
         rclpy.spin_once(node, timeout_sec=SPIN_PERIOD_S)
-        now = names()
-        for name in sorted(now - known):
-            say(f'+ {name}')
-        for name in sorted(known - now):
-            say(f'- {name}')
-        known = now
-        now_services = services()
-        for name in sorted(now_services - known_services):
-            say(f'+service {name}')
-        for name in sorted(known_services - now_services):
-            say(f'-service {name}')
-        known_services = now_services
+        known = report_changes('', known, names())
+        known_services = report_changes('service', known_services, services())
         with printing:
             pending, commands[:] = list(commands), []
         for command in pending:
             if command == 'list':
-                say('list ' + ' '.join(sorted(now)))
+                say('list ' + ' '.join(sorted(known)))
     node.destroy_node()
     rclpy.shutdown()
 
