@@ -157,7 +157,9 @@ impl Seen {
 
 #[test]
 fn cyclone_backend_announces_user_data_as_rmw_cyclonedds() {
-    assert!(Backend::Cyclone.announces_user_data());
+    assert!(Backend::Cyclone
+        .capabilities()
+        .is_some_and(|c| c.announces_user_data));
     let seen = Seen::new(81, Backend::Cyclone);
     let participant = seen.context.gid();
     // The server's id was allocated first, the client's second.
@@ -185,7 +187,9 @@ fn cyclone_backend_announces_user_data_as_rmw_cyclonedds() {
 fn rustdds_backend_announces_no_user_data() {
     // A documented limitation: RustDDS cannot send USER_DATA, so rmw_cyclonedds nodes see no
     // enclave, no type hashes and no client/service ids from us.
-    assert!(!Backend::RustDds.announces_user_data());
+    assert!(Backend::RustDds
+        .capabilities()
+        .is_some_and(|c| !c.announces_user_data));
     let seen = Seen::new(82, Backend::RustDds);
     assert_eq!(seen.all(), <[String; 7]>::default());
 }

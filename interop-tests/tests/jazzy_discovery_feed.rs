@@ -9,7 +9,7 @@
 //! DDS only (not in the Zenoh run): what it checks is DDS discovery itself — SPDP participants
 //! with a DDS vendor id, SEDP endpoints on `rq/`/`rr/` topics with USER_DATA, and
 //! `ros_discovery_info` — none of which rmw_zenoh has. On Zenoh the feed is synthesized from
-//! liveliness tokens (`rmw/src/zenoh/feed.rs`, with its unit tests), and what it yields is
+//! liveliness tokens (`rmw-zenoh/src/feed.rs`, with its unit tests), and what it yields is
 //! compared with rclpy's graph API on rmw_zenoh_cpp by `jazzy_graph.rs`.
 
 use std::collections::BTreeSet;

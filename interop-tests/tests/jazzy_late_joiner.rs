@@ -9,7 +9,7 @@
 //!   Fast DDS writer heartbeats a reader it has just matched (`StatefulWriter::matched_reader_add`)
 //!   and answers a pre-emptive ACKNACK with a heartbeat only when its `bitmapBase` is 0, which
 //!   neither rustdds nor Cyclone DDS sends. Our feed announces a late-joiner reader once it knows
-//!   the writer (see `rmw/src/dds/late_joiner.rs`), so that heartbeat finds the writer matched.
+//!   the writer (see `dds-common/src/late_joiner.rs`), so that heartbeat finds the writer matched.
 //! - Cyclone DDS: by `Internal/HeartbeatInterval` (every writer of the node: Cyclone DDS has no
 //!   setting per topic). A Cyclone DDS writer schedules a heartbeat 1 ms after matching a reader
 //!   (`ddsi_entity_match.c` `writer_add_connection`), unless it sent one within the periodic
@@ -18,7 +18,7 @@
 //! DDS only (not in the Zenoh run): `ros_discovery_info` and its writer's heartbeats are DDS's.
 //! rmw_zenoh has neither: a late joiner learns the graph by a liveliness query and the history of
 //! its liveliness subscriber (rmw_zenoh_cpp 0.2.10 `rmw_context_impl_s.cpp`), as our Zenoh feed
-//! does (`rmw/src/zenoh/feed.rs`); rclpy nodes on rmw_zenoh_cpp that were there before a
+//! does (`rmw-zenoh/src/feed.rs`); rclpy nodes on rmw_zenoh_cpp that were there before a
 //! horus-ros process started are found that way by every `horus-ros` command of the Zenoh run
 //! (`cli/tests/cli_diff.rs`, `cli/tests/zenoh.rs`).
 

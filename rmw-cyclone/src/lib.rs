@@ -1,9 +1,10 @@
-//! Safe binding layer over [Cyclone DDS](https://cyclonedds.io) 11 (through the `cyclors`
-//! crate, which builds Cyclone from source): the layer under horus-ros' Cyclone DDS backend
-//! (`horus-ros-rmw`'s cargo feature `cyclone`, chosen per context with
-//! `ContextBuilder::backend(Backend::Cyclone)` or `HORUS_ROS_BACKEND=cyclone`).
+//! horus-ros' Cyclone DDS backend ([`Cyclone`], in [`backend`]: `horus-ros-rmw`'s cargo feature
+//! `cyclone`, chosen per context with `ContextBuilder::backend(Backend::Cyclone)` or
+//! `HORUS_ROS_BACKEND=cyclone`), and under it a safe binding layer over
+//! [Cyclone DDS](https://cyclonedds.io) 11 (through the `cyclors` crate, which builds Cyclone
+//! from source). The backend depends only on the backend contract and the shared DDS layer.
 //!
-//! What it offers, all with owned Rust values and RAII:
+//! What the binding offers, all with owned Rust values and RAII:
 //! - [`config`]: the domain XML rmw_cyclonedds_cpp (Jazzy) builds from
 //!   `ROS_AUTOMATIC_DISCOVERY_RANGE` / `ROS_STATIC_PEERS`, followed by `CYCLONEDDS_URI`, and
 //!   [`Domain`], a per-process, per-domain-id shared configured domain (like rmw_cyclonedds'
@@ -46,11 +47,13 @@
 //! ```
 #![deny(unsafe_code)]
 
+pub mod backend;
 pub mod config;
 pub mod qos;
 mod signal;
 mod sys;
 
+pub use backend::{Cyclone, CAPABILITIES, CONFIGURATION_ENV, NAME, RMW_IMPLEMENTATION, VENDOR_ID};
 pub use qos::{Durability, EndpointQos, History, Liveliness, Reliability};
 pub use signal::Signal;
 pub use sys::{

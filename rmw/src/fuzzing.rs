@@ -4,7 +4,7 @@
 use horus_ros_msgs::user_data::{parse_key_value, parse_type_hash_from_user_data};
 
 use crate::names::{DemangledTopic, RosTypeName, ServiceTypeRole};
-use crate::rustdds::feed::user_data_octets;
+use horus_ros_rmw_rustdds::user_data_octets;
 
 /// An endpoint's or participant's USER_DATA as rustdds reports it (the raw PID_USER_DATA value,
 /// or bare octets): the octets are extracted as the discovery feed does, then read for a type

@@ -1,8 +1,11 @@
-//! horus-ros RMW core: the one layer that talks to DDS.
+//! horus-ros' rcl layer: contexts, nodes, arguments and endpoints over the backend a context
+//! runs on.
 //!
-//! - [`contract`]: what a backend implements (participant, writer, reader, wait set, discovery
-//!   feed); RustDDS and Cyclone DDS implement it, each in its own module, and nothing outside
-//!   them knows which one runs.
+//! - [`contract`] (the crate `horus-ros-rmw-contract`): what a backend implements (participant,
+//!   writer, reader, wait set, discovery feed); RustDDS, Cyclone DDS and Zenoh implement it, each
+//!   in a crate of its own, and nothing here knows which one runs.
+//! - [`backend`] (the crate `horus-ros-rmw-implementation`): which backends are built in, and the
+//!   one a context runs on ([`Backend`]).
 //! - [`Context`]: a participant in one domain, configured from `ROS_DOMAIN_ID`,
 //!   `ROS_AUTOMATIC_DISCOVERY_RANGE`, `ROS_STATIC_PEERS` (and the deprecated `ROS_LOCALHOST_ONLY`).
 //! - [`Node`]: a named node; nodes and their endpoints are announced on `ros_discovery_info`
@@ -16,33 +19,32 @@
 //!   `rmw_take_response`) in each peer's wire convention.
 
 pub mod args;
-pub mod backend;
+pub use horus_ros_rmw_implementation as backend;
 pub mod context;
-pub mod contract;
-#[cfg(feature = "cyclone")]
-mod cyclone;
-mod dds;
-mod dds_error;
-pub mod discovery;
-mod feed_wait;
+use horus_ros_dds_common as dds;
+pub use horus_ros_rmw_contract as contract;
+use horus_ros_rmw_contract::dds_error;
+pub use horus_ros_rmw_contract::discovery;
+use horus_ros_rmw_contract::feed_wait;
+#[cfg(feature = "rustdds")]
 #[doc(hidden)]
 pub mod fuzzing;
-pub mod gid;
-mod local_sink;
-pub mod names;
+pub use horus_ros_rmw_contract::gid;
+use horus_ros_rmw_contract::local_sink;
+pub use horus_ros_rmw_contract::names;
 pub mod node;
 pub mod pubsub;
-pub mod qos;
+pub use horus_ros_rmw_contract::qos;
 pub mod queue;
 pub mod raw;
-mod rustdds;
+
 pub mod service;
 pub mod signal_handler;
 #[cfg(feature = "tokio")]
 pub mod stream;
 pub mod wait_set;
 #[cfg(feature = "zenoh")]
-pub mod zenoh;
+pub use horus_ros_rmw_zenoh as zenoh;
 
 pub use backend::{
     Backend, BackendError, BACKEND_ENV, DEFAULT_RMW_IMPLEMENTATION, RMW_IMPLEMENTATIONS,

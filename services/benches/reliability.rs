@@ -230,7 +230,10 @@ fn hostile_writer(node: &Node, service: &str) -> RawWriter {
 /// exist; else with an rmw_cyclonedds header (from a participant without a reply reader).
 fn write_stalling_request(writer: &RawWriter, backend: Backend, n: i64) {
     let body = horus_ros_msgs::cdr::to_cdr_body(&AddTwoIntsRequest { a: n, b: n }).expect("cdr");
-    if backend.carries_sample_identity() {
+    if backend
+        .capabilities()
+        .is_some_and(|c| c.carries_sample_identity)
+    {
         let mut ghost = [0u8; 16];
         ghost[..12].copy_from_slice(&writer.gid().as_bytes()[..12]);
         ghost[12..].copy_from_slice(&[0x7f, 0xff, 0x00, 0x04]);

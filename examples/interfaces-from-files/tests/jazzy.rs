@@ -259,7 +259,9 @@ fn rclpy_hears_and_calls_test_msgs_node() {
 
     const DOMAIN: u32 = 43;
     let backend = Backend::from_env_with(|k| std::env::var(k).ok()).expect("the backend");
-    let refusing = !backend.carries_sample_identity()
+    let refusing = !backend
+        .capabilities()
+        .is_some_and(|c| c.carries_sample_identity)
         && horus_ros_test_support::jazzy::Rmw::of_peers().needs_sample_identity();
     // Serving one request ends it; refused, it never gets one and is killed at the end.
     let node = binary("test_msgs_node", DOMAIN, &["--serve", "1"]);

@@ -25,7 +25,11 @@ pub const CALL: Duration = Duration::from_secs(10);
 /// backend, as rmw_cyclonedds cannot): then on the rustdds backend.
 pub fn service_context(domain: u32) -> Context {
     let chosen = Backend::from_env_with(|name| std::env::var(name).ok()).expect("a backend");
-    let backend = if !chosen.carries_sample_identity() && Rmw::of_peers().needs_sample_identity() {
+    let backend = if !chosen
+        .capabilities()
+        .is_some_and(|c| c.carries_sample_identity)
+        && Rmw::of_peers().needs_sample_identity()
+    {
         Backend::RustDds
     } else {
         chosen

@@ -1,7 +1,7 @@
 //! The [`Context`]: one DDS participant in one domain, shared by every node created from it
 //! (rmw_cyclonedds and rmw_fastrtps both create one participant per context since Foxy).
 
-pub mod env;
+pub use horus_ros_rmw_contract::env;
 mod shutdown;
 
 pub use shutdown::ShutdownFuture;

@@ -120,6 +120,7 @@ pub fn is_reader(gid: Gid) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::service::shapes;
     use crate::Backend;
 
     #[test]
@@ -143,12 +144,12 @@ mod tests {
     fn a_backend_without_sample_identity_speaks_only_the_cyclone_convention() {
         let fast = Some(VendorId::FAST_DDS);
         assert_eq!(
-            WireFlavour::choose(Backend::RustDds.capabilities(), fast, None),
+            WireFlavour::choose(shapes::capabilities(Backend::RustDds), fast, None),
             Ok(WireFlavour::FastRtps)
         );
         assert_eq!(
             WireFlavour::choose(
-                Backend::RustDds.capabilities(),
+                shapes::capabilities(Backend::RustDds),
                 fast,
                 Some(WireFlavour::CycloneDds)
             ),
@@ -156,17 +157,17 @@ mod tests {
         );
         for vendor in [Some(VendorId::CYCLONE_DDS), Some(VendorId::RUSTDDS), None] {
             assert_eq!(
-                WireFlavour::choose(Backend::Cyclone.capabilities(), vendor, None),
+                WireFlavour::choose(shapes::capabilities(Backend::Cyclone), vendor, None),
                 Ok(WireFlavour::CycloneDds)
             );
         }
-        let refused = WireFlavour::choose(Backend::Cyclone.capabilities(), fast, None);
+        let refused = WireFlavour::choose(shapes::capabilities(Backend::Cyclone), fast, None);
         assert!(refused.is_err_and(|e| {
             let m = e.to_string();
             m.contains("rmw_fastrtps") && m.contains("rustdds")
         }));
         assert!(WireFlavour::choose(
-            Backend::Cyclone.capabilities(),
+            shapes::capabilities(Backend::Cyclone),
             None,
             Some(WireFlavour::FastRtps)
         )

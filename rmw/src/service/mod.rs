@@ -10,6 +10,8 @@ mod convention;
 mod reply_park;
 mod request_header;
 mod server;
+#[cfg(test)]
+mod shapes;
 
 pub use client::{Client, TakenResponse};
 pub use convention::{is_reader, vendor_hint, ConventionError, WireFlavour};

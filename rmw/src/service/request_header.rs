@@ -14,10 +14,7 @@ pub struct RequestId {
     pub sequence_number: i64,
 }
 
-/// Marks a request as coming from a horus-ros client, in the otherwise unused sequence number of
-/// its `related_sample_identity` (rmw_fastrtps sends SEQUENCENUMBER_UNKNOWN there and ignores it
-/// on receipt). A horus-ros server answers such a client's failed handler with an error reply.
-pub const HORUS_CLIENT_MARKER: i64 = 0x484f_5255_0000_0001;
+pub use horus_ros_rmw_contract::HORUS_CLIENT_MARKER;
 
 /// Length of rmw_cyclonedds' request header.
 pub const CYCLONE_HEADER_LEN: usize = 16;

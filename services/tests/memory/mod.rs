@@ -297,12 +297,7 @@ impl Implementation for Memory {
     }
 
     fn capabilities(&self) -> Capabilities {
-        Capabilities {
-            carries_sample_identity: true,
-            announces_user_data: false,
-            reads_participant_user_data: false,
-            service_queries: false,
-        }
+        Capabilities::NONE.with_sample_identity()
     }
 
     fn create_participant(

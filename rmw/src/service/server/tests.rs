@@ -96,7 +96,7 @@ fn reply_reader(n: u32) -> Gid {
 fn server_on(graph: &Arc<Graph>, backend: Backend) -> Server {
     let peers = Arc::clone(graph) as Arc<dyn Peers>;
     let service = ServiceName::new("/add_two_ints").expect("name");
-    let own = (backend.capabilities(), backend.vendor_id());
+    let own = crate::service::shapes::of(backend);
     Server::new(peers, service, reply_writer(), None, own)
 }
 
