@@ -64,6 +64,10 @@ pub enum DdsError {
     /// sent; see [`Capabilities::carries_sample_identity`](crate::Capabilities)).
     #[error("this backend cannot send related_sample_identity")]
     RelatedSampleIdentityUnsupported,
+    /// A loan was written by a writer of another backend than the one that lent it (nothing
+    /// was sent).
+    #[error("the loan was lent by another backend's writer")]
+    ForeignLoan,
 }
 
 #[cfg(test)]

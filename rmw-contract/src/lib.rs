@@ -42,8 +42,10 @@ pub mod env;
 mod errors;
 pub mod feed_wait;
 pub mod gid;
+pub mod loan;
 pub mod local_sink;
 pub mod names;
+pub mod push;
 pub mod qos;
 
 pub use endpoint::{
@@ -56,6 +58,7 @@ pub use dds_error::{BackendCause, DdsError};
 pub use discovery::{DiscoveredEndpoint, DiscoveredParticipant, DiscoveryEvent, VendorId};
 pub use env::{DiscoveryOptions, DiscoveryRange, DomainId};
 pub use gid::Gid;
+pub use loan::{LentBody, LoanedBuffer, LoanedSample, WriteLoan};
 use qos::DdsQos;
 
 /// Marks a request as coming from a horus-ros client, in the otherwise unused sequence number of
@@ -267,6 +270,28 @@ pub trait WriterBackend: Send + Sync {
     /// `timeout`; whether they all did (a backend that delivers what a deleted writer left
     /// unacknowledged by itself may answer `true` at once).
     fn wait_for_acknowledgments(&self, timeout: Duration) -> bool;
+
+    /// Lends a buffer for a CDR_LE body of `len` bytes, to be filled in place and written with
+    /// [`write_loan`](Self::write_loan) (rmw `rmw_borrow_loaned_message`). By default a heap
+    /// buffer; a backend with memory of its own (Zenoh's shared memory) lends that.
+    fn loan(&self, len: usize) -> WriteLoan {
+        WriteLoan::heap(len)
+    }
+
+    /// Writes a body lent by [`loan`](Self::loan), as [`write`](Self::write) writes one (rmw
+    /// `rmw_publish_loaned_message`). A buffer another backend lent is
+    /// [`DdsError::ForeignLoan`].
+    fn write_loan(
+        &self,
+        loan: WriteLoan,
+        related: Option<SampleId>,
+        only_to: Option<Gid>,
+    ) -> Result<SampleId, DdsError> {
+        match loan.into_inner() {
+            Ok(body) => self.write(body, related, only_to),
+            Err(_) => Err(DdsError::ForeignLoan),
+        }
+    }
 }
 
 /// A reader of raw CDR bodies.
@@ -274,6 +299,13 @@ pub trait ReaderBackend: Send {
     /// Takes the next sample, if any (non-blocking). One that cannot be read is consumed and
     /// reported as an error.
     fn take(&mut self) -> Result<Option<RawSample>, DdsError>;
+
+    /// Takes the next sample as [`take`](Self::take) does, its body lent by the backend where it
+    /// has it in memory of its own (Zenoh's shared memory: read in place, no copy; rmw
+    /// `rmw_take_loaned_message`). By default the body [`take`](Self::take) returned.
+    fn take_loan(&mut self) -> Result<Option<LoanedSample>, DdsError> {
+        Ok(self.take()?.map(LoanedSample::from))
+    }
 
     /// Waits until data may be there or the reader's [`waker`](Self::waker) was woken, at most
     /// `timeout` (`None`: no limit); whether something was signalled. Edge-triggered.

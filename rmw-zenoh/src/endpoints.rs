@@ -18,6 +18,7 @@
 //! `SubscriptionData` keeps its `zenoh::Bytes`) until it is taken; a take copies the body out
 //! once into the [`RawSample`], as rmw_zenoh's `rmw_take` deserializes out of the payload.
 
+use std::any::Any;
 use std::collections::VecDeque;
 use std::sync::atomic::{AtomicBool, AtomicI64, AtomicU64, Ordering};
 use std::sync::{Arc, Mutex, Weak};
@@ -27,18 +28,20 @@ use zenoh::bytes::ZBytes;
 use zenoh::liveliness::LivelinessToken;
 use zenoh::matching::{MatchingListener, MatchingStatus};
 use zenoh::pubsub::{Publisher, Subscriber};
+use zenoh::shm::ZShmMut;
 use zenoh::Wait;
 
 use super::attachment::{now_ns, Attachment};
 use super::feed::Graph;
 use super::route::RouteWait;
 use super::shm::ShmContext;
-use super::wait_set::{lock, SetState, Signal, WaitSet};
+use horus_ros_rmw_contract::push::{lock, SetState, Signal, WaitSet};
 use horus_ros_rmw_contract::dds_error::{boxed, DdsError};
 use horus_ros_rmw_contract::Gid;
 use horus_ros_rmw_contract::RawSample;
 use horus_ros_rmw_contract::{
-    ReaderBackend, SampleId, WaitSetBackend, WaitSetError, Wake, WriterBackend,
+    LentBody, LoanedBuffer, LoanedSample, ReaderBackend, SampleId, WaitSetBackend, WaitSetError,
+    Wake, WriteLoan, WriterBackend,
 };
 
 /// CDR little-endian encapsulation (`00 01 00 00`), what rmw_zenoh writes.
@@ -185,16 +188,9 @@ impl ZenohWriter {
     }
 }
 
-impl WriterBackend for ZenohWriter {
-    /// Puts the sample with its attachment. `related` is refused (a Zenoh topic has no
-    /// related sample identity; service replies go through `services`' queries); `only_to` is
-    /// ignored.
-    fn write(
-        &self,
-        body: Vec<u8>,
-        related: Option<SampleId>,
-        _only_to: Option<Gid>,
-    ) -> Result<SampleId, DdsError> {
+impl ZenohWriter {
+    /// Puts `payload` (header included) with its attachment; the sample's identity.
+    fn put(&self, payload: ZBytes, related: Option<SampleId>) -> Result<SampleId, DdsError> {
         if related.is_some() {
             return Err(DdsError::RelatedSampleIdentityUnsupported);
         }
@@ -207,7 +203,6 @@ impl WriterBackend for ZenohWriter {
             source_timestamp: now_ns(),
             gid: self.gid,
         };
-        let payload = self.payload(&body);
         let attachment = attachment.to_bytes().to_vec();
         self.delivery.put(&self.graph, payload, attachment)?;
         Ok(SampleId {
@@ -215,11 +210,73 @@ impl WriterBackend for ZenohWriter {
             sequence_number,
         })
     }
+}
+
+/// A shared-memory buffer lent for one sample: the encapsulation header, then the body.
+struct ShmLoan(ZShmMut);
+
+impl LoanedBuffer for ShmLoan {
+    fn body(&self) -> &[u8] {
+        &self.0[CDR_LE_HEADER.len()..]
+    }
+
+    fn body_mut(&mut self) -> &mut [u8] {
+        &mut self.0[CDR_LE_HEADER.len()..]
+    }
+
+    fn into_any(self: Box<Self>) -> Box<dyn Any> {
+        self
+    }
+}
+
+impl WriterBackend for ZenohWriter {
+    /// Puts the sample with its attachment. `related` is refused (a Zenoh topic has no
+    /// related sample identity; service replies go through `services`' queries); `only_to` is
+    /// ignored.
+    fn write(
+        &self,
+        body: Vec<u8>,
+        related: Option<SampleId>,
+        _only_to: Option<Gid>,
+    ) -> Result<SampleId, DdsError> {
+        let payload = self.payload(&body);
+        self.put(payload, related)
+    }
 
     /// At once: Zenoh has no acknowledgments (its TCP links are reliable; a RELIABLE publisher
     /// on a full link drops or blocks by its congestion control).
     fn wait_for_acknowledgments(&self, _timeout: Duration) -> bool {
         true
+    }
+
+    /// A buffer of the context's shared-memory pool, its encapsulation header written, when
+    /// shared memory is on, the payload reaches the threshold and the pool has room (as
+    /// [`write`](Self::write) chooses); else a heap buffer.
+    fn loan(&self, len: usize) -> WriteLoan {
+        let payload = CDR_LE_HEADER.len() + len;
+        match self.shm.as_deref().and_then(|shm| shm.buffer(payload)) {
+            Some(mut buffer) => {
+                buffer[..CDR_LE_HEADER.len()].copy_from_slice(&CDR_LE_HEADER);
+                WriteLoan::backend(Box::new(ShmLoan(buffer)))
+            }
+            None => WriteLoan::heap(len),
+        }
+    }
+
+    /// A shared-memory loan goes out as it is, not copied; a heap one as [`write`](Self::write).
+    fn write_loan(
+        &self,
+        loan: WriteLoan,
+        related: Option<SampleId>,
+        only_to: Option<Gid>,
+    ) -> Result<SampleId, DdsError> {
+        match loan.into_inner() {
+            Ok(body) => self.write(body, related, only_to),
+            Err(buffer) => match buffer.into_any().downcast::<ShmLoan>() {
+                Ok(shm) => self.put(shm.0.into(), related),
+                Err(_) => Err(DdsError::ForeignLoan),
+            },
+        }
     }
 }
 
@@ -350,12 +407,23 @@ pub(crate) struct ZenohReader {
     pub(crate) graph: Arc<Graph>,
 }
 
-impl ReaderBackend for ZenohReader {
-    /// Takes the next sample: its payload after the 4-byte encapsulation header (copied once
-    /// out of the received buffer, shared memory or not; a payload zenoh received in fragments
-    /// is joined first), its identity from the attachment (the publisher's GID and sequence
-    /// number).
-    fn take(&mut self) -> Result<Option<RawSample>, DdsError> {
+/// A received payload of one contiguous buffer, lent as a sample's body.
+struct Lent(ZBytes);
+
+impl LentBody for Lent {
+    fn body(&self) -> &[u8] {
+        self.0
+            .slices()
+            .next()
+            .and_then(|payload| payload.get(CDR_LE_HEADER.len()..))
+            .unwrap_or_default()
+    }
+}
+
+impl ZenohReader {
+    /// The next sample's payload (header included, checked) and what its attachment said (the
+    /// body left empty); counts it if it came through shared memory.
+    fn next(&mut self) -> Result<Option<(ZBytes, RawSample)>, DdsError> {
         let Some(sample) = lock(&self.queue.state).samples.pop_front() else {
             return Ok(None);
         };
@@ -364,18 +432,19 @@ impl ReaderBackend for ZenohReader {
                 .shared_memory_samples
                 .fetch_add(1, Ordering::Relaxed);
         }
-        // One contiguous slice (a shared-memory buffer always is) is borrowed, not copied.
-        let payload = sample.payload.to_bytes();
-        let Some((header, body)) = payload.split_first_chunk::<4>() else {
-            return Err(DdsError::ShortSample { len: payload.len() });
-        };
+        let mut header = [0; CDR_LE_HEADER.len()];
+        let mut reader = sample.payload.reader();
+        let len = sample.payload.len();
+        if std::io::Read::read_exact(&mut reader, &mut header).is_err() {
+            return Err(DdsError::ShortSample { len });
+        }
         let big_endian = match [header[0], header[1]] {
             [0x00, 0x01] => false,
             [0x00, 0x00] => true,
             id => return Err(DdsError::UnsupportedEncapsulation { id }),
         };
-        Ok(Some(RawSample {
-            body: body.to_vec(),
+        let meta = RawSample {
+            body: Vec::new(),
             big_endian,
             id: SampleId {
                 writer: sample.attachment.gid,
@@ -386,7 +455,38 @@ impl ReaderBackend for ZenohReader {
             // The attachment's timestamp (rmw_zenoh's `source_timestamp`).
             source_timestamp: Some(sample.attachment.source_timestamp),
             received_timestamp: sample.received,
-        }))
+        };
+        Ok(Some((sample.payload, meta)))
+    }
+}
+
+impl ReaderBackend for ZenohReader {
+    /// Takes the next sample: its payload after the 4-byte encapsulation header (copied once
+    /// out of the received buffer, shared memory or not; a payload zenoh received in fragments
+    /// is joined first), its identity from the attachment (the publisher's GID and sequence
+    /// number).
+    fn take(&mut self) -> Result<Option<RawSample>, DdsError> {
+        let Some((payload, mut meta)) = self.next()? else {
+            return Ok(None);
+        };
+        // One contiguous slice (a shared-memory buffer always is) is borrowed, not copied.
+        meta.body = payload.to_bytes()[CDR_LE_HEADER.len()..].to_vec();
+        Ok(Some(meta))
+    }
+
+    /// Takes the next sample as [`take`](Self::take) does, its body read in place where the
+    /// payload is one contiguous buffer (a shared-memory buffer always is: the subscription
+    /// then keeps the publisher's buffer until the loan is dropped); a payload received in
+    /// fragments is joined, as `take` joins it.
+    fn take_loan(&mut self) -> Result<Option<LoanedSample>, DdsError> {
+        let Some((payload, meta)) = self.next()? else {
+            return Ok(None);
+        };
+        if payload.slices().count() == 1 {
+            return Ok(Some(LoanedSample::lent(Box::new(Lent(payload)), meta)));
+        }
+        let body = payload.to_bytes()[CDR_LE_HEADER.len()..].to_vec();
+        Ok(Some(LoanedSample::from(RawSample { body, ..meta })))
     }
 
     fn wait(&mut self, timeout: Option<Duration>) -> bool {

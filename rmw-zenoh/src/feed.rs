@@ -32,7 +32,7 @@ use zenoh::Wait;
 use horus_ros_msgs::rmw_dds_common::{NodeEntitiesInfo, ParticipantEntitiesInfo};
 
 use super::liveliness::{gid_of_key, EntityKind, Token};
-use super::wait_set::{lock, Signal};
+use horus_ros_rmw_contract::push::{lock, Signal};
 use horus_ros_rmw_contract::discovery::{
     DiscoveredEndpoint, DiscoveredParticipant, DiscoveryEvent, VendorId,
 };

@@ -15,7 +15,7 @@
 //! - `endpoints`: publishers and subscriptions (TRANSIENT_LOCAL ones on zenoh-ext's advanced
 //!   publisher and subscriber, as rmw_zenoh's); `services`: servers (queryables) and clients
 //!   (queries), each with its `SS`/`SC` token; `feed`: the graph from tokens, as the
-//!   DDS-shaped [`DiscoveryEvent`](horus_ros_rmw_contract::DiscoveryEvent)s; `wait_set`: waiting.
+//!   DDS-shaped [`DiscoveryEvent`](horus_ros_rmw_contract::DiscoveryEvent)s; waiting on the contract's `push` helpers.
 //!
 //! One Zenoh session per context (rmw_zenoh's `rmw_context_impl_s`); nodes and entities are
 //! numbered by one per-context counter, the node first (rmw_zenoh's `get_next_entity_id`).
@@ -34,7 +34,6 @@ mod keyexpr;
 mod liveliness;
 mod route;
 mod services;
-mod wait_set;
 
 use std::collections::HashMap;
 use std::sync::atomic::{AtomicBool, AtomicI64, AtomicU64, Ordering};
@@ -64,7 +63,7 @@ use horus_ros_rmw_contract::{
 };
 use liveliness::{EntityKind, Token, TopicInfo, ADMIN_SPACE, DEFAULT_DEPTH};
 use services::{ServiceEntity, ServiceWriter};
-use wait_set::{lock, WaitSet};
+use horus_ros_rmw_contract::push::{lock, WaitSet};
 use zenoh_ext::{
     AdvancedPublisherBuilderExt, AdvancedSubscriberBuilderExt, CacheConfig, HistoryConfig,
     MissDetectionConfig, RecoveryConfig,

@@ -9,7 +9,7 @@ use std::collections::VecDeque;
 use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
-use super::wait_set::lock;
+use horus_ros_rmw_contract::push::lock;
 
 /// How long an item is held for a route: the window between a token and its route is a few
 /// messages long; an item older than this is dropped when the route appears.

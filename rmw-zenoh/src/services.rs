@@ -39,7 +39,7 @@ use super::endpoints::{zenoh_error, Incoming, ReaderQueue, CDR_LE_HEADER};
 use super::feed::Graph;
 use super::keyexpr::ServiceQuery;
 use super::route::RouteWait;
-use super::wait_set::lock;
+use horus_ros_rmw_contract::push::lock;
 use horus_ros_rmw_contract::dds_error::DdsError;
 use horus_ros_rmw_contract::Gid;
 use horus_ros_rmw_contract::HORUS_CLIENT_MARKER;

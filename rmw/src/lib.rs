@@ -63,8 +63,8 @@ pub use node::{Node, NodeError, WeakNode};
 pub use pubsub::{EndpointError, PublishError, Publisher, SampleError, Subscription, TakeError};
 pub use queue::{DropOldestQueue, Lagged};
 pub use raw::{
-    unix_time_ns, RawEndpointSpec, RawReader, RawReaderWaker, RawSample, RawWriter, SampleId,
-    ServiceEndpointId, ServiceEndpointRole,
+    unix_time_ns, LoanedSample, RawEndpointSpec, RawReader, RawReaderWaker, RawSample, RawWriter,
+    SampleId, ServiceEndpointId, ServiceEndpointRole, WriteLoan,
 };
 pub use signal_handler::{ShutdownSignal, SignalHandlerOptions};
 #[cfg(feature = "tokio")]

@@ -10,9 +10,7 @@
 use std::sync::Arc;
 use std::time::Duration;
 
-pub use crate::contract::{
-    unix_time_ns, RawEndpointSpec, RawSample, SampleId, ServiceEndpointId, ServiceEndpointRole,
-};
+pub use crate::contract::{unix_time_ns, LoanedSample, RawEndpointSpec, RawSample, SampleId, ServiceEndpointId, ServiceEndpointRole, WriteLoan};
 use crate::contract::{ReaderBackend, Wake, WriterBackend};
 use crate::dds::entities::EndpointSide;
 use crate::dds_error::DdsError;
@@ -275,6 +273,31 @@ impl RawWriter {
                 cause: SampleError::Dds(e),
             })
     }
+
+    /// Lends a buffer for a CDR body of `len` bytes (rmw `rmw_borrow_loaned_message`), to be
+    /// filled in place and written with [`write_loan`](Self::write_loan): on the Zenoh backend
+    /// with shared memory on, a buffer of the context's pool (for a message at or above its
+    /// threshold), so that the message crosses to the subscriptions of this host with no copy;
+    /// elsewhere a heap buffer.
+    pub fn loan(&self, len: usize) -> WriteLoan {
+        self.writer.loan(len)
+    }
+
+    /// Writes a body lent by this writer's [`loan`](Self::loan), as [`write`](Self::write) does
+    /// (rmw `rmw_publish_loaned_message`).
+    pub fn write_loan(
+        &self,
+        loan: WriteLoan,
+        related: Option<SampleId>,
+        only_to: Option<Gid>,
+    ) -> Result<SampleId, PublishError> {
+        self.writer
+            .write_loan(loan, related, only_to)
+            .map_err(|e| PublishError {
+                topic: self.topic.clone(),
+                cause: SampleError::Dds(e),
+            })
+    }
 }
 
 impl RawReader {
@@ -290,6 +313,17 @@ impl RawReader {
     /// number is [`SampleId::UNKNOWN_SEQUENCE_NUMBER`] (Cyclone DDS reports neither).
     pub fn take(&mut self) -> Result<Option<RawSample>, TakeError> {
         self.reader.take().map_err(|e| TakeError {
+            topic: self.topic.clone(),
+            cause: SampleError::Dds(e),
+        })
+    }
+
+    /// Takes the next sample as [`take`](Self::take) does, its body lent in place where the
+    /// backend holds it in memory of its own (rmw `rmw_take_loaned_message`): on the Zenoh
+    /// backend, a received buffer of one piece (a shared-memory buffer always is) is read where
+    /// it lies and given back when the sample is dropped. Elsewhere the body is owned.
+    pub fn take_loan(&mut self) -> Result<Option<LoanedSample>, TakeError> {
+        self.reader.take_loan().map_err(|e| TakeError {
             topic: self.topic.clone(),
             cause: SampleError::Dds(e),
         })

@@ -8,7 +8,10 @@
 //! - with shared memory on but a pool too small for the image (`ZENOH_SHM_ALLOC_SIZE`), on the
 //!   heap (the publisher falls back, as rmw_zenoh's does);
 //! - between processes that reach each other only through the router: through shared memory
-//!   if the router enabled it too, as bytes if it did not (zenoh negotiates it per link).
+//!   if the router enabled it too, as bytes if it did not (zenoh negotiates it per link);
+//! - with loans ([`LOANS_ENV`]): the publisher fills a buffer its writer lent from the pool
+//!   and the subscription reads the image where it lies in that buffer (no copy on either
+//!   side: `RawWriter::loan`, `RawReader::take_loan`).
 //!
 //! Zenoh's own transport optimization (which copies large heap messages into a pool of its
 //! own) is turned off in these processes, so that only the publisher's shared-memory buffer can
@@ -30,12 +33,17 @@ use horus_ros_msgs::Message;
 use horus_ros_rmw::qos::Qos;
 use horus_ros_rmw::zenoh::config::{self, ConfigKind};
 use horus_ros_rmw::zenoh::shm::{SHM_ALLOC_SIZE_ENV, SHM_ENABLED_KEY};
-use horus_ros_rmw::{Backend, Context, DiscoveryEvent, RawEndpointSpec, SignalHandlerOptions};
+use horus_ros_rmw::{
+    Backend, Context, DiscoveryEvent, LoanedSample, RawEndpointSpec, SignalHandlerOptions,
+};
 use zenoh::Wait;
 
 /// The variable that makes the `child` test a subscriber or publisher:
 /// `subscriber:<domain>` or `publisher:<domain>`.
 const ROLE_ENV: &str = "HORUS_ROS_SHM_TEST_ROLE";
+/// Set (to anything) in both processes: the publisher writes a loan and the subscriber takes
+/// one.
+const LOANS_ENV: &str = "HORUS_ROS_SHM_TEST_LOANS";
 /// CDR little-endian encapsulation, before a body that is decoded.
 const CDR_LE_HEADER: [u8; 4] = [0x00, 0x01, 0x00, 0x00];
 /// What marks a child's lines for the test (libtest prints its own lines too).
@@ -104,9 +112,15 @@ fn subscriber(domain: u32) {
     let node = context.create_node("shm_listener", "/").expect("node");
     let mut reader = node.create_raw_reader(&image_spec()).expect("reader");
     report("ready");
+    let loans = std::env::var_os(LOANS_ENV).is_some();
     let deadline = Instant::now() + LIMIT;
     let sample = loop {
-        if let Some(sample) = reader.take().expect("take") {
+        let taken = if loans {
+            reader.take_loan().expect("take a loan")
+        } else {
+            reader.take().expect("take").map(LoanedSample::from)
+        };
+        if let Some(sample) = taken {
             break sample;
         }
         let left = deadline.saturating_duration_since(Instant::now());
@@ -115,12 +129,17 @@ fn subscriber(domain: u32) {
     };
     assert!(!sample.big_endian, "horus-ros writes CDR_LE");
     let mut payload = CDR_LE_HEADER.to_vec();
-    payload.extend_from_slice(&sample.body);
+    payload.extend_from_slice(&sample);
     let received: Image = horus_ros_msgs::cdr::from_cdr(&payload).expect("an Image");
     let intact = received == image();
+    let lent = if loans {
+        format!(" lent={}", sample.is_lent())
+    } else {
+        String::new()
+    };
     report(&format!(
-        "received intact={intact} len={} shm={}",
-        sample.body.len(),
+        "received intact={intact} len={} shm={}{lent}",
+        sample.len(),
         reader.shared_memory_samples()
     ));
 }
@@ -143,8 +162,16 @@ fn publisher(domain: u32) {
         }
     }
     let body = horus_ros_msgs::cdr::to_cdr_body(&image()).expect("encode");
-    writer.write(body, None, None).expect("publish");
-    report("published");
+    if std::env::var_os(LOANS_ENV).is_some() {
+        let mut loan = writer.loan(body.len());
+        let lent = loan.is_backend_buffer();
+        loan.copy_from_slice(&body);
+        writer.write_loan(loan, None, None).expect("publish a loan");
+        report(&format!("published loaned={lent}"));
+    } else {
+        writer.write(body, None, None).expect("publish");
+        report("published");
+    }
     let _ = std::io::stdin().read_to_end(&mut Vec::new());
 }
 
@@ -224,7 +251,8 @@ fn image_across_processes(
     let mut publisher = spawn("publisher", domain, port, overrides, env);
     let mut pub_out = BufReader::new(publisher.stdout.take().expect("stdout"));
     let received = next_report(&mut sub_out, "subscriber");
-    assert_eq!(next_report(&mut pub_out, "publisher"), "published");
+    let published = next_report(&mut pub_out, "publisher");
+    assert!(published.starts_with("published"), "{published}");
     // Closing its standard input lets the publisher end.
     drop(publisher.stdin.take());
     for (who, mut child) in [("subscriber", subscriber), ("publisher", publisher)] {
@@ -232,7 +260,10 @@ fn image_across_processes(
         assert!(status.success(), "the {who} failed: {status}");
     }
     drop(router);
-    received
+    match published.strip_prefix("published") {
+        Some("") | None => received,
+        Some(loaned) => format!("{received}{loaned}"),
+    }
 }
 
 /// The size of the image's CDR body: the header (stamp 8, `camera` 4 + 7), 1 byte of padding,
@@ -244,6 +275,15 @@ const BODY_LEN: usize = 6_220_848;
 fn a_1080p_image_crosses_in_shared_memory_when_enabled() {
     let report = image_across_processes(17580, 87, &shm_on(), &shm_on(), &[]);
     assert_eq!(report, format!("received intact=true len={BODY_LEN} shm=1"));
+}
+
+#[test]
+fn a_1080p_image_crosses_in_a_lent_buffer_read_in_place() {
+    let report = image_across_processes(17585, 92, &shm_on(), &shm_on(), &[(LOANS_ENV, "1")]);
+    assert_eq!(
+        report,
+        format!("received intact=true len={BODY_LEN} shm=1 lent=true loaned=true")
+    );
 }
 
 #[test]

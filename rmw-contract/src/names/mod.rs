@@ -8,7 +8,7 @@
 //! rmw_cyclonedds_cpp `rmw_node.cpp`).
 //!
 //! ```
-//! use horus_ros_rmw::names::{Namespace, NodeName, TopicName};
+//! use horus_ros_rmw_contract::names::{Namespace, NodeName, TopicName};
 //!
 //! # fn main() -> Result<(), Box<dyn std::error::Error>> {
 //! let node = NodeName::new("talker")?;

@@ -1,6 +1,9 @@
-//! A test-only backend that keeps everything in memory: it implements the rmw backend contract
-//! (`horus_ros_rmw::contract`) without any DDS, to show that a context, its nodes, the graph
-//! cache and the services layer need nothing beyond the contract.
+//! A test backend that keeps everything in memory: it implements the backend contract
+//! (`horus-ros-rmw-contract`, its only horus-ros dependency beside the messages) without any
+//! middleware, to show that a context, its nodes, the graph cache and the services layer need
+//! nothing beyond the contract, and that a backend outside horus-ros' own list plugs in with
+//! `Context::builder().implementation(...)` and passes the conformance suite
+//! (`tests/conformance.rs`) with no change to any other crate.
 //!
 //! One [`Bus`] per domain id, process-wide: every participant of that domain, its readers and
 //! writers, and its latest `ros_discovery_info` message. Samples are delivered synchronously,
@@ -22,15 +25,15 @@ use std::sync::{Arc, Condvar, Mutex, MutexGuard, OnceLock};
 use std::time::{Duration, Instant};
 
 use horus_ros_msgs::rmw_dds_common::ParticipantEntitiesInfo;
-use horus_ros_rmw::contract::{
-    Capabilities, FeedBackend, Implementation, LocalEvents, ParticipantBackend, ParticipantConfig,
-    ReaderBackend, WaitSetBackend, Wake, WriterBackend,
+use horus_ros_rmw_contract::push::{lock, SetState, Signal, WaitSet};
+use horus_ros_rmw_contract::qos::{
+    DdsDurability, DdsHistory, DdsQos, DdsReliability, EndpointKind,
 };
-use horus_ros_rmw::qos::{DdsDurability, DdsHistory, DdsQos, DdsReliability, EndpointKind};
-use horus_ros_rmw::wait_set::WaitSetError;
-use horus_ros_rmw::{
-    unix_time_ns, DdsError, DiscoveredEndpoint, DiscoveredParticipant, DiscoveryEvent,
-    DiscoveryFeedError, Gid, RawEndpointSpec, RawSample, SampleId, VendorId,
+use horus_ros_rmw_contract::{
+    unix_time_ns, Capabilities, DdsError, DiscoveredEndpoint, DiscoveredParticipant,
+    DiscoveryEvent, DiscoveryFeedError, FeedBackend, Gid, Implementation, LocalEvents,
+    ParticipantBackend, ParticipantConfig, RawEndpointSpec, RawSample, ReaderBackend, SampleId,
+    VendorId, WaitSetBackend, WaitSetError, Wake, WriterBackend,
 };
 
 /// The vendor id its participants announce: none of the DDS vendors, so the services layer
@@ -48,66 +51,6 @@ pub struct Memory;
 /// The backend, for `Context::builder().implementation(...)`.
 pub fn implementation() -> Arc<dyn Implementation> {
     Arc::new(Memory)
-}
-
-/// Locks a mutex whose data stays consistent even if a holder panicked.
-fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
-    m.lock().unwrap_or_else(|p| p.into_inner())
-}
-
-/// Waits on `cv` until `done` holds, at most until `deadline` (`None`: no limit); whether it held.
-fn wait_on<'a, T>(
-    cv: &Condvar,
-    mut guard: MutexGuard<'a, T>,
-    deadline: Option<Instant>,
-    mut done: impl FnMut(&mut T) -> bool,
-) -> (MutexGuard<'a, T>, bool) {
-    loop {
-        if done(&mut guard) {
-            return (guard, true);
-        }
-        guard = match deadline {
-            None => cv.wait(guard).unwrap_or_else(|p| p.into_inner()),
-            Some(d) => match d.checked_duration_since(Instant::now()) {
-                Some(left) if !left.is_zero() => {
-                    cv.wait_timeout(guard, left)
-                        .unwrap_or_else(|p| p.into_inner())
-                        .0
-                }
-                _ => return (guard, false),
-            },
-        };
-    }
-}
-
-fn deadline(timeout: Option<Duration>) -> Option<Instant> {
-    // A timeout too long to represent waits without limit.
-    timeout.and_then(|t| Instant::now().checked_add(t))
-}
-
-/// A flag raised by [`Wake::wake`] and lowered by the wait that sees it (edge-triggered).
-#[derive(Default)]
-struct Signal {
-    raised: Mutex<bool>,
-    cv: Condvar,
-}
-
-impl Signal {
-    /// Waits until raised (and lowers it), at most `timeout`; whether it was raised.
-    fn wait(&self, timeout: Option<Duration>) -> bool {
-        let guard = lock(&self.raised);
-        let (_guard, raised) = wait_on(&self.cv, guard, deadline(timeout), |raised| {
-            std::mem::take(raised)
-        });
-        raised
-    }
-}
-
-impl Wake for Signal {
-    fn wake(&self) {
-        *lock(&self.raised) = true;
-        self.cv.notify_all();
-    }
 }
 
 /// One domain: its participants and their endpoints.
@@ -460,7 +403,7 @@ impl ParticipantBackend for MemoryParticipant {
     }
 
     fn create_wait_set(&self) -> Result<Box<dyn WaitSetBackend>, WaitSetError> {
-        Ok(Box::new(MemoryWaitSet {
+        Ok(Box::new(WaitSet {
             shared: Arc::default(),
         }))
     }
@@ -591,7 +534,7 @@ impl ReaderBackend for MemoryReader {
     fn attach_to(&mut self, set: &dyn WaitSetBackend, key: usize) -> Result<(), WaitSetError> {
         let set = set
             .as_any()
-            .downcast_ref::<MemoryWaitSet>()
+            .downcast_ref::<WaitSet>()
             .ok_or(WaitSetError::OtherBackend)?;
         let mut state = lock(&self.queue.state);
         if !state.samples.is_empty() {
@@ -605,58 +548,6 @@ impl ReaderBackend for MemoryReader {
 impl Drop for MemoryReader {
     fn drop(&mut self) {
         lock(&self.bus.state).remove_endpoint(self.gid);
-    }
-}
-
-/// A wait set: the keys of the readers that got data since its last wait.
-struct MemoryWaitSet {
-    shared: Arc<SetState>,
-}
-
-#[derive(Default)]
-struct SetState {
-    /// The keys ready, and whether the set's own waker was woken.
-    ready: Mutex<(BTreeSet<usize>, bool)>,
-    cv: Condvar,
-}
-
-impl SetState {
-    /// Marks `key` ready (`None`: the set's waker), waking the waiter.
-    fn mark(&self, key: Option<usize>) {
-        let mut ready = lock(&self.ready);
-        match key {
-            Some(key) => {
-                ready.0.insert(key);
-            }
-            None => ready.1 = true,
-        }
-        self.cv.notify_all();
-    }
-}
-
-impl Wake for SetState {
-    fn wake(&self) {
-        self.mark(None);
-    }
-}
-
-impl WaitSetBackend for MemoryWaitSet {
-    fn wait(&self, timeout: Option<Duration>, ready: &mut Vec<usize>) -> bool {
-        let guard = lock(&self.shared.ready);
-        let (mut guard, signalled) = wait_on(&self.shared.cv, guard, deadline(timeout), |r| {
-            !r.0.is_empty() || r.1
-        });
-        ready.extend(std::mem::take(&mut guard.0));
-        guard.1 = false;
-        signalled
-    }
-
-    fn waker(&self) -> Arc<dyn Wake> {
-        Arc::clone(&self.shared) as Arc<dyn Wake>
-    }
-
-    fn as_any(&self) -> &dyn Any {
-        self
     }
 }
 

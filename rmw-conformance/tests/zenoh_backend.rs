@@ -1,20 +1,16 @@
-//! The backend contract's tests (`contract/`, which the in-memory test backend passes too:
-//! `memory_backend.rs`) on the Zenoh backend: contexts of this process joined by a Zenoh router
+//! The conformance suite on the Zenoh backend: contexts of this process joined by a Zenoh router
 //! the test starts on a port of its own (rmw_zenoh's router configuration), each context's
 //! session configured through `horus_ros_rmw::zenoh::implementation` (rmw_zenoh's session
 //! configuration, connecting to that router). Run inside `scripts/isolated`.
 
-#[macro_use]
-mod contract;
-
 use std::sync::OnceLock;
 
-use contract::SECOND;
 use horus_ros_graph::Graph;
 use horus_ros_msgs::std_msgs::msg::String as StringMsg;
 use horus_ros_rmw::qos::Qos;
 use horus_ros_rmw::zenoh::config::{self, ConfigKind};
-use horus_ros_services::prelude::*;
+use horus_ros_rmw::Context;
+use horus_ros_rmw_conformance::{conformance_tests, SECOND};
 use zenoh::Wait;
 
 /// The router's port (no other test uses it).
@@ -52,7 +48,7 @@ fn context(domain: u32) -> Context {
         .expect("context")
 }
 
-contract_tests!(context);
+conformance_tests!(context);
 
 /// Zenoh has no request/offered QoS matching (rmw_zenoh's graph matches every subscription on a
 /// publisher's key): a RELIABLE subscription matches a BEST_EFFORT publisher and gets its

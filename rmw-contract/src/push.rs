@@ -1,16 +1,18 @@
-//! Waiting without polling on the Zenoh backend: a [`Signal`] (a flag and a condition
-//! variable) for a reader or a feed, raised by Zenoh's callback threads; a [`WaitSet`] collects
-//! the keys of the attached readers that got data. The DDS backends' counterparts are
-//! `rustdds/wait_set.rs` and `cyclone/wait_set.rs`.
+//! Waiting without polling for backends whose middleware pushes (calls back on threads of its
+//! own, as Zenoh does, or an in-process bus): a [`Signal`] (a flag and a condition variable)
+//! for a reader or a feed, raised from those threads; a [`WaitSet`] that collects the keys of
+//! the attached readers that got data. Written once here for every such backend; the DDS
+//! backends wait on their middleware's own primitives instead (mio for rustdds, a Cyclone DDS
+//! waitset).
 
 use std::collections::BTreeSet;
 use std::sync::{Arc, Condvar, Mutex, MutexGuard};
 use std::time::{Duration, Instant};
 
-use horus_ros_rmw_contract::{WaitSetBackend, Wake};
+use crate::{WaitSetBackend, Wake};
 
 /// Locks a mutex whose data stays consistent even if a holder panicked.
-pub(crate) fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
+pub fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
     m.lock().unwrap_or_else(|p| p.into_inner())
 }
 
@@ -43,14 +45,14 @@ fn wait_on<'a, T>(
 
 /// A flag raised by [`Wake::wake`] and lowered by the wait that sees it (edge-triggered).
 #[derive(Default)]
-pub(crate) struct Signal {
+pub struct Signal {
     raised: Mutex<bool>,
     cv: Condvar,
 }
 
 impl Signal {
     /// Waits until raised (and lowers it), at most `timeout`; whether it was raised.
-    pub(crate) fn wait(&self, timeout: Option<Duration>) -> bool {
+    pub fn wait(&self, timeout: Option<Duration>) -> bool {
         let guard = lock(&self.raised);
         let (_guard, raised) = wait_on(&self.cv, guard, timeout, std::mem::take);
         raised
@@ -66,14 +68,14 @@ impl Wake for Signal {
 
 /// What a wait set shares with its readers: the keys ready, and whether its waker was woken.
 #[derive(Default)]
-pub(crate) struct SetState {
+pub struct SetState {
     ready: Mutex<(BTreeSet<usize>, bool)>,
     cv: Condvar,
 }
 
 impl SetState {
     /// Marks `key` ready (`None`: the set's own waker), waking the waiter.
-    pub(crate) fn mark(&self, key: Option<usize>) {
+    pub fn mark(&self, key: Option<usize>) {
         let mut ready = lock(&self.ready);
         match key {
             Some(key) => {
@@ -92,8 +94,10 @@ impl Wake for SetState {
 }
 
 /// Waits on many readers' data at once.
-pub(crate) struct WaitSet {
-    pub(crate) shared: Arc<SetState>,
+#[derive(Default)]
+pub struct WaitSet {
+    /// What the readers attached to it mark.
+    pub shared: Arc<SetState>,
 }
 
 impl WaitSetBackend for WaitSet {

@@ -1,10 +1,26 @@
-//! The backend contract's tests, written once and run on every implementation of it that is not
-//! DDS (`memory_backend.rs`: the in-memory test backend; `zenoh_backend.rs`: the Zenoh backend
-//! through a router of its own): the graph, publishers and subscriptions, wait sets, blocking
-//! and async service calls and the node services. Each test takes the bus's context factory
-//! (`context(domain)`) and uses its own domain; `contract_tests!(context)` makes them the
-//! including file's `#[test]`s. Waits are bounded and woken by the event (a
-//! sample, a graph change); what a backend cannot do (its
+//! The backend contract's conformance suite: every test of the contract, written once and run on
+//! every backend — the in-memory test backend (`horus-ros-rmw-memory`), RustDDS, Cyclone DDS
+//! and Zenoh (this crate's `tests/`) — and usable by a backend outside the workspace:
+//!
+//! ```ignore
+//! // tests/conformance.rs of a backend's crate (dev-dependency: horus-ros-rmw-conformance)
+//! fn context(domain: u32) -> horus_ros_rmw::Context {
+//!     horus_ros_rmw::Context::builder()
+//!         .domain_id(domain)
+//!         .implementation(std::sync::Arc::new(MyBackend::default()))
+//!         .build()
+//!         .expect("context")
+//! }
+//! horus_ros_rmw_conformance::conformance_tests!(context);
+//! ```
+//!
+//! What is tested, through the whole stack above the contract: the graph (nodes, topics,
+//! services, endpoints and their nodes, departures), publishers and subscriptions within and
+//! between contexts, QoS matching and history depth, late joiners, wait sets, blocking and
+//! awaited service calls in the convention the backend offers, a server that leaves, node
+//! services, and a client that knows only DDS type names. Each test takes the backend's context
+//! factory (`context(domain)`) and uses domains of its own (1 to 11). Waits are bounded and woken
+//! by the event (a sample, a graph change); what a backend cannot do (its
 //! [`Capabilities`](horus_ros_rmw::Capabilities)) is asserted as refused.
 
 use std::sync::Arc;
@@ -26,31 +42,28 @@ use horus_ros_services::{
     ServiceServerTrait, ServiceType,
 };
 
-/// The contract's tests as `#[test]`s of the including file, each run on the contexts
+/// The conformance tests as `#[test]`s of the including file, each run on the contexts
 /// `$context(domain)` makes.
-macro_rules! contract_tests {
+#[macro_export]
+macro_rules! conformance_tests {
     ($context:ident) => {
-        contract_tests!(@each $context:
+        $crate::conformance_tests!(@each $context:
             the_graph_sees_another_contexts_nodes_topics_services_and_endpoints,
             messages_reach_subscriptions_of_other_contexts_and_of_the_same_one,
             a_wait_set_reports_the_readers_with_data_and_its_own_wake_up,
             blocking_calls_are_answered_and_their_failures_reported,
             a_server_that_leaves_ends_the_call_waiting_for_it,
+            awaited_calls_are_answered_by_sync_and_async_servers,
             node_services_answer,
             qos_decides_matches_depth_and_what_late_joiners_get,
             a_client_of_dds_type_names_only_reaches_a_server
         );
-
-        #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
-        async fn awaited_calls_are_answered_by_sync_and_async_servers() {
-            contract::awaited_calls_are_answered_by_sync_and_async_servers(&$context).await;
-        }
     };
     (@each $context:ident: $($test:ident),+) => {
         $(
             #[test]
             fn $test() {
-                contract::$test(&$context);
+                $crate::$test(&$context);
             }
         )+
     };
@@ -112,6 +125,8 @@ impl std::task::Wake for Unparker {
     }
 }
 
+/// Another context's nodes, topics, services and endpoints (each under its node) are in the
+/// graph, whether they came before or after the graph was opened, and go when they go.
 pub fn the_graph_sees_another_contexts_nodes_topics_services_and_endpoints(
     context: &dyn Fn(u32) -> Context,
 ) {
@@ -238,6 +253,7 @@ pub fn the_graph_sees_another_contexts_nodes_topics_services_and_endpoints(
         && c.count_subscribers("/memory/chatter") == 1));
 }
 
+/// A message reaches the matched subscriptions of another context and of the publisher's own.
 pub fn messages_reach_subscriptions_of_other_contexts_and_of_the_same_one(
     context: &dyn Fn(u32) -> Context,
 ) {
@@ -280,6 +296,8 @@ pub fn messages_reach_subscriptions_of_other_contexts_and_of_the_same_one(
     woken.join().expect("waker");
 }
 
+/// A wait set reports exactly the attached readers that got data, and its own wake-up from
+/// another thread; with nothing to report it times out.
 pub fn a_wait_set_reports_the_readers_with_data_and_its_own_wake_up(
     context: &dyn Fn(u32) -> Context,
 ) {
@@ -342,6 +360,7 @@ pub fn a_wait_set_reports_the_readers_with_data_and_its_own_wake_up(
     assert!(!set.wait(Duration::from_millis(50), &mut ready));
 }
 
+/// Blocking calls are answered; a handler's failure and a missing server are reported as such.
 pub fn blocking_calls_are_answered_and_their_failures_reported(context: &dyn Fn(u32) -> Context) {
     let a = context(4);
     let server_node = a.create_node("server", "/").expect("node");
@@ -391,6 +410,7 @@ pub fn blocking_calls_are_answered_and_their_failures_reported(context: &dyn Fn(
     );
 }
 
+/// A call waiting for a server that leaves ends (it does not wait out its timeout).
 pub fn a_server_that_leaves_ends_the_call_waiting_for_it(context: &dyn Fn(u32) -> Context) {
     let a = context(5);
     let server_node = a.create_node("leaving", "/").expect("node");
@@ -425,9 +445,18 @@ pub fn a_server_that_leaves_ends_the_call_waiting_for_it(context: &dyn Fn(u32) -
     assert!(left.elapsed() < 10 * SECOND, "noticed late");
 }
 
-pub async fn awaited_calls_are_answered_by_sync_and_async_servers(
-    context: &dyn Fn(u32) -> Context,
-) {
+/// Awaited calls (on a runtime of two worker threads) to a blocking and an async server; a call
+/// to nobody ends `NoServer`.
+pub fn awaited_calls_are_answered_by_sync_and_async_servers(context: &dyn Fn(u32) -> Context) {
+    tokio::runtime::Builder::new_multi_thread()
+        .worker_threads(2)
+        .enable_all()
+        .build()
+        .expect("tokio runtime")
+        .block_on(awaited_calls(context));
+}
+
+async fn awaited_calls(context: &dyn Fn(u32) -> Context) {
     let a = context(6);
     let server_node = a.create_node("server", "/").expect("node");
     let _sync = adder(&server_node, "/sync_add");
@@ -468,6 +497,7 @@ pub async fn awaited_calls_are_answered_by_sync_and_async_servers(
     );
 }
 
+/// A node's services (parameters, type descriptions) answer another context's clients.
 pub fn node_services_answer(context: &dyn Fn(u32) -> Context) {
     let a = context(7);
     let n = a.create_node("params_node", "/ns").expect("node");
@@ -509,6 +539,7 @@ pub fn node_services_answer(context: &dyn Fn(u32) -> Context) {
     assert!(names.iter().all(|n| !n.is_empty()), "{names:?}");
 }
 
+/// QoS decides what matches, how many samples a reader keeps and what a late joiner gets.
 pub fn qos_decides_matches_depth_and_what_late_joiners_get(context: &dyn Fn(u32) -> Context) {
     let a = context(8);
     let n = a.create_node("qos", "/").expect("node");
