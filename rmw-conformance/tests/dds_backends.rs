@@ -14,7 +14,11 @@ fn context_on(backend: Backend, domain: u32) -> Context {
         .expect("context")
 }
 
-/// The rustdds backend, in domains 31 to 41.
+/// The rustdds backend, in domains 31 to 42.
+///
+/// Known failure: rustdds 0.15's reliable writer sends its TRANSIENT_LOCAL history to every new
+/// reader, VOLATILE ones too (`rtps/writer.rs`, `matched_reader_update`, looks at the writer's
+/// durability, not the reader's), and its reader keeps it. What issue 39's patched rustdds fixes.
 mod rustdds {
     use super::*;
 
@@ -22,10 +26,10 @@ mod rustdds {
         context_on(Backend::RustDds, domain + 30)
     }
 
-    conformance_tests!(context);
+    conformance_tests!(context; known_failure: a_volatile_reader_gets_none_of_a_writers_history);
 }
 
-/// The Cyclone DDS backend, in domains 51 to 61.
+/// The Cyclone DDS backend, in domains 51 to 62.
 mod cyclone {
     use super::*;
 

@@ -83,6 +83,10 @@ pub struct Capabilities {
     /// The discovery feed reads other participants' USER_DATA (so a participant reported
     /// without an enclave announced none).
     pub reads_participant_user_data: bool,
+    /// Endpoints announce their type's hash to peers (in USER_DATA on DDS, as rmw_cyclonedds
+    /// and rmw_fastrtps do; in the liveliness tokens on Zenoh); where not, peers list them with
+    /// an unknown (zero) hash.
+    pub announces_type_hashes: bool,
     /// A service's request writer and reply reader (client), or request reader and reply writer
     /// (server), are one entity of the backend's own request/reply (rmw_zenoh's queryable and
     /// `get`), paired by their [`ServiceEndpointId`]: a request carries its client's identity
@@ -100,6 +104,7 @@ impl Capabilities {
         carries_sample_identity: false,
         announces_user_data: false,
         reads_participant_user_data: false,
+        announces_type_hashes: false,
         service_queries: false,
     };
 
@@ -118,6 +123,12 @@ impl Capabilities {
     /// With [`reads_participant_user_data`](Self::reads_participant_user_data).
     pub const fn with_participant_user_data_read(mut self) -> Self {
         self.reads_participant_user_data = true;
+        self
+    }
+
+    /// With [`announces_type_hashes`](Self::announces_type_hashes).
+    pub const fn with_type_hashes_announced(mut self) -> Self {
+        self.announces_type_hashes = true;
         self
     }
 

@@ -18,11 +18,10 @@
 //! [`VENDOR`], the process id, a process-wide counter) + a 4-byte entity id (participant
 //! `00 00 01 c1`; readers and writers a counter and the RTPS entity kind, `0x04`/`0x03`).
 
-use std::any::Any;
-use std::collections::{BTreeMap, BTreeSet, HashMap, VecDeque};
+use std::collections::{BTreeMap, HashMap, VecDeque};
 use std::sync::atomic::{AtomicBool, AtomicU32, AtomicU64, Ordering};
-use std::sync::{Arc, Condvar, Mutex, MutexGuard, OnceLock};
-use std::time::{Duration, Instant};
+use std::sync::{Arc, Mutex, OnceLock};
+use std::time::Duration;
 
 use horus_ros_msgs::rmw_dds_common::ParticipantEntitiesInfo;
 use horus_ros_rmw_contract::push::{lock, SetState, Signal, WaitSet};
@@ -240,7 +239,9 @@ impl Implementation for Memory {
     }
 
     fn capabilities(&self) -> Capabilities {
-        Capabilities::NONE.with_sample_identity()
+        Capabilities::NONE
+            .with_sample_identity()
+            .with_type_hashes_announced()
     }
 
     fn create_participant(

@@ -35,8 +35,8 @@ use super::attachment::{now_ns, Attachment};
 use super::feed::Graph;
 use super::route::RouteWait;
 use super::shm::ShmContext;
-use horus_ros_rmw_contract::push::{lock, SetState, Signal, WaitSet};
 use horus_ros_rmw_contract::dds_error::{boxed, DdsError};
+use horus_ros_rmw_contract::push::{lock, SetState, Signal, WaitSet};
 use horus_ros_rmw_contract::Gid;
 use horus_ros_rmw_contract::RawSample;
 use horus_ros_rmw_contract::{

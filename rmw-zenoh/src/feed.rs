@@ -32,7 +32,6 @@ use zenoh::Wait;
 use horus_ros_msgs::rmw_dds_common::{NodeEntitiesInfo, ParticipantEntitiesInfo};
 
 use super::liveliness::{gid_of_key, EntityKind, Token};
-use horus_ros_rmw_contract::push::{lock, Signal};
 use horus_ros_rmw_contract::discovery::{
     DiscoveredEndpoint, DiscoveredParticipant, DiscoveryEvent, VendorId,
 };
@@ -40,6 +39,7 @@ use horus_ros_rmw_contract::names::{
     ROS_SERVICE_REQUESTER_PREFIX, ROS_SERVICE_RESPONSE_PREFIX, ROS_TOPIC_PREFIX,
     SERVICE_REPLY_SUFFIX, SERVICE_REQUEST_SUFFIX,
 };
+use horus_ros_rmw_contract::push::{lock, Signal};
 use horus_ros_rmw_contract::qos::EndpointKind;
 use horus_ros_rmw_contract::Gid;
 use horus_ros_rmw_contract::{FeedBackend, LocalEvents, Wake};

@@ -52,6 +52,7 @@ use endpoints::{
 use feed::Graph;
 use horus_ros_rmw_contract::dds_error::DdsError;
 use horus_ros_rmw_contract::discovery::VendorId;
+use horus_ros_rmw_contract::push::{lock, WaitSet};
 use horus_ros_rmw_contract::qos::{
     DdsQos, DurabilityPolicy, EndpointKind, HistoryPolicy, Qos, ReliabilityPolicy,
 };
@@ -63,7 +64,6 @@ use horus_ros_rmw_contract::{
 };
 use liveliness::{EntityKind, Token, TopicInfo, ADMIN_SPACE, DEFAULT_DEPTH};
 use services::{ServiceEntity, ServiceWriter};
-use horus_ros_rmw_contract::push::{lock, WaitSet};
 use zenoh_ext::{
     AdvancedPublisherBuilderExt, AdvancedSubscriberBuilderExt, CacheConfig, HistoryConfig,
     MissDetectionConfig, RecoveryConfig,
@@ -99,7 +99,9 @@ pub const VENDOR_ID: VendorId = VendorId::ZENOH;
 /// What it can do: services are Zenoh's own request/reply (queryables and queries, the
 /// identities in rmw_zenoh's attachment); no DDS USER_DATA (the liveliness tokens carry the
 /// type hashes and enclaves).
-pub const CAPABILITIES: Capabilities = Capabilities::NONE.with_service_queries();
+pub const CAPABILITIES: Capabilities = Capabilities::NONE
+    .with_service_queries()
+    .with_type_hashes_announced();
 
 /// The Zenoh backend: a Zenoh session per context, configured from the environment as rmw_zenoh
 /// configures it, or with a configuration of the program's own ([`implementation`]).

@@ -114,7 +114,9 @@ fn run(
         if loan {
             let mut buffer = writer.loan(body.len());
             buffer.copy_from_slice(body);
-            writer.write_loan(buffer, None, None).expect("publish a loan");
+            writer
+                .write_loan(buffer, None, None)
+                .expect("publish a loan");
         } else {
             writer.write(body.to_vec(), None, None).expect("publish");
         }

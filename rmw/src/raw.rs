@@ -10,7 +10,10 @@
 use std::sync::Arc;
 use std::time::Duration;
 
-pub use crate::contract::{unix_time_ns, LoanedSample, RawEndpointSpec, RawSample, SampleId, ServiceEndpointId, ServiceEndpointRole, WriteLoan};
+pub use crate::contract::{
+    unix_time_ns, LoanedSample, RawEndpointSpec, RawSample, SampleId, ServiceEndpointId,
+    ServiceEndpointRole, WriteLoan,
+};
 use crate::contract::{ReaderBackend, Wake, WriterBackend};
 use crate::dds::entities::EndpointSide;
 use crate::dds_error::DdsError;

@@ -58,7 +58,8 @@ pub const VENDOR_ID: VendorId = VendorId::CYCLONE_DDS;
 /// the rmw_cyclonedds service convention.
 pub const CAPABILITIES: Capabilities = Capabilities::NONE
     .with_user_data_announced()
-    .with_participant_user_data_read();
+    .with_participant_user_data_read()
+    .with_type_hashes_announced();
 
 /// The Cyclone DDS backend (for `rmw_cyclonedds_cpp`).
 #[derive(Debug, Clone, Copy, Default)]

@@ -11,7 +11,8 @@ pub(crate) fn of(backend: Backend) -> (Capabilities, VendorId) {
         Backend::Cyclone => (
             Capabilities::NONE
                 .with_user_data_announced()
-                .with_participant_user_data_read(),
+                .with_participant_user_data_read()
+                .with_type_hashes_announced(),
             VendorId::CYCLONE_DDS,
         ),
         other => panic!("not a DDS backend: {other}"),
