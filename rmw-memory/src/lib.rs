@@ -24,7 +24,7 @@ use std::sync::{Arc, Mutex, OnceLock};
 use std::time::Duration;
 
 use horus_ros_msgs::rmw_dds_common::ParticipantEntitiesInfo;
-use horus_ros_rmw_contract::push::{lock, SetState, Signal, WaitSet};
+use horus_ros_rmw_contract::push::{lock, FeedQueue, PushFeed, SampleQueue, WaitSet};
 use horus_ros_rmw_contract::qos::{
     DdsDurability, DdsHistory, DdsQos, DdsReliability, EndpointKind,
 };
@@ -351,11 +351,7 @@ impl ParticipantBackend for MemoryParticipant {
         qos: &DdsQos,
         _responses_of: Option<u64>,
     ) -> Result<(Box<dyn ReaderBackend>, Gid), DdsError> {
-        let queue = Arc::new(ReaderQueue {
-            state: Mutex::default(),
-            signal: Arc::default(),
-            depth: depth(qos),
-        });
+        let queue = Arc::new(ReaderQueue::new(depth(qos)));
         let gid = self.add(spec, qos, EndpointKind::Reader, Some(Arc::clone(&queue)))?;
         let bus = Arc::clone(&self.bus);
         Ok((Box::new(MemoryReader { bus, gid, queue }), gid))
@@ -390,17 +386,14 @@ impl ParticipantBackend for MemoryParticipant {
                 cause: DdsError::ParticipantDeleted,
             });
         };
-        let queue = Arc::new(FeedQueue {
-            events: Mutex::new(events),
-            signal: Arc::default(),
-        });
+        let queue = Arc::new(FeedQueue::new(events, MAX_FEED_EVENTS));
         peer.feed = Some(Arc::clone(&queue));
-        Ok(Box::new(MemoryFeed {
+        let closing = MemoryFeed {
             bus: Arc::clone(&self.bus),
             participant: self.gid,
-            queue,
-            local,
-        }))
+            queue: Arc::clone(&queue),
+        };
+        Ok(Box::new(PushFeed::new(queue, local, closing)))
     }
 
     fn create_wait_set(&self) -> Result<Box<dyn WaitSetBackend>, WaitSetError> {
@@ -480,34 +473,7 @@ impl Drop for MemoryWriter {
 }
 
 /// A reader's bounded queue and whom it wakes.
-struct ReaderQueue {
-    state: Mutex<ReaderState>,
-    /// The reader's own waker (while attached to no wait set).
-    signal: Arc<Signal>,
-    depth: usize,
-}
-
-#[derive(Default)]
-struct ReaderState {
-    samples: VecDeque<RawSample>,
-    /// The wait set it reports to, and under which key.
-    attached: Option<(Arc<SetState>, usize)>,
-}
-
-impl ReaderQueue {
-    /// Queues `sample` (the oldest goes when full) and wakes the reader or its wait set.
-    fn deliver(&self, sample: RawSample) {
-        let mut state = lock(&self.state);
-        if state.samples.len() >= self.depth {
-            state.samples.pop_front();
-        }
-        state.samples.push_back(sample);
-        match &state.attached {
-            Some((set, key)) => set.mark(Some(*key)),
-            None => self.signal.wake(),
-        }
-    }
-}
+type ReaderQueue = SampleQueue<RawSample>;
 
 struct MemoryReader {
     bus: Arc<Bus>,
@@ -517,7 +483,7 @@ struct MemoryReader {
 
 impl ReaderBackend for MemoryReader {
     fn take(&mut self) -> Result<Option<RawSample>, DdsError> {
-        let sample = lock(&self.queue.state).samples.pop_front();
+        let sample = self.queue.pop();
         Ok(sample.map(|s| RawSample {
             received_timestamp: unix_time_ns(),
             ..s
@@ -525,24 +491,15 @@ impl ReaderBackend for MemoryReader {
     }
 
     fn wait(&mut self, timeout: Option<Duration>) -> bool {
-        self.queue.signal.wait(timeout)
+        self.queue.wait(timeout)
     }
 
     fn waker(&self) -> Arc<dyn Wake> {
-        Arc::clone(&self.queue.signal) as Arc<dyn Wake>
+        self.queue.waker()
     }
 
     fn attach_to(&mut self, set: &dyn WaitSetBackend, key: usize) -> Result<(), WaitSetError> {
-        let set = set
-            .as_any()
-            .downcast_ref::<WaitSet>()
-            .ok_or(WaitSetError::OtherBackend)?;
-        let mut state = lock(&self.queue.state);
-        if !state.samples.is_empty() {
-            set.shared.mark(Some(key));
-        }
-        state.attached = Some((Arc::clone(&set.shared), key));
-        Ok(())
+        self.queue.attach_to(set, key)
     }
 }
 
@@ -552,47 +509,12 @@ impl Drop for MemoryReader {
     }
 }
 
-/// The events the bus queued for one participant's open feed.
-struct FeedQueue {
-    events: Mutex<VecDeque<DiscoveryEvent>>,
-    signal: Arc<Signal>,
-}
-
-impl FeedQueue {
-    fn push(&self, event: DiscoveryEvent) {
-        let mut events = lock(&self.events);
-        if events.len() >= MAX_FEED_EVENTS {
-            tracing::warn!("memory backend: a discovery feed is full, its oldest event dropped");
-            events.pop_front();
-        }
-        events.push_back(event);
-        drop(events);
-        self.signal.wake();
-    }
-}
-
-/// A participant's open feed: the context's own events first, then the bus's.
+/// What closes a participant's feed on the bus when the feed goes (a later one starts from a
+/// new snapshot).
 struct MemoryFeed {
     bus: Arc<Bus>,
     participant: Gid,
     queue: Arc<FeedQueue>,
-    local: LocalEvents,
-}
-
-impl FeedBackend for MemoryFeed {
-    fn try_next(&mut self) -> Option<DiscoveryEvent> {
-        self.local
-            .try_next()
-            .or_else(|| lock(&self.queue.events).pop_front())
-    }
-
-    fn wait(&mut self, limit: Option<Duration>) -> std::io::Result<bool> {
-        Ok(self.queue.signal.wait(limit))
-    }
-
-    fn waker(&self) -> Arc<dyn Wake> {
-        Arc::clone(&self.queue.signal) as Arc<dyn Wake>
-    }
 }
 
 impl Drop for MemoryFeed {

@@ -19,9 +19,9 @@
 //! once into the [`RawSample`], as rmw_zenoh's `rmw_take` deserializes out of the payload.
 
 use std::any::Any;
-use std::collections::VecDeque;
+
 use std::sync::atomic::{AtomicBool, AtomicI64, AtomicU64, Ordering};
-use std::sync::{Arc, Mutex, Weak};
+use std::sync::{Arc, Weak};
 use std::time::Duration;
 
 use zenoh::bytes::ZBytes;
@@ -36,7 +36,7 @@ use super::feed::Graph;
 use super::route::RouteWait;
 use super::shm::ShmContext;
 use horus_ros_rmw_contract::dds_error::{boxed, DdsError};
-use horus_ros_rmw_contract::push::{lock, SetState, Signal, WaitSet};
+use horus_ros_rmw_contract::push::SampleQueue;
 use horus_ros_rmw_contract::Gid;
 use horus_ros_rmw_contract::RawSample;
 use horus_ros_rmw_contract::{
@@ -303,10 +303,7 @@ pub(crate) struct Incoming {
 
 /// A reader's bounded queue and whom it wakes.
 pub(crate) struct ReaderQueue {
-    state: Mutex<QueueState>,
-    /// The reader's own waker (while attached to no wait set).
-    signal: Arc<Signal>,
-    depth: usize,
+    samples: SampleQueue<Incoming>,
     /// The topic, for the one log line about samples dropped.
     topic: String,
     warned: AtomicBool,
@@ -314,19 +311,11 @@ pub(crate) struct ReaderQueue {
     shared_memory_samples: AtomicU64,
 }
 
-#[derive(Default)]
-struct QueueState {
-    samples: VecDeque<Incoming>,
-    attached: Option<(Arc<SetState>, usize)>,
-}
-
 impl ReaderQueue {
     /// A queue keeping at most `depth` samples.
     pub(crate) fn new(depth: usize, topic: &str) -> Arc<Self> {
         Arc::new(Self {
-            state: Mutex::default(),
-            signal: Arc::default(),
-            depth: depth.clamp(1, MAX_SAMPLES),
+            samples: SampleQueue::new(depth.clamp(1, MAX_SAMPLES)),
             topic: topic.to_owned(),
             warned: AtomicBool::new(false),
             shared_memory_samples: AtomicU64::new(0),
@@ -371,15 +360,7 @@ impl ReaderQueue {
 
     /// Queues a sample (the oldest goes when full) and wakes the reader or its wait set.
     pub(crate) fn deliver(&self, sample: Incoming) {
-        let mut state = lock(&self.state);
-        if state.samples.len() >= self.depth {
-            state.samples.pop_front();
-        }
-        state.samples.push_back(sample);
-        match &state.attached {
-            Some((set, key)) => set.mark(Some(*key)),
-            None => self.signal.wake(),
-        }
+        self.samples.deliver(sample);
     }
 }
 
@@ -424,7 +405,7 @@ impl ZenohReader {
     /// The next sample's payload (header included, checked) and what its attachment said (the
     /// body left empty); counts it if it came through shared memory.
     fn next(&mut self) -> Result<Option<(ZBytes, RawSample)>, DdsError> {
-        let Some(sample) = lock(&self.queue.state).samples.pop_front() else {
+        let Some(sample) = self.queue.samples.pop() else {
             return Ok(None);
         };
         if sample.payload.as_shm().is_some() {
@@ -490,11 +471,11 @@ impl ReaderBackend for ZenohReader {
     }
 
     fn wait(&mut self, timeout: Option<Duration>) -> bool {
-        self.queue.signal.wait(timeout)
+        self.queue.samples.wait(timeout)
     }
 
     fn waker(&self) -> Arc<dyn Wake> {
-        Arc::clone(&self.queue.signal) as Arc<dyn Wake>
+        self.queue.samples.waker()
     }
 
     /// Counted at [`take`](Self::take): samples whose payload zenoh handed over as a mapped
@@ -504,16 +485,7 @@ impl ReaderBackend for ZenohReader {
     }
 
     fn attach_to(&mut self, set: &dyn WaitSetBackend, key: usize) -> Result<(), WaitSetError> {
-        let set = set
-            .as_any()
-            .downcast_ref::<WaitSet>()
-            .ok_or(WaitSetError::OtherBackend)?;
-        let mut state = lock(&self.queue.state);
-        if !state.samples.is_empty() {
-            set.shared.mark(Some(key));
-        }
-        state.attached = Some((Arc::clone(&set.shared), key));
-        Ok(())
+        self.queue.samples.attach_to(set, key)
     }
 }
 

@@ -39,10 +39,10 @@ use horus_ros_rmw_contract::names::{
     ROS_SERVICE_REQUESTER_PREFIX, ROS_SERVICE_RESPONSE_PREFIX, ROS_TOPIC_PREFIX,
     SERVICE_REPLY_SUFFIX, SERVICE_REQUEST_SUFFIX,
 };
-use horus_ros_rmw_contract::push::{lock, Signal};
+use horus_ros_rmw_contract::push::{lock, FeedQueue, PushFeed};
 use horus_ros_rmw_contract::qos::EndpointKind;
 use horus_ros_rmw_contract::Gid;
-use horus_ros_rmw_contract::{FeedBackend, LocalEvents, Wake};
+use horus_ros_rmw_contract::LocalEvents;
 
 /// Most tokens kept from all peers together; more are dropped (with one warning).
 pub(crate) const MAX_TOKENS: usize = 100_000;
@@ -607,61 +607,23 @@ impl Graph {
 
     /// Opens the feed (replacing a previous one): it reports `local` first, then the current
     /// graph, then every change.
-    pub(crate) fn open_feed(self: &Arc<Self>, local: LocalEvents) -> ZenohFeed {
+    pub(crate) fn open_feed(self: &Arc<Self>, local: LocalEvents) -> PushFeed {
         let mut state = lock(&self.state);
-        let queue = Arc::new(FeedQueue {
-            events: Mutex::new(state.snapshot()),
-            signal: Arc::default(),
-        });
+        let queue = Arc::new(FeedQueue::new(state.snapshot(), MAX_FEED_EVENTS));
         state.feed = Some(Arc::clone(&queue));
-        ZenohFeed {
+        let closing = ZenohFeed {
             graph: Arc::clone(self),
-            queue,
-            local,
-        }
+            queue: Arc::clone(&queue),
+        };
+        PushFeed::new(queue, local, closing)
     }
 }
 
-/// The events queued for the open feed.
-pub(crate) struct FeedQueue {
-    events: Mutex<VecDeque<DiscoveryEvent>>,
-    signal: Arc<Signal>,
-}
-
-impl FeedQueue {
-    fn push(&self, event: DiscoveryEvent) {
-        let mut events = lock(&self.events);
-        if events.len() >= MAX_FEED_EVENTS {
-            tracing::warn!("zenoh: the discovery feed is full, its oldest event dropped");
-            events.pop_front();
-        }
-        events.push_back(event);
-        drop(events);
-        self.signal.wake();
-    }
-}
-
-/// A context's open feed: its own events first, then the graph's.
+/// What closes the context's feed on the graph when the feed goes (a later one starts from a
+/// new snapshot).
 pub(crate) struct ZenohFeed {
     graph: Arc<Graph>,
     queue: Arc<FeedQueue>,
-    local: LocalEvents,
-}
-
-impl FeedBackend for ZenohFeed {
-    fn try_next(&mut self) -> Option<DiscoveryEvent> {
-        self.local
-            .try_next()
-            .or_else(|| lock(&self.queue.events).pop_front())
-    }
-
-    fn wait(&mut self, limit: Option<Duration>) -> std::io::Result<bool> {
-        Ok(self.queue.signal.wait(limit))
-    }
-
-    fn waker(&self) -> Arc<dyn Wake> {
-        Arc::clone(&self.queue.signal) as Arc<dyn Wake>
-    }
 }
 
 impl Drop for ZenohFeed {
@@ -680,12 +642,13 @@ impl Drop for ZenohFeed {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use horus_ros_rmw_contract::FeedBackend;
 
     const NODE: &str = "@ros2_lv/0/f60efce6758d919f6932f83718eeed34/0/0/NN/%/%/talker";
     const TALKER_MP: &str = "@ros2_lv/0/f60efce6758d919f6932f83718eeed34/0/10/MP/%/%/talker/%chatter/std_msgs::msg::dds_::String_/RIHS01_df668c740482bbd48fb39d76a70dfd4bd59db1288021743503259e948f6b1a18/::,10:,:,:,,";
     const SERVER: &str = "@ros2_lv/0/f60efce6758d919f6932f83718eeed34/0/11/SS/%/%/talker/%add_two_ints/example_interfaces::srv::dds_::AddTwoInts_/RIHS01_e118de6bf5eeb66a2491b5bda11202e7b68f198d6f67922cf30364858239c81a/::,10:,:,:,,";
 
-    fn drain(feed: &mut ZenohFeed) -> Vec<DiscoveryEvent> {
+    fn drain(feed: &mut PushFeed) -> Vec<DiscoveryEvent> {
         std::iter::from_fn(|| feed.try_next()).collect()
     }
 
