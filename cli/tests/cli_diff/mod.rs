@@ -66,8 +66,9 @@ pub enum Norm {
     /// scouting delay), `Received ResponseFinal for unknown Request` (a reply's final message
     /// reached a session that had already dropped the query: ros2cli closes its node right
     /// after the reply), `Received Data for unknown expr_id` (a sample for a declaration the
-    /// closing session has already dropped). Applied to every case (they come on rmw_zenoh_cpp
-    /// only).
+    /// closing session has already dropped), rmw_zenoh_cpp's own `SubscriberCallback triggered
+    /// over <key>` (a sample whose callback ran while ros2cli's subscription was going, as its
+    /// `--timeout` ended it). Applied to every case (they come on rmw_zenoh_cpp only).
     ZenohLog,
 }
 
@@ -128,6 +129,7 @@ impl Norm {
                         "Scouting delay elapsed before start conditions are met",
                         "Received ResponseFinal for unknown Request",
                         "Received Data for unknown expr_id",
+                        "] [rmw_zenoh_cpp]: SubscriberCallback triggered over ",
                     ]
                     .iter()
                     .any(|m| l.contains(m))
