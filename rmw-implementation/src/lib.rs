@@ -106,49 +106,58 @@ impl Backend {
         }
     }
 
+    /// What its crate says of it, when it is built in: the one table of the built-in backends'
+    /// own constants.
+    const fn built_in(self) -> Option<BuiltIn> {
+        match self {
+            #[cfg(feature = "rustdds")]
+            Self::RustDds => Some(BuiltIn {
+                capabilities: horus_ros_rmw_rustdds::CAPABILITIES,
+                vendor_id: horus_ros_rmw_rustdds::VENDOR_ID,
+                configuration_env: horus_ros_rmw_rustdds::CONFIGURATION_ENV,
+            }),
+            #[cfg(feature = "cyclone")]
+            Self::Cyclone => Some(BuiltIn {
+                capabilities: horus_ros_rmw_cyclone::CAPABILITIES,
+                vendor_id: horus_ros_rmw_cyclone::VENDOR_ID,
+                configuration_env: horus_ros_rmw_cyclone::CONFIGURATION_ENV,
+            }),
+            #[cfg(feature = "zenoh")]
+            Self::Zenoh => Some(BuiltIn {
+                capabilities: horus_ros_rmw_zenoh::CAPABILITIES,
+                vendor_id: horus_ros_rmw_zenoh::VENDOR_ID,
+                configuration_env: horus_ros_rmw_zenoh::CONFIGURATION_ENV,
+            }),
+            #[allow(unreachable_patterns)]
+            _ => None,
+        }
+    }
+
     /// The environment variables its own configuration reads, beyond ROS's (`CYCLONEDDS_URI`
     /// for Cyclone DDS), as its crate lists them: what else, with the domain and the discovery
     /// options, decides which graph a context sees. None for a backend not built in (no context
     /// can run on it).
     pub const fn configuration_env(self) -> &'static [&'static str] {
-        match self {
-            #[cfg(feature = "rustdds")]
-            Self::RustDds => horus_ros_rmw_rustdds::CONFIGURATION_ENV,
-            #[cfg(feature = "cyclone")]
-            Self::Cyclone => horus_ros_rmw_cyclone::CONFIGURATION_ENV,
-            #[cfg(feature = "zenoh")]
-            Self::Zenoh => horus_ros_rmw_zenoh::CONFIGURATION_ENV,
-            #[allow(unreachable_patterns)]
-            _ => &[],
+        match self.built_in() {
+            Some(b) => b.configuration_env,
+            None => &[],
         }
     }
 
     /// What it can do, as its crate says (the same as its [`implementation`](Self::implementation)
     /// reports); `None` when it is not built in.
     pub const fn capabilities(self) -> Option<Capabilities> {
-        match self {
-            #[cfg(feature = "rustdds")]
-            Self::RustDds => Some(horus_ros_rmw_rustdds::CAPABILITIES),
-            #[cfg(feature = "cyclone")]
-            Self::Cyclone => Some(horus_ros_rmw_cyclone::CAPABILITIES),
-            #[cfg(feature = "zenoh")]
-            Self::Zenoh => Some(horus_ros_rmw_zenoh::CAPABILITIES),
-            #[allow(unreachable_patterns)]
-            _ => None,
+        match self.built_in() {
+            Some(b) => Some(b.capabilities),
+            None => None,
         }
     }
 
     /// The vendor id of its participants, as its crate says; `None` when it is not built in.
     pub const fn vendor_id(self) -> Option<VendorId> {
-        match self {
-            #[cfg(feature = "rustdds")]
-            Self::RustDds => Some(horus_ros_rmw_rustdds::VENDOR_ID),
-            #[cfg(feature = "cyclone")]
-            Self::Cyclone => Some(horus_ros_rmw_cyclone::VENDOR_ID),
-            #[cfg(feature = "zenoh")]
-            Self::Zenoh => Some(horus_ros_rmw_zenoh::VENDOR_ID),
-            #[allow(unreachable_patterns)]
-            _ => None,
+        match self.built_in() {
+            Some(b) => Some(b.vendor_id),
+            None => None,
         }
     }
 
@@ -205,6 +214,14 @@ impl Backend {
             get(RMW_IMPLEMENTATION_ENV).as_deref(),
         )
     }
+}
+
+/// What a built-in backend's crate says of it.
+#[derive(Clone, Copy)]
+struct BuiltIn {
+    capabilities: Capabilities,
+    vendor_id: VendorId,
+    configuration_env: &'static [&'static str],
 }
 
 impl Default for Backend {
