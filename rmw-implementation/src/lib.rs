@@ -324,7 +324,7 @@ mod tests {
             ),
             Ok(Backend::Cyclone)
         );
-        assert_eq!(Backend::from_env_with(|_| None), Ok(Backend::RustDds));
+        assert_eq!(Backend::from_env_with(|_| None), Ok(Backend::default()));
         for b in Backend::ALL {
             assert_eq!(b.to_string().parse::<Backend>(), Ok(b));
         }
@@ -338,10 +338,12 @@ mod tests {
     #[test]
     fn selection_table() {
         use Backend::{Cyclone, RustDds, Zenoh};
+        // Unset: the default (RustDDS, for rmw_fastrtps_cpp, when built in).
+        let default = Backend::default();
         let ok = [
-            // RMW_IMPLEMENTATION alone, as rcl reads it (empty = unset = rmw_fastrtps_cpp).
-            (None, None, RustDds),
-            (None, Some(""), RustDds),
+            // RMW_IMPLEMENTATION alone, as rcl reads it (empty = unset).
+            (None, None, default),
+            (None, Some(""), default),
             (None, Some("rmw_fastrtps_cpp"), RustDds),
             (None, Some("rmw_fastrtps_dynamic_cpp"), RustDds),
             (None, Some("rmw_cyclonedds_cpp"), Cyclone),
@@ -355,8 +357,8 @@ mod tests {
             (Some(" Cyclone "), Some("rmw_connextdds"), Cyclone),
             // An empty or blank HORUS_ROS_BACKEND is unset.
             (Some(""), Some("rmw_cyclonedds_cpp"), Cyclone),
-            (Some("  "), None, RustDds),
-            (Some(""), Some(""), RustDds),
+            (Some("  "), None, default),
+            (Some(""), Some(""), default),
         ];
         for (horus, rmw, want) in ok {
             assert_eq!(Backend::select(horus, rmw), Ok(want), "{horus:?} {rmw:?}");
@@ -423,10 +425,21 @@ mod tests {
         }
         assert_eq!(Backend::RustDds.rmw_implementation(), "rmw_fastrtps_cpp");
         assert_eq!(Backend::Cyclone.rmw_implementation(), "rmw_cyclonedds_cpp");
-        assert_eq!(
-            Backend::default().rmw_implementation(),
-            DEFAULT_RMW_IMPLEMENTATION
-        );
+    }
+
+    /// The default is RustDDS (Jazzy's default rmw_fastrtps_cpp) when built in, else the first
+    /// backend built in.
+    #[test]
+    fn the_default_is_rustdds_or_the_first_built_in() {
+        let default = Backend::default();
+        if Backend::RustDds.is_available() {
+            assert_eq!(default, Backend::RustDds);
+            assert_eq!(default.rmw_implementation(), DEFAULT_RMW_IMPLEMENTATION);
+        } else if let Some(first) = Backend::ALL.into_iter().find(|b| b.is_available()) {
+            assert_eq!(default, first);
+        } else {
+            assert_eq!(default, Backend::RustDds);
+        }
     }
 
     #[test]
